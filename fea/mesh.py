@@ -1,0 +1,130 @@
+"""Hexahedral meshes of the paper's simplified finger: a straight cantilever of
+constant elliptical cross-section (semi-axes a = 12 mm along x, b = 8.45 mm along y;
+length L along z, root at z = 0). The soft bending plane is y-z (bending about the
+major axis x, second moment I = pi a b^3 / 4).
+
+Cross-section: an n x n mapped (transfinite) mesh of the ellipse whose four grid
+corners sit on the ellipse axes, as a mapped mesh of an ANSYS ellipse area bounded by
+four quarter arcs; boundary nodes are spaced evenly by arc length. The elements at
+the four grid corners are wedge-like (one interior angle near 180 deg); as in the
+paper they govern the critical time step.
+
+Table 1 meshes (4.5-in finger):
+  SM-A  5 x 5 in section, 29 along  -> 1080 nodes,  725 elements
+  SM-B  9 x 9 in section, 58 along  -> 5900 nodes, 4698 elements
+For other lengths SM-A keeps its ~4 mm element length, ``n_along = round(L / 4 mm)``
+(4.5 in -> 29, 8 in -> 51 as in the paper's Table 2), and SM-B doubles it.
+
+Hexahedron node order (LS-DYNA / VTK): nodes 0-3 on the face at the lower z, counter-
+clockwise seen from +z, nodes 4-7 above them.
+"""
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.integrate import cumulative_trapezoid
+
+from .errors import InputError, require_finite_positive
+from .units import inch_to_m
+
+SEMI_AXIS_MAJOR = 12.0e-3
+"""Finger cross-section semi-axis along x [m] (paper: 'major radius 12 mm')."""
+SEMI_AXIS_MINOR = 8.45e-3
+"""Finger cross-section semi-axis along y, the bending direction [m]."""
+SM_A_ELEMENT_LENGTH = 4.0e-3
+"""Nominal SM-A element length along the finger [m] (Table 1: 'average length 4 mm')."""
+
+
+@dataclass
+class Mesh:
+    """Nodes (n, 3) [m], 8-node hexahedra (e, 8) and named node sets (arrays of node ids)."""
+
+    nodes: np.ndarray
+    hexes: np.ndarray
+    node_sets: dict = field(default_factory=dict)
+
+    @property
+    def n_nodes(self):
+        return len(self.nodes)
+
+    @property
+    def n_elements(self):
+        return len(self.hexes)
+
+
+def _ellipse_arc_points(a, b, theta0, theta1, n):
+    """n+1 points on the ellipse (a cos t, b sin t) from t=theta0 to theta1, even in arc length."""
+    t = np.linspace(theta0, theta1, 2001)
+    speed = np.hypot(a * np.sin(t), b * np.cos(t))
+    s = np.abs(cumulative_trapezoid(speed, t, initial=0.0))
+    ts = np.interp(np.linspace(0.0, s[-1], n + 1), s, t)
+    return np.column_stack([a * np.cos(ts), b * np.sin(ts)])
+
+
+def ellipse_section(a, b, n):
+    """Mapped n x n quadrilateral grid of the ellipse x^2/a^2 + y^2/b^2 <= 1.
+
+    Returns grid points of shape (n+1, n+1, 2), index [j, i]. Grid corners lie at the
+    ellipse axis points; the interior is the transfinite (Coons) interpolation
+    P(s,t) = (1-t) B(s) + t T(s) + (1-s) Lf(t) + s R(t) - bilinear corner term.
+    """
+    h = np.pi / 2
+    bottom = _ellipse_arc_points(a, b, -h, 0.0, n)          # (0,-b) -> (a,0)
+    right = _ellipse_arc_points(a, b, 0.0, h, n)            # (a,0) -> (0,b)
+    top = _ellipse_arc_points(a, b, 2 * h, h, n)            # (-a,0) -> (0,b)
+    left = _ellipse_arc_points(a, b, -h, -2 * h, n)         # (0,-b) -> (-a,0)
+    s = np.linspace(0.0, 1.0, n + 1)[None, :, None]         # along i
+    t = np.linspace(0.0, 1.0, n + 1)[:, None, None]         # along j
+    B, T = bottom[None, :, :], top[None, :, :]
+    Lf, R = left[:, None, :], right[:, None, :]
+    p00, p10, p01, p11 = bottom[0], bottom[-1], top[0], top[-1]
+    grid = ((1 - t) * B + t * T + (1 - s) * Lf + s * R
+            - ((1 - s) * (1 - t) * p00 + s * (1 - t) * p10 + (1 - s) * t * p01 + s * t * p11))
+    return grid
+
+
+def elliptical_cantilever(length_m, n_section, n_along, a=SEMI_AXIS_MAJOR, b=SEMI_AXIS_MINOR):
+    """Hex mesh of a straight elliptical cantilever along +z, root face at z = 0.
+
+    Node sets: ``root`` (z = 0, clamped), ``tip`` (z = L).
+    """
+    length_m = require_finite_positive("length_m (finger length, m)", length_m)
+    for name, n in (("n_section", n_section), ("n_along", n_along)):
+        if int(n) != n or n < 1:
+            raise InputError(f"{name} must be an integer >= 1, got {n!r}")
+    n, nz = int(n_section), int(n_along)
+    sec = ellipse_section(a, b, n).reshape(-1, 2)
+    z = np.linspace(0.0, length_m, nz + 1)
+    nodes = np.column_stack([np.tile(sec, (nz + 1, 1)), np.repeat(z, len(sec))])
+    m = n + 1
+    k, j, i = np.meshgrid(np.arange(nz), np.arange(n), np.arange(n), indexing="ij")
+    base = (k * m * m + j * m + i).ravel()
+    quad = np.array([0, 1, m + 1, m])
+    hexes = np.concatenate([base[:, None] + quad, base[:, None] + quad + m * m], axis=1)
+    ids = np.arange(len(nodes))
+    node_sets = {"root": ids[nodes[:, 2] == 0.0], "tip": ids[nodes[:, 2] == z[-1]]}
+    return Mesh(nodes=nodes, hexes=hexes.astype(np.int64), node_sets=node_sets)
+
+
+def _length_m(length_in=None, length_m=None):
+    if (length_in is None) == (length_m is None):
+        raise InputError("give exactly one of length_in (inches) or length_m (metres)")
+    if length_in is not None:
+        return inch_to_m(require_finite_positive("length_in (finger length, in)", length_in))
+    return require_finite_positive("length_m (finger length, m)", length_m)
+
+
+def sm_a_elements_along(length_m):
+    """SM-A element count along the finger: round(L / 4 mm), at least 1."""
+    return max(1, int(round(length_m / SM_A_ELEMENT_LENGTH)))
+
+
+def sm_a(length_in=None, length_m=None):
+    """The paper's simplified model A: 5 x 5 hexahedra in the section, ~4 mm along."""
+    L = _length_m(length_in, length_m)
+    return elliptical_cantilever(L, 5, sm_a_elements_along(L))
+
+
+def sm_b(length_in=None, length_m=None):
+    """The paper's refined simplified model B: 9 x 9 in the section, twice SM-A along."""
+    L = _length_m(length_in, length_m)
+    return elliptical_cantilever(L, 9, 2 * sm_a_elements_along(L))

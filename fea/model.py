@@ -1,0 +1,138 @@
+"""A finite element model: mesh, material, Rayleigh damping, boundary conditions, loads.
+
+Rayleigh damping, paper Eq. (2): ``C = alpha M + beta K`` with alpha [1/s] (mass
+proportional) and beta [s] (stiffness proportional). Modal damping ratio, Eq. (3b):
+``zeta_i = alpha / (2 omega_i) + beta omega_i / 2``.
+"""
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import InputError, require_finite_positive
+from .hex8 import FACES, ElementGeometry, element_geometry, hourglass_stiffness
+from .material import NeoHookean
+from .mesh import Mesh
+
+
+@dataclass(frozen=True)
+class ForcePulse:
+    """A rectangular force pulse: total force ``force_N`` (3,) [N] shared among ``nodes``
+    in proportion to ``weights`` (sum 1), applied for ``t_start_s <= t < t_end_s``."""
+
+    nodes: np.ndarray
+    weights: np.ndarray
+    force_N: np.ndarray
+    t_start_s: float
+    t_end_s: float
+
+    def __post_init__(self):
+        force = np.asarray(self.force_N, dtype=float)
+        if force.shape != (3,) or not np.all(np.isfinite(force)):
+            raise InputError(f"force_N must be 3 finite components [N], got {self.force_N!r}")
+        t0 = require_finite_positive("t_start_s (pulse start, s)", self.t_start_s, allow_zero=True)
+        t1 = require_finite_positive("t_end_s (pulse end, s)", self.t_end_s)
+        if t1 <= t0:
+            raise InputError(f"t_end_s must exceed t_start_s ({t0} s), got {t1} s")
+        w = np.asarray(self.weights, dtype=float)
+        if len(w) != len(self.nodes) or not np.isclose(w.sum(), 1.0) or np.any(w < 0):
+            raise InputError("weights must be one non-negative number per node, summing to 1")
+        object.__setattr__(self, "force_N", force)
+        object.__setattr__(self, "weights", w)
+        object.__setattr__(self, "nodes", np.asarray(self.nodes, dtype=np.int64))
+
+
+@dataclass(frozen=True)
+class RotatingNodes:
+    """Prescribed rigid rotation of a node set about the axis through ``center_m`` along
+    ``axis`` at constant angular velocity ``omega_rad_s``: x(t) = c + R(omega t)(X - c)."""
+
+    nodes: np.ndarray
+    center_m: np.ndarray
+    axis: np.ndarray
+    omega_rad_s: float
+
+    def __post_init__(self):
+        axis = np.asarray(self.axis, dtype=float)
+        norm = np.linalg.norm(axis)
+        if axis.shape != (3,) or not np.isfinite(norm) or norm == 0.0:
+            raise InputError(f"axis must be a non-zero 3-vector, got {self.axis!r}")
+        if not np.isfinite(self.omega_rad_s):
+            raise InputError(f"omega_rad_s must be finite, got {self.omega_rad_s!r}")
+        object.__setattr__(self, "axis", axis / norm)
+        object.__setattr__(self, "center_m", np.asarray(self.center_m, dtype=float))
+        object.__setattr__(self, "nodes", np.asarray(self.nodes, dtype=np.int64))
+
+
+@dataclass
+class Model:
+    """Everything the explicit solver needs.
+
+    alpha : mass-proportional damping [1/s], >= 0.
+    beta : stiffness-proportional damping [s], >= 0.
+    hourglass_coefficient : Q_hg of :func:`fea.hex8.hourglass_stiffness` [-], > 0.
+    fixed_nodes : node ids with all displacements fixed (clamped root).
+    """
+
+    mesh: Mesh
+    material: NeoHookean
+    alpha: float = 0.0
+    beta: float = 0.0
+    fixed_nodes: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    pulses: tuple = ()
+    rotating: RotatingNodes | None = None
+    hourglass_coefficient: float = 1.0
+
+    def __post_init__(self):
+        self.alpha = require_finite_positive("alpha (mass-proportional damping, 1/s)", self.alpha, allow_zero=True)
+        self.beta = require_finite_positive("beta (stiffness-proportional damping, s)", self.beta, allow_zero=True)
+        self.hourglass_coefficient = require_finite_positive("hourglass_coefficient", self.hourglass_coefficient)
+        self.fixed_nodes = np.asarray(self.fixed_nodes, dtype=np.int64)
+        try:
+            self.geometry: ElementGeometry = element_geometry(self.mesh.nodes, self.mesh.hexes)
+        except ValueError as err:
+            raise InputError(f"mesh: {err}") from None
+        self.kappa = hourglass_stiffness(self.geometry, self.material.E, self.hourglass_coefficient)
+        self.mass = lumped_mass(self.mesh, self.geometry, self.material.rho)
+
+    @property
+    def total_mass(self):
+        """Total mass [kg]."""
+        return float(self.mass.sum())
+
+
+def lumped_mass(mesh, geometry, rho):
+    """Diagonal (lumped) nodal masses [kg]: each element's rho V0 split equally over its 8 nodes."""
+    m = np.zeros(mesh.n_nodes)
+    np.add.at(m, mesh.hexes, np.repeat((rho * geometry.volume / 8.0)[:, None], 8, axis=1))
+    return m
+
+
+def face_node_weights(mesh, node_set):
+    """Area weights (sum 1) of the nodes of ``node_set`` for a uniform traction on the
+    element faces lying wholly in the set (each quad's area split 1/4 per node)."""
+    in_set = np.zeros(mesh.n_nodes, dtype=bool)
+    in_set[node_set] = True
+    faces = mesh.hexes[:, FACES].reshape(-1, 4)
+    faces = faces[in_set[faces].all(axis=1)]
+    if len(faces) == 0:
+        raise InputError("node set contains no complete element face")
+    p = mesh.nodes[faces]
+    area = 0.5 * np.linalg.norm(np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 1]), axis=-1)
+    w = np.zeros(mesh.n_nodes)
+    np.add.at(w, faces, np.repeat(area[:, None] / 4.0, 4, axis=1))
+    return w[node_set] / w[node_set].sum()
+
+
+def tip_pulse(mesh, force_N, duration_s, t_start_s=0.0):
+    """The paper's impulse: a force on the tip face, area-weighted over its nodes."""
+    tip = mesh.node_sets["tip"]
+    return ForcePulse(nodes=tip, weights=face_node_weights(mesh, tip),
+                      force_N=np.asarray(force_N, dtype=float),
+                      t_start_s=t_start_s, t_end_s=t_start_s + require_finite_positive("duration_s", duration_s))
+
+
+def cantilever_model(mesh, material, alpha=0.0, beta=0.0, pulses=(), hourglass_coefficient=1.0):
+    """A finger clamped at its root face (all root nodes fixed)."""
+    return Model(mesh=mesh, material=material, alpha=alpha, beta=beta,
+                 fixed_nodes=mesh.node_sets["root"], pulses=tuple(pulses),
+                 hourglass_coefficient=hourglass_coefficient)
