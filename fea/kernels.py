@@ -11,7 +11,7 @@ from .hex8 import BULK_VISCOSITY_C0, BULK_VISCOSITY_C1, FACES
 _FACES = FACES.astype(np.int64)
 
 
-@nb.njit(cache=True, fastmath=False)
+@nb.njit(cache=True, fastmath=True)
 def internal_forces_numba(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c, f):
     """Nodal internal forces into ``f`` (n, 3) [N]; returns
     ``(dt_min, strain_energy, hourglass_energy, bulk_viscous_power, status)``."""
@@ -27,7 +27,8 @@ def internal_forces_numba(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c,
     Fd = np.empty((3, 3))
     Fi = np.empty((3, 3))
     P = np.empty((3, 3))
-    q = np.empty(3)
+    q = np.empty((4, 3))
+    fe = np.empty((8, 3))
     for e in range(ne):
         V0 = volume[e]
         for k in range(8):
@@ -102,23 +103,24 @@ def internal_forces_numba(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c,
             for j in range(3):
                 P[i, j] = mu * F[i, j] + coef * Fi[j, i]
         kap = kappa[e]
-        for k in range(8):
-            n = hexes[e, k]
-            for i in range(3):
-                s = 0.0
-                for j in range(3):
-                    s += P[i, j] * b[e, k, j]
-                f[n, i] += s
         for a in range(4):
             for i in range(3):
                 s = 0.0
                 for k in range(8):
                     s += gamma[e, a, k] * xe[k, i]
-                q[i] = s
-            w_hg += 0.5 * kap * (q[0] * q[0] + q[1] * q[1] + q[2] * q[2])
-            for k in range(8):
-                n = hexes[e, k]
-                g = kap * gamma[e, a, k]
-                for i in range(3):
-                    f[n, i] += g * q[i]
+                q[a, i] = s
+                w_hg += 0.5 * kap * s * s
+        for k in range(8):
+            for i in range(3):
+                s = 0.0
+                for j in range(3):
+                    s += P[i, j] * b[e, k, j]
+                h = 0.0
+                for a in range(4):
+                    h += gamma[e, a, k] * q[a, i]
+                fe[k, i] = s + kap * h
+        for k in range(8):
+            n = hexes[e, k]
+            for i in range(3):
+                f[n, i] += fe[k, i]
     return dt_min, w_strain, w_hg, p_bulk, -1

@@ -1,0 +1,34 @@
+"""Natural frequencies and mode shapes of the linearised model.
+
+Generalised eigenproblem on the free DOFs, with the tangent stiffness K at the
+reference (or a preloaded) state and the lumped mass M::
+
+    K phi = omega^2 M phi                     omega [rad/s]
+
+solved by shift-invert Lanczos (scipy.sparse.linalg.eigsh, sigma = 0).
+"""
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from .errors import InputError
+from .model import Model
+from .static import free_dofs, tangent_stiffness
+
+
+def natural_frequencies(model: Model, n_modes=3, x=None, return_modes=False):
+    """The ``n_modes`` lowest angular frequencies [rad/s] (ascending); with
+    ``return_modes`` also the mass-normalised mode shapes (3n, n_modes), zero on fixed DOFs."""
+    if int(n_modes) != n_modes or n_modes < 1:
+        raise InputError(f"n_modes must be an integer >= 1, got {n_modes!r}")
+    free = free_dofs(model)
+    K = tangent_stiffness(model, x)[free][:, free].tocsc()
+    M = sp.diags(np.repeat(model.mass, 3)[free]).tocsc()
+    w2, phi = spla.eigsh(K, k=int(n_modes), M=M, sigma=0.0, which="LM")
+    order = np.argsort(w2)
+    omega = np.sqrt(np.clip(w2[order], 0.0, None))
+    if not return_modes:
+        return omega
+    modes = np.zeros((3 * model.mesh.n_nodes, int(n_modes)))
+    modes[free] = phi[:, order]
+    return omega, modes

@@ -1,0 +1,41 @@
+"""Result files written atomically (temporary file, then rename), so an interrupted run
+never leaves a half-written output behind."""
+import json
+import os
+import tempfile
+from pathlib import Path
+
+
+def _atomic_write(path, write):
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    os.close(fd)
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path
+
+
+def write_json(path, data):
+    """Write ``data`` as indented JSON."""
+    def write(tmp):
+        with open(tmp, "w") as fh:
+            json.dump(data, fh, indent=2, sort_keys=False)
+            fh.write("\n")
+    return _atomic_write(path, write)
+
+
+def write_csv(path, frame):
+    """Write a pandas DataFrame as CSV (column names carry the units)."""
+    return _atomic_write(path, lambda tmp: frame.to_csv(tmp, index=False))
+
+
+def write_figure(path, fig):
+    """Save a matplotlib figure."""
+    fmt = Path(path).suffix.lstrip(".") or "png"
+    return _atomic_write(path, lambda tmp: fig.savefig(tmp, format=fmt, dpi=120, bbox_inches="tight"))

@@ -1,0 +1,109 @@
+"""Consistent tangent stiffness and nonlinear static equilibrium (Newton-Raphson).
+
+Element tangent of the one-point hexahedron (total Lagrangian, see :mod:`fea.hex8`)::
+
+    K_(ki)(lm) = (1/V0) sum_{j,L} b_kj A_ijmL b_lL + kappa sum_a gamma_ak gamma_al delta_im
+
+with the neo-Hookean elasticity tensor A = dP/dF::
+
+    A_ijmL = mu d_im d_jL + (mu - lam ln J) Finv_Li Finv_jm + lam Finv_ji Finv_Lm
+
+Bulk viscosity is rate dependent and absent in statics.
+"""
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from .errors import InputError, SolverError
+from .hex8 import deformation_gradient, internal_forces_numpy
+from .model import Model, face_node_weights
+
+
+def tangent_stiffness(model: Model, x=None):
+    """Assembled tangent stiffness dF_int/dx (3n x 3n, CSR) [N/m] at positions x (default: reference)."""
+    mesh, g, mat = model.mesh, model.geometry, model.material
+    x = mesh.nodes if x is None else x
+    F = deformation_gradient(x[mesh.hexes], g)
+    J = np.linalg.det(F)
+    if np.any(J <= 0.0):
+        raise SolverError(f"element {int(np.argmax(J <= 0.0))} inverted (J <= 0)")
+    Fi = np.linalg.inv(F)
+    eye = np.eye(3)
+    c1 = (mat.mu - mat.lam * np.log(J))[:, None, None, None, None]
+    A = (mat.mu * np.einsum("im,jl->ijml", eye, eye)[None]
+         + c1 * np.einsum("eli,ejm->eijml", Fi, Fi)
+         + mat.lam * np.einsum("eji,elm->eijml", Fi, Fi))
+    Ke = np.einsum("ekj,eijml,ebl->ekibm", g.b, A, g.b) / g.volume[:, None, None, None, None]
+    Ke += np.einsum("e,eak,eab,im->ekibm", model.kappa, g.gamma, g.gamma, eye)
+    dofs = (3 * mesh.hexes[:, :, None] + np.arange(3)[None, None, :]).reshape(len(mesh.hexes), 24)
+    rows = np.repeat(dofs, 24, axis=1).ravel()
+    cols = np.tile(dofs, (1, 24)).ravel()
+    n = 3 * mesh.n_nodes
+    return sp.csr_matrix((Ke.reshape(len(mesh.hexes), -1).ravel(), (rows, cols)), shape=(n, n))
+
+
+def internal_force(model: Model, x):
+    """Static internal force vector f_int(x) (n, 3) [N]."""
+    g, mat = model.geometry, model.material
+    f = np.zeros_like(x)
+    *_, bad = internal_forces_numpy(x, np.zeros_like(x), model.mesh.hexes, g.b, g.volume, g.gamma,
+                                    model.kappa, mat.mu, mat.lam, mat.rho, mat.wave_speed, f)
+    if bad >= 0:
+        raise SolverError(f"element {bad} inverted (J <= 0)")
+    return f
+
+
+def free_dofs(model: Model):
+    """Indices of unconstrained degrees of freedom (node*3 + direction)."""
+    fixed = np.zeros((model.mesh.n_nodes, 3), dtype=bool)
+    fixed[model.fixed_nodes] = True
+    return np.flatnonzero(~fixed.ravel())
+
+
+def static_solve(model: Model, f_ext, n_increments=2, tol=1e-7, max_iter=30, linear=False):
+    """Equilibrium f_int(x) = f_ext (n, 3) [N] by incremental Newton-Raphson.
+
+    ``linear=True`` solves K0 u = f_ext once (small-displacement answer).
+    Convergence: ||residual|| <= tol * ||f_ext||. Returns nodal positions x (n, 3) [m].
+    """
+    f_ext = np.asarray(f_ext, dtype=float)
+    if f_ext.shape != model.mesh.nodes.shape or not np.all(np.isfinite(f_ext)):
+        raise InputError(f"f_ext must be finite with shape {model.mesh.nodes.shape}")
+    free = free_dofs(model)
+    x = model.mesh.nodes.copy()
+    if linear:
+        K = tangent_stiffness(model)[free][:, free]
+        u = np.zeros(x.size)
+        u[free] = spla.spsolve(K.tocsc(), f_ext.ravel()[free])
+        return x + u.reshape(x.shape)
+    scale = max(np.linalg.norm(f_ext), 1e-300)
+    for load in np.linspace(0.0, 1.0, n_increments + 1)[1:]:
+        for _ in range(max_iter):
+            r = (load * f_ext - internal_force(model, x)).ravel()[free]
+            if np.linalg.norm(r) <= tol * scale:
+                break
+            K = tangent_stiffness(model, x)[free][:, free]
+            du = np.zeros(x.size)
+            du[free] = spla.spsolve(K.tocsc(), r)
+            x = x + du.reshape(x.shape)
+        else:
+            raise SolverError(f"Newton did not converge at load factor {load:.3g} in {max_iter} iterations")
+    return x
+
+
+def tip_deflection(model: Model, force_N, direction=1, linear=False):
+    """Tip deflection [m] (area-weighted mean over the tip face, along ``direction``) under a
+    tip force ``force_N`` [N] along ``direction`` spread uniformly over the tip face."""
+    mesh = model.mesh
+    tip = mesh.node_sets["tip"]
+    w = face_node_weights(mesh, tip)
+    f_ext = np.zeros_like(mesh.nodes)
+    f_ext[tip, direction] = w * force_N
+    x = static_solve(model, f_ext, linear=linear)
+    return float(w @ (x[tip, direction] - mesh.nodes[tip, direction]))
+
+
+def tip_stiffness(model: Model, loads_N=(1.0, 2.0), direction=1):
+    """Equivalent tip stiffness [N/m] as in the paper's Table 1: the mean of F/delta over
+    nonlinear static solves at the given tip loads (1 N and 2 N)."""
+    return float(np.mean([F / tip_deflection(model, F, direction) for F in loads_N]))

@@ -1,0 +1,80 @@
+"""Studies of the paper's section 3.1: Table 1 (mesh, time step, stiffness) and the
+impulse response of the 4.5-in finger for several alpha (Fig. 7)."""
+import math
+
+import numpy as np
+import pandas as pd
+
+from .explicit import TSSFAC, critical_time_step, run
+from .material import RUBBER
+from .mesh import sm_a, sm_b
+from .model import cantilever_model, tip_pulse
+from .static import tip_stiffness
+
+PAPER_TABLE1 = {
+    "SM-A": {"nodes": 1080, "elements": 725, "dt_us": 4.04, "steps_to_0p2s": 49505, "step_ratio": 1.0,
+             "stiffness_N_per_m": 73.8},
+    "SM-B": {"nodes": 5900, "elements": 4698, "dt_us": 1.43, "steps_to_0p2s": 139860, "step_ratio": 2.83,
+             "stiffness_N_per_m": 74.0},
+}
+"""The paper's Table 1 values for the 4.5-in finger (simplified hexahedral models)."""
+
+
+def table1(length_in=4.5, material=RUBBER, stiffness=True):
+    """Nodes, elements, stable step (TSSFAC x min dt_e) [us], steps to 0.2 s, step ratio to
+    SM-A and tip stiffness [N/m] (nonlinear static, mean over 1 N and 2 N) of SM-A and SM-B."""
+    out = {}
+    for name, make in (("SM-A", sm_a), ("SM-B", sm_b)):
+        model = cantilever_model(make(length_in=length_in), material)
+        dt = TSSFAC * critical_time_step(model)
+        out[name] = {"nodes": model.mesh.n_nodes, "elements": model.mesh.n_elements, "dt_us": dt * 1e6,
+                     "steps_to_0p2s": math.ceil(0.2 / dt)}
+        if stiffness:
+            out[name]["stiffness_N_per_m"] = tip_stiffness(model, (1.0, 2.0))
+    for name in out:
+        out[name]["step_ratio"] = out[name]["steps_to_0p2s"] / out["SM-A"]["steps_to_0p2s"]
+    return out
+
+
+def impulse_response(length_in=4.5, alpha=180.0, force_N=1.0, duration_s=0.01, t_end_s=0.2,
+                     n_outputs=400, material=RUBBER, beta=0.0, mesh=None):
+    """Tip response of a clamped SM-A finger to a tip force ``force_N`` [N] in the soft
+    direction (+y) held for ``duration_s`` [s]. Returns the solver's RunResult."""
+    mesh = sm_a(length_in=length_in) if mesh is None else mesh
+    model = cantilever_model(mesh, material, alpha=alpha, beta=beta,
+                             pulses=[tip_pulse(mesh, [0.0, force_N, 0.0], duration_s)])
+    return run(model, t_end_s, n_outputs=n_outputs)
+
+
+def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), **kwargs):
+    """Fig. 7 analogue: tip responses for several alpha [1/s]. Returns (history, summaries):
+    a long DataFrame with columns alpha_per_s, time_s, tip_uy_m, max_von_mises_Pa,
+    reaction_y_N and a list of run summaries."""
+    frames, summaries = [], []
+    for a in alphas:
+        res = impulse_response(alpha=float(a), **kwargs)
+        h = res.history[["time_s", "tip_uy_m", "max_von_mises_Pa", "reaction_y_N"]].copy()
+        h.insert(0, "alpha_per_s", float(a))
+        frames.append(h)
+        summaries.append(res.summary)
+    return pd.concat(frames, ignore_index=True), summaries
+
+
+def plot_impulse_study(history):
+    """Tip displacement [mm] and max von Mises stress [kPa] against time [s], one line per alpha."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 7), sharex=True)
+    for a, h in history.groupby("alpha_per_s"):
+        ax1.plot(h.time_s, 1e3 * h.tip_uy_m, label=f"alpha = {a:g} 1/s")
+        ax2.plot(h.time_s, 1e-3 * h.max_von_mises_Pa)
+    ax1.axhline(0.0, color="k", lw=0.5)
+    ax1.set_ylabel("tip displacement y [mm]")
+    ax2.set_ylabel("max von Mises stress [kPa]")
+    ax2.set_xlabel("time [s]")
+    ax1.legend()
+    ax1.set_title("SM-A finger, tip impulse (paper Fig. 7 analogue)")
+    fig.tight_layout()
+    return fig
