@@ -174,6 +174,16 @@ def critical_time_step(model, x=None, v=None):
     return dt
 
 
+def _initial_state(name, value, shape):
+    try:
+        a = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a numeric array of shape {shape}") from None
+    if a.shape != shape or not np.all(np.isfinite(a)):
+        raise InputError(f"{name} must be finite with shape {shape}, got shape {a.shape}")
+    return a
+
+
 def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_set="tip",
         reaction_set="root", snapshot_every=0, x0=None, v0=None):
     """Integrate ``model`` from rest (or x0, v0) to ``t_end_s`` [s].
@@ -198,8 +208,8 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
         raise InputError(f"dt_s = {dt_user:.4g} s exceeds the CFL limit {dt_cfl:.4g} s "
                          f"(paper Eq. 6); use dt_s <= {TSSFAC * dt_cfl:.4g} s or leave it unset")
     X = mesh.nodes
-    x = X.copy() if x0 is None else np.array(x0, dtype=float)
-    v = np.zeros_like(X) if v0 is None else np.array(v0, dtype=float)
+    x = X.copy() if x0 is None else _initial_state("x0 (initial positions, m)", x0, X.shape)
+    v = np.zeros_like(X) if v0 is None else _initial_state("v0 (initial velocities, m/s)", v0, X.shape)
     free = np.ones(mesh.n_nodes)
     free[model.fixed_nodes] = 0.0
     rot = model.rotating
@@ -234,7 +244,7 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
         if status == _INVERTED:
             raise SolverError(f"element {info} inverted (J <= 0) at t = {t:.6g} s, step {steps}")
         if status == _DIVERGED:
-            raise SolverError(f"solution diverged (non-finite velocity) at step {steps}, t = {t:.6g} s")
+            raise SolverError(f"solution diverged (non-finite velocity) at step {steps + 1}, t = {t:.6g} s")
         if status == _STEP_TOO_LARGE:
             raise SolverError(f"dt_s = {dt_user:.4g} s exceeds the current stable step {dt_seen:.4g} s "
                               f"at step {steps}, t = {t:.6g} s (the mesh deformed)")

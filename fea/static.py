@@ -64,7 +64,8 @@ def static_solve(model: Model, f_ext, n_increments=2, tol=1e-7, max_iter=30, lin
     """Equilibrium f_int(x) = f_ext (n, 3) [N] by incremental Newton-Raphson.
 
     ``linear=True`` solves K0 u = f_ext once (small-displacement answer).
-    Convergence: ||residual|| <= tol * ||f_ext||. Returns nodal positions x (n, 3) [m].
+    Convergence: ||residual|| <= tol * ||f_ext||, or a Newton correction smaller than
+    tol * ||displacement|| (when the residual has reached its round-off floor). Returns nodal positions x (n, 3) [m].
     """
     f_ext = np.asarray(f_ext, dtype=float)
     if f_ext.shape != model.mesh.nodes.shape or not np.all(np.isfinite(f_ext)):
@@ -86,6 +87,8 @@ def static_solve(model: Model, f_ext, n_increments=2, tol=1e-7, max_iter=30, lin
             du = np.zeros(x.size)
             du[free] = spla.spsolve(K.tocsc(), r)
             x = x + du.reshape(x.shape)
+            if np.linalg.norm(du) <= tol * np.linalg.norm(x - model.mesh.nodes):
+                break                      # residual at its round-off floor; displacement converged
         else:
             raise SolverError(f"Newton did not converge at load factor {load:.3g} in {max_iter} iterations")
     return x

@@ -1,0 +1,145 @@
+"""Explicit dynamics of the 4.5-in SM-A finger: free vibration, Rayleigh damping, energy
+balance, and clear errors."""
+import numpy as np
+import pytest
+
+from fea.errors import InputError, SolverError
+from fea.explicit import TSSFAC, critical_time_step, run
+from fea.material import RUBBER
+from fea.mesh import elliptical_cantilever
+from fea.modal import natural_frequencies
+from fea.model import cantilever_model, face_node_weights, tip_pulse
+from fea.static import static_solve
+from rom.damping import log_decrement
+
+PAPER_DT_US = {"SM-A": 4.04, "SM-B": 1.43}
+
+
+@pytest.fixture(scope="module")
+def released(mesh_a):
+    """Initial positions: the small static deflection under a 0.05 N tip load (mostly mode 1)."""
+    model = cantilever_model(mesh_a, RUBBER)
+    tip = mesh_a.node_sets["tip"]
+    f = np.zeros_like(mesh_a.nodes)
+    f[tip, 1] = 0.05 * face_node_weights(mesh_a, tip)
+    return static_solve(model, f, linear=True)
+
+
+def free_vibration(mesh, x0, alpha):
+    res = run(cantilever_model(mesh, RUBBER, alpha=alpha), 0.3, n_outputs=1500, x0=x0)
+    h = res.history
+    return log_decrement(h.time_s.values, h.tip_uy_m.values, y_final=0.0), res
+
+
+def test_critical_time_step_near_paper(mesh_a):
+    from fea.mesh import sm_b
+    for name, mesh in (("SM-A", mesh_a), ("SM-B", sm_b(length_in=4.5))):
+        dt_us = 1e6 * TSSFAC * critical_time_step(cantilever_model(mesh, RUBBER))
+        assert dt_us == pytest.approx(PAPER_DT_US[name], rel=0.25)
+
+
+def test_free_vibration_frequency_matches_euler_bernoulli(mesh_a, released, euler_bernoulli):
+    ld, res = free_vibration(mesh_a, released, alpha=0.0)
+    assert ld.omega_d_rad_s == pytest.approx(euler_bernoulli["omega1"], rel=0.05)
+    assert ld.zeta < 0.005                                 # undamped: no artificial dissipation
+    assert ld.omega_d_rad_s == pytest.approx(natural_frequencies(res_model(mesh_a), 1)[0], rel=0.01)
+
+
+def res_model(mesh):
+    return cantilever_model(mesh, RUBBER)
+
+
+def test_mass_proportional_damping_ratio(mesh_a, released):
+    """Paper Eq. (3b) with beta = 0: zeta_1 = alpha / (2 omega_1)."""
+    alpha = 20.0
+    ld, res = free_vibration(mesh_a, released, alpha=alpha)
+    omega1 = natural_frequencies(res_model(mesh_a), 1)[0]
+    assert ld.zeta == pytest.approx(alpha / (2.0 * omega1), rel=0.05)
+    assert ld.n_cycles >= 3
+
+
+def test_alpha_180_is_overdamped_with_energy_balance(mesh_a):
+    """The paper's over-damped case: after the impulse the tip creeps back without
+    overshooting. External work = KE + IE + HG + damping + bulk viscosity within 1 %."""
+    model = cantilever_model(mesh_a, RUBBER, alpha=180.0, pulses=[tip_pulse(mesh_a, [0.0, 1.0, 0.0], 0.01)])
+    h = run(model, 0.2, n_outputs=400).history
+    i_peak = int(h.tip_uy_m.idxmax())
+    assert h.tip_uy_m[i_peak] > 1e-3
+    assert h.tip_uy_m[i_peak:].min() > -0.01 * h.tip_uy_m[i_peak]
+    stored = (h.kinetic_energy_J + h.internal_energy_J + h.hourglass_energy_J
+              + h.damping_energy_J + h.bulk_viscosity_energy_J)
+    assert (h.external_work_J - stored).abs().max() < 0.01 * h.external_work_J.max()
+    assert h.damping_energy_J.iloc[-1] > 0.9 * h.external_work_J.iloc[-1]       # damping took it all
+    i_ie = int(h.internal_energy_J.idxmax())
+    assert h.hourglass_energy_J[i_ie] < 0.10 * h.internal_energy_J[i_ie]
+
+
+@pytest.fixture(scope="module")
+def small_model():
+    mesh = elliptical_cantilever(0.05, 3, 6)
+    return cantilever_model(mesh, RUBBER, alpha=50.0, beta=1e-6,
+                            pulses=[tip_pulse(mesh, [0.3, 2.0, -0.5], 2e-3)])
+
+
+def test_numba_and_numpy_backends_agree(small_model):
+    a = run(small_model, 1e-3, n_outputs=3, backend="numba")
+    b = run(small_model, 1e-3, n_outputs=3, backend="numpy")
+    assert a.summary["steps"] == b.summary["steps"] > 100
+    assert np.allclose(a.x, b.x, rtol=0, atol=1e-12)
+    assert np.allclose(a.history.values, b.history.values, rtol=1e-8, atol=1e-15)
+
+
+def test_energy_balance_with_stiffness_damping(small_model):
+    """Central-difference energy error grows with (omega dt)^2 of the excited modes: a
+    pulse long against the element transit time keeps it small."""
+    h = run(small_model, 4e-3, n_outputs=20).history
+    stored = (h.kinetic_energy_J + h.internal_energy_J + h.hourglass_energy_J
+              + h.damping_energy_J + h.bulk_viscosity_energy_J)
+    assert (h.external_work_J - stored).abs().max() < 0.01 * h.external_work_J.max()
+
+
+def test_time_step_above_cfl_is_refused(small_model):
+    dt = critical_time_step(small_model)
+    with pytest.raises(InputError, match="CFL"):
+        run(small_model, 1e-3, dt_s=1.01 * dt)
+
+
+def test_inverted_element_stops_the_run():
+    """An element turned inside out (here in the initial positions) stops the solver with
+    the element and the step, instead of producing a negative volume."""
+    mesh = elliptical_cantilever(0.05, 2, 4)
+    x0 = mesh.nodes.copy()
+    top = mesh.hexes[5, 4:]
+    x0[top, 2] -= 2.0 * (x0[top, 2] - mesh.nodes[mesh.hexes[5, :4], 2])
+    with pytest.raises(SolverError, match=r"element \d+ inverted .* step 0"):
+        run(cantilever_model(mesh, RUBBER), 1e-3, x0=x0)
+
+
+def test_inverted_mesh_is_refused():
+    mesh = elliptical_cantilever(0.05, 2, 4)
+    mesh.hexes[3] = mesh.hexes[3][[4, 5, 6, 7, 0, 1, 2, 3]]
+    with pytest.raises(InputError, match="element 3 is inverted"):
+        cantilever_model(mesh, RUBBER)
+
+
+def test_divergence_reports_the_step():
+    mesh = elliptical_cantilever(0.05, 2, 4)
+    model = cantilever_model(mesh, RUBBER, pulses=[tip_pulse(mesh, [0.0, 1e300, 0.0], 1e-3)])
+    with pytest.raises(SolverError, match=r"diverged .* at step 1,"):
+        run(model, 1e-3)
+
+
+@pytest.mark.parametrize("kwargs, field", [({"alpha": -1.0}, "alpha"), ({"alpha": float("nan")}, "alpha"),
+                                           ({"beta": -1e-6}, "beta")])
+def test_bad_damping_is_named(mesh_a, kwargs, field):
+    with pytest.raises(InputError, match=field):
+        cantilever_model(mesh_a, RUBBER, **kwargs)
+
+
+def test_bad_initial_state_is_named(small_model):
+    x0 = small_model.mesh.nodes.copy()
+    x0[3, 1] = np.nan
+    with pytest.raises(InputError, match="x0"):
+        run(small_model, 1e-4, x0=x0)
+    with pytest.raises(InputError, match="t_end_s"):
+        run(small_model, -1.0)

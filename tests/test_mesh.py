@@ -1,0 +1,40 @@
+import numpy as np
+import pytest
+
+from fea.errors import InputError
+from fea.hex8 import element_geometry
+from fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR, elliptical_cantilever, sm_a, sm_b
+from fea.units import inch_to_m
+
+
+@pytest.mark.parametrize("make, nodes, elements", [(sm_a, 1080, 725), (sm_b, 5900, 4698)])
+def test_table1_node_and_element_counts(make, nodes, elements):
+    mesh = make(length_in=4.5)
+    assert (mesh.n_nodes, mesh.n_elements) == (nodes, elements)
+
+
+def test_refined_mesh_volume_converges_to_ellipse():
+    exact = np.pi * SEMI_AXIS_MAJOR * SEMI_AXIS_MINOR * inch_to_m(4.5)
+    errors = [abs(element_geometry(m.nodes, m.hexes).volume.sum() - exact) / exact
+              for m in (elliptical_cantilever(inch_to_m(4.5), n, 4) for n in (3, 5, 9))]
+    assert errors[0] > errors[1] > errors[2]
+    assert errors[2] < 0.01
+
+
+def test_element_length_scales_with_finger_length():
+    assert sm_a(length_in=8.0).n_elements == 25 * 51     # the paper's 8-in finger, 1275 elements
+    assert sm_b(length_in=3.0).n_elements == 81 * 2 * 19
+
+
+def test_root_and_tip_sets_are_the_end_faces(mesh_a):
+    z = mesh_a.nodes[:, 2]
+    assert np.all(z[mesh_a.node_sets["root"]] == 0.0)
+    assert np.allclose(z[mesh_a.node_sets["tip"]], inch_to_m(4.5))
+    assert len(mesh_a.node_sets["root"]) == len(mesh_a.node_sets["tip"]) == 36
+
+
+@pytest.mark.parametrize("kwargs, field", [({"length_in": -1.0}, "length_in"), ({"length_in": float("nan")}, "length_in"),
+                                           ({}, "exactly one"), ({"length_in": 1.0, "length_m": 0.1}, "exactly one")])
+def test_bad_lengths_are_named(kwargs, field):
+    with pytest.raises(InputError, match=field):
+        sm_a(**kwargs)

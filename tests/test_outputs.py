@@ -1,0 +1,49 @@
+"""VTU export (ParaView) and the ccedi command line."""
+import json
+
+import meshio
+import numpy as np
+import pytest
+
+from fea.cli import main
+from fea.explicit import run
+from fea.material import RUBBER
+from fea.mesh import elliptical_cantilever
+from fea.model import cantilever_model, tip_pulse
+from fea.vtu import write_series, write_vtu
+
+
+@pytest.fixture(scope="module")
+def model():
+    mesh = elliptical_cantilever(0.05, 3, 4)
+    return cantilever_model(mesh, RUBBER, alpha=10.0, pulses=[tip_pulse(mesh, [0.0, 1.0, 0.0], 1e-3)])
+
+
+def test_vtu_round_trip(tmp_path, model):
+    res = run(model, 2e-3, n_outputs=4, snapshot_every=2)
+    path = write_vtu(tmp_path / "final.vtu", model, res.x)
+    back = meshio.read(path)
+    assert np.allclose(back.points, res.x)
+    assert np.array_equal(back.cells_dict["hexahedron"], model.mesh.hexes)
+    assert np.allclose(back.point_data["displacement_m"], res.x - model.mesh.nodes)
+    assert back.cell_data["von_mises_Pa"][0].max() > 0.0
+    pvd = write_series(tmp_path / "series", model, res)
+    assert pvd.read_text().count("<DataSet") == len(res.snapshots) == 2
+
+
+def test_cli_table1_writes_every_key(tmp_path):
+    path = tmp_path / "t1.json"
+    assert main(["table1", "--json", str(path)]) == 0
+    table = json.loads(path.read_text())
+    for name, (nodes, elements) in {"SM-A": (1080, 725), "SM-B": (5900, 4698)}.items():
+        row = table[name]
+        assert set(row) == {"nodes", "elements", "dt_us", "steps_to_0p2s", "step_ratio", "stiffness_N_per_m"}
+        assert (row["nodes"], row["elements"]) == (nodes, elements)
+        assert row["steps_to_0p2s"] == pytest.approx(0.2 / (row["dt_us"] * 1e-6), abs=1)
+    assert table["SM-B"]["step_ratio"] == pytest.approx(2.83, rel=0.1)      # paper: 2.83
+
+
+def test_cli_reports_bad_input_in_one_line(capsys):
+    assert main(["impulse", "--alpha", "-5", "--t-end-s", "0.001", "--out", "/nonexistent/x"]) == 1
+    err = capsys.readouterr().err
+    assert "alpha" in err and "Traceback" not in err
