@@ -11,6 +11,10 @@ from pathlib import Path
 from .errors import InputError, SolverError
 
 
+def _fmt(value):
+    return f"{value:d}" if isinstance(value, int) else f"{value:.4g}"
+
+
 def _cmd_table1(args):
     from .outputs import write_json
     from .studies import PAPER_TABLE1, table1
@@ -19,7 +23,7 @@ def _cmd_table1(args):
     for name, row in result.items():
         paper = PAPER_TABLE1[name] if args.length_in == 4.5 else {}
         print(f"{name}: " + ", ".join(
-            f"{k} = {v:.4g}" + (f" (paper {paper[k]:g})" if k in paper else "") for k, v in row.items()))
+            f"{k} = {_fmt(v)}" + (f" (paper {_fmt(paper[k])})" if k in paper else "") for k, v in row.items()))
     if args.json:
         write_json(args.json, result)
         print(f"wrote {args.json}")

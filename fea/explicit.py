@@ -30,7 +30,7 @@ import pandas as pd
 
 from .errors import InputError, SolverError, require_finite_positive
 from .hex8 import deformation_gradient, internal_forces_numpy
-from .kernels import internal_forces_numba
+from .kernels import FASTMATH, internal_forces_numba
 from .material import cauchy_stress, von_mises
 from .model import Model, face_node_weights
 
@@ -84,17 +84,20 @@ def _advance(forces, t, t_stop, dt_prev, dt_user, tssfac, beta, alpha,
                 x_new = rot_center + d * ct + kxd * st + rot_axis * kd * (1.0 - ct)
                 v_pres[n, :] = (x_new - x[n, :]) / dt
         Dt = 0.5 * (dt_prev + dt)
-        use_beta = beta > 0.0 and dt_prev > 0.0
+        inv_den = 1.0 / (1.0 + 0.5 * alpha * Dt)
+        c_v = (1.0 - 0.5 * alpha * Dt) * inv_den
+        c_f = Dt * inv_den
+        beta_rate = beta / dt_prev if (beta > 0.0 and dt_prev > 0.0) else 0.0
         w_ext = 0.0
         w_damp = 0.0
         ke = 0.0
         for n in range(x.shape[0]):
             m = mass[n]
+            is_free = free[n] > 0.0
             for i in range(3):
-                fb = beta * (f_int[n, i] - f_int_prev[n, i]) / dt_prev if use_beta else 0.0
-                if free[n] > 0.0:
-                    vn = ((1.0 - 0.5 * alpha * Dt) * v[n, i]
-                          + Dt * (f_ext[n, i] - f_int[n, i] - fb) / m) / (1.0 + 0.5 * alpha * Dt)
+                fb = beta_rate * (f_int[n, i] - f_int_prev[n, i])
+                if is_free:
+                    vn = c_v * v[n, i] + c_f * (f_ext[n, i] - f_int[n, i] - fb) / m
                     reaction[n, i] = 0.0
                 else:
                     # constrained: prescribed velocity; the support supplies what is missing
@@ -114,7 +117,7 @@ def _advance(forces, t, t_stop, dt_prev, dt_user, tssfac, beta, alpha,
         energy[_KE] = 0.5 * ke
         energy[_IE] = w_int
         energy[_HG] = w_hg
-        if not np.isfinite(energy[_KE]):
+        if not (energy[_KE] < np.inf):       # also catches NaN; survives fast-math
             return t, dt_prev, steps, _DIVERGED, steps, dt_seen
         t += dt
         dt_prev = dt
@@ -122,7 +125,7 @@ def _advance(forces, t, t_stop, dt_prev, dt_user, tssfac, beta, alpha,
     return t, dt_prev, steps, _OK, 0, dt_seen
 
 
-_advance_numba = nb.njit(cache=True)(_advance)
+_advance_numba = nb.njit(cache=True, fastmath=FASTMATH)(_advance)
 
 
 @dataclass

@@ -115,7 +115,7 @@ def hourglass_stiffness(geometry, E, q_hg):
 
 def deformation_gradient(x_e, geometry):
     """F = sum_k x_k (x) b_k / V0 for element nodal positions x_e (e, 8, 3) -> (e, 3, 3)."""
-    return np.einsum("eki,ekj->eij", x_e, geometry.b) / geometry.volume[:, None, None]
+    return np.matmul(x_e.swapaxes(1, 2), geometry.b) / geometry.volume[:, None, None]
 
 
 def characteristic_length(x_e, volume):

@@ -10,117 +10,97 @@ from .hex8 import BULK_VISCOSITY_C0, BULK_VISCOSITY_C1, FACES
 
 _FACES = FACES.astype(np.int64)
 
+FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
+"""LLVM fast-math flags for the hot loops: every flag except ``nnan`` and ``ninf``, so that
+the NaN / inverted-element checks are not optimised away."""
 
-@nb.njit(cache=True, fastmath=True)
+
+@nb.njit(cache=True, fastmath=FASTMATH)
 def internal_forces_numba(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c, f):
     """Nodal internal forces into ``f`` (n, 3) [N]; returns
-    ``(dt_min, strain_energy, hourglass_energy, bulk_viscous_power, status)``."""
+    ``(dt_min, strain_energy, hourglass_energy, bulk_viscous_power, status)``.
+
+    The 3x3 tensors F, Fdot, F^-1 and P live in scalar locals (registers) rather than
+    small arrays, which is what makes this loop fast; the algebra is line for line
+    :func:`fea.hex8.internal_forces_numpy`."""
     f[:, :] = 0.0
     ne = hexes.shape[0]
-    dt_min = np.inf
-    w_strain = 0.0
-    w_hg = 0.0
-    p_bulk = 0.0
+    dt_min = np.inf; w_s = 0.0; w_hg = 0.0; p_b = 0.0
     xe = np.empty((8, 3))
-    ve = np.empty((8, 3))
-    F = np.empty((3, 3))
-    Fd = np.empty((3, 3))
-    Fi = np.empty((3, 3))
-    P = np.empty((3, 3))
     q = np.empty((4, 3))
-    fe = np.empty((8, 3))
     for e in range(ne):
-        V0 = volume[e]
+        iV = 1.0 / volume[e]
+        f00 = f01 = f02 = f10 = f11 = f12 = f20 = f21 = f22 = 0.0
+        d00 = d01 = d02 = d10 = d11 = d12 = d20 = d21 = d22 = 0.0
         for k in range(8):
-            n = hexes[e, k]
-            for i in range(3):
-                xe[k, i] = x[n, i]
-                ve[k, i] = v[n, i]
-        for i in range(3):
-            for j in range(3):
-                s = 0.0
-                sd = 0.0
-                for k in range(8):
-                    s += xe[k, i] * b[e, k, j]
-                    sd += ve[k, i] * b[e, k, j]
-                F[i, j] = s / V0
-                Fd[i, j] = sd / V0
-        # cofactor inverse
-        c00 = F[1, 1] * F[2, 2] - F[1, 2] * F[2, 1]
-        c01 = F[1, 2] * F[2, 0] - F[1, 0] * F[2, 2]
-        c02 = F[1, 0] * F[2, 1] - F[1, 1] * F[2, 0]
-        J = F[0, 0] * c00 + F[0, 1] * c01 + F[0, 2] * c02
+            nd = hexes[e, k]
+            x0 = x[nd, 0]; x1 = x[nd, 1]; x2 = x[nd, 2]
+            v0 = v[nd, 0]; v1 = v[nd, 1]; v2 = v[nd, 2]
+            xe[k, 0] = x0; xe[k, 1] = x1; xe[k, 2] = x2
+            b0 = b[e, k, 0]; b1 = b[e, k, 1]; b2 = b[e, k, 2]
+            f00 += x0 * b0; f01 += x0 * b1; f02 += x0 * b2
+            f10 += x1 * b0; f11 += x1 * b1; f12 += x1 * b2
+            f20 += x2 * b0; f21 += x2 * b1; f22 += x2 * b2
+            d00 += v0 * b0; d01 += v0 * b1; d02 += v0 * b2
+            d10 += v1 * b0; d11 += v1 * b1; d12 += v1 * b2
+            d20 += v2 * b0; d21 += v2 * b1; d22 += v2 * b2
+        f00 *= iV; f01 *= iV; f02 *= iV; f10 *= iV; f11 *= iV; f12 *= iV; f20 *= iV; f21 *= iV; f22 *= iV
+        c00 = f11 * f22 - f12 * f21
+        c01 = f12 * f20 - f10 * f22
+        c02 = f10 * f21 - f11 * f20
+        J = f00 * c00 + f01 * c01 + f02 * c02
         if not (J > 0.0):
             return 0.0, 0.0, 0.0, 0.0, e
-        Fi[0, 0] = c00 / J
-        Fi[1, 0] = c01 / J
-        Fi[2, 0] = c02 / J
-        Fi[0, 1] = (F[0, 2] * F[2, 1] - F[0, 1] * F[2, 2]) / J
-        Fi[1, 1] = (F[0, 0] * F[2, 2] - F[0, 2] * F[2, 0]) / J
-        Fi[2, 1] = (F[0, 1] * F[2, 0] - F[0, 0] * F[2, 1]) / J
-        Fi[0, 2] = (F[0, 1] * F[1, 2] - F[0, 2] * F[1, 1]) / J
-        Fi[1, 2] = (F[0, 2] * F[1, 0] - F[0, 0] * F[1, 2]) / J
-        Fi[2, 2] = (F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0]) / J
-        e_v = 0.0
-        I1 = 0.0
-        for i in range(3):
-            for j in range(3):
-                e_v += Fd[i, j] * Fi[j, i]
-                I1 += F[i, j] * F[i, j]
-        # characteristic length Le = V / A_max (current)
-        amax = 0.0
+        iJ = 1.0 / J
+        # inverse F^-1 entries g_ij
+        g00 = c00 * iJ; g10 = c01 * iJ; g20 = c02 * iJ
+        g01 = (f02 * f21 - f01 * f22) * iJ
+        g11 = (f00 * f22 - f02 * f20) * iJ
+        g21 = (f01 * f20 - f00 * f21) * iJ
+        g02 = (f01 * f12 - f02 * f11) * iJ
+        g12 = (f02 * f10 - f00 * f12) * iJ
+        g22 = (f00 * f11 - f01 * f10) * iJ
+        # e_v = tr(Fdot F^-1) = sum_ij d_ij g_ji  (d not yet divided by V0)
+        e_v = iV * (d00 * g00 + d01 * g10 + d02 * g20 + d10 * g01 + d11 * g11 + d12 * g21
+                    + d20 * g02 + d21 * g12 + d22 * g22)
+        I1 = (f00 * f00 + f01 * f01 + f02 * f02 + f10 * f10 + f11 * f11 + f12 * f12
+              + f20 * f20 + f21 * f21 + f22 * f22)
+        amax2 = 0.0
         for fc in range(6):
-            a0 = _FACES[fc, 0]
-            a1 = _FACES[fc, 1]
-            a2 = _FACES[fc, 2]
-            a3 = _FACES[fc, 3]
-            d1x = xe[a2, 0] - xe[a0, 0]
-            d1y = xe[a2, 1] - xe[a0, 1]
-            d1z = xe[a2, 2] - xe[a0, 2]
-            d2x = xe[a3, 0] - xe[a1, 0]
-            d2y = xe[a3, 1] - xe[a1, 1]
-            d2z = xe[a3, 2] - xe[a1, 2]
-            cx = d1y * d2z - d1z * d2y
-            cy = d1z * d2x - d1x * d2z
-            cz = d1x * d2y - d1y * d2x
-            area = 0.5 * np.sqrt(cx * cx + cy * cy + cz * cz)
-            if area > amax:
-                amax = area
-        Le = J * V0 / amax
-        qbv = 0.0
-        Q = 0.0
+            a0 = _FACES[fc, 0]; a1 = _FACES[fc, 1]; a2 = _FACES[fc, 2]; a3 = _FACES[fc, 3]
+            p0 = xe[a2, 0] - xe[a0, 0]; p1 = xe[a2, 1] - xe[a0, 1]; p2 = xe[a2, 2] - xe[a0, 2]
+            r0 = xe[a3, 0] - xe[a1, 0]; r1 = xe[a3, 1] - xe[a1, 1]; r2 = xe[a3, 2] - xe[a1, 2]
+            cx = p1 * r2 - p2 * r1; cy = p2 * r0 - p0 * r2; cz = p0 * r1 - p1 * r0
+            amax2 = max(amax2, cx * cx + cy * cy + cz * cz)
+        V0 = volume[e]
+        Le = 2.0 * J * V0 / np.sqrt(amax2)
+        qb = 0.0; Q = 0.0
         if e_v < 0.0:
-            qbv = rho * Le * (BULK_VISCOSITY_C0 * Le * e_v * e_v - BULK_VISCOSITY_C1 * c * e_v)
+            qb = rho * Le * (BULK_VISCOSITY_C0 * Le * e_v * e_v - BULK_VISCOSITY_C1 * c * e_v)
             Q = BULK_VISCOSITY_C1 * c + BULK_VISCOSITY_C0 * Le * (-e_v)
         dte = Le / (Q + np.sqrt(Q * Q + c * c))
-        if dte < dt_min:
-            dt_min = dte
+        dt_min = min(dt_min, dte)
         lnJ = np.log(J)
-        w_strain += V0 * (0.5 * mu * (I1 - 3.0) - mu * lnJ + 0.5 * lam * lnJ * lnJ)
-        p_bulk += -qbv * e_v * J * V0
-        coef = lam * lnJ - mu - qbv * J
-        for i in range(3):
-            for j in range(3):
-                P[i, j] = mu * F[i, j] + coef * Fi[j, i]
+        w_s += V0 * (0.5 * mu * (I1 - 3.0) - mu * lnJ + 0.5 * lam * lnJ * lnJ)
+        p_b -= qb * e_v * J * V0
+        co = lam * lnJ - mu - qb * J
+        # P = mu F + co F^-T  -> P_ij = mu f_ij + co g_ji
+        P00 = mu * f00 + co * g00; P01 = mu * f01 + co * g10; P02 = mu * f02 + co * g20
+        P10 = mu * f10 + co * g01; P11 = mu * f11 + co * g11; P12 = mu * f12 + co * g21
+        P20 = mu * f20 + co * g02; P21 = mu * f21 + co * g12; P22 = mu * f22 + co * g22
         kap = kappa[e]
         for a in range(4):
-            for i in range(3):
-                s = 0.0
-                for k in range(8):
-                    s += gamma[e, a, k] * xe[k, i]
-                q[a, i] = s
-                w_hg += 0.5 * kap * s * s
+            s0 = 0.0; s1 = 0.0; s2 = 0.0
+            for k in range(8):
+                gk = gamma[e, a, k]
+                s0 += gk * xe[k, 0]; s1 += gk * xe[k, 1]; s2 += gk * xe[k, 2]
+            w_hg += 0.5 * kap * (s0 * s0 + s1 * s1 + s2 * s2)
+            q[a, 0] = kap * s0; q[a, 1] = kap * s1; q[a, 2] = kap * s2
         for k in range(8):
-            for i in range(3):
-                s = 0.0
-                for j in range(3):
-                    s += P[i, j] * b[e, k, j]
-                h = 0.0
-                for a in range(4):
-                    h += gamma[e, a, k] * q[a, i]
-                fe[k, i] = s + kap * h
-        for k in range(8):
-            n = hexes[e, k]
-            for i in range(3):
-                f[n, i] += fe[k, i]
-    return dt_min, w_strain, w_hg, p_bulk, -1
+            b0 = b[e, k, 0]; b1 = b[e, k, 1]; b2 = b[e, k, 2]
+            h0 = gamma[e, 0, k]; h1 = gamma[e, 1, k]; h2 = gamma[e, 2, k]; h3 = gamma[e, 3, k]
+            nd = hexes[e, k]
+            f[nd, 0] += P00 * b0 + P01 * b1 + P02 * b2 + h0 * q[0, 0] + h1 * q[1, 0] + h2 * q[2, 0] + h3 * q[3, 0]
+            f[nd, 1] += P10 * b0 + P11 * b1 + P12 * b2 + h0 * q[0, 1] + h1 * q[1, 1] + h2 * q[2, 1] + h3 * q[3, 1]
+            f[nd, 2] += P20 * b0 + P21 * b1 + P22 * b2 + h0 * q[0, 2] + h1 * q[1, 2] + h2 * q[2, 2] + h3 * q[3, 2]
+    return dt_min, w_s, w_hg, p_b, -1

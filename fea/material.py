@@ -85,9 +85,11 @@ def strain_energy_density(F, mu, lam):
 
 
 def cauchy_stress(F, mu, lam):
-    """Cauchy stress sigma = P F^T / J [Pa]."""
+    """Cauchy stress sigma = P F^T / J = (mu (F F^T - I) + lam ln(J) I) / J [Pa]."""
     J = np.linalg.det(F)
-    return first_piola(F, mu, lam) @ F.swapaxes(-1, -2) / J[..., None, None]
+    sigma = mu * (F @ F.swapaxes(-1, -2) - np.eye(3))
+    sigma += (lam * np.log(J))[..., None, None] * np.eye(3)
+    return sigma / J[..., None, None]
 
 
 def von_mises(sigma):

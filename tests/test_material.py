@@ -57,3 +57,12 @@ def test_bad_material_values_are_named(kwargs, field):
     values = {"E": 6.1e6, "nu": 0.49, "rho": 1000.0, **kwargs}
     with pytest.raises(InputError, match=field):
         NeoHookean(**values)
+
+
+def test_cauchy_stress_is_push_forward_of_first_piola():
+    rng = np.random.default_rng(2)
+    F = np.eye(3) + 0.2 * rng.standard_normal((20, 3, 3))
+    F = F[np.linalg.det(F) > 0.3]
+    P = first_piola(F, RUBBER.mu, RUBBER.lam)
+    J = np.linalg.det(F)[:, None, None]
+    assert np.allclose(cauchy_stress(F, RUBBER.mu, RUBBER.lam), P @ F.swapaxes(1, 2) / J, rtol=1e-10, atol=1e-6)
