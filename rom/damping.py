@@ -132,3 +132,136 @@ def _refine_peaks(t, r, lobes):
         tp.append(t[i])
         ap.append(r[i])
     return np.array(tp), np.array(ap)
+
+
+@dataclass(frozen=True)
+class HalfPower:
+    """Result of :func:`half_power`: zeta [-], natural frequency omega_n [rad/s], the two
+    half-power frequencies (omega_1, omega_2) [rad/s] and the frequency resolution [rad/s]."""
+
+    zeta: float
+    omega_n_rad_s: float
+    half_power_rad_s: tuple
+    resolution_rad_s: float
+
+
+def half_power(t, y, force=None, pad_factor=16):
+    """Damping ratio by the half-power bandwidth of the frequency response.
+
+    y is an impulse response (e.g. tip displacement after a short force pulse), or, with
+    ``force`` (same samples, N), any forced response, from which the frequency response
+    Y(omega)/F(omega) is formed. The record is zero-padded ``pad_factor`` times.
+
+    For a single-DOF displacement response |H| = 1 / |omega_n^2 - omega^2 + 2 i zeta
+    omega_n omega| the half-power frequencies omega_1 < omega_2 (|H| = |H|_max / sqrt 2)
+    satisfy exactly ``(w2^2 - w1^2) / (w1^2 + w2^2) = tan(2 theta)`` with
+    ``zeta = sin(theta)``, and ``omega_n^2 = (w1^2 + w2^2) / (2 (1 - 2 zeta^2))``; ccedi
+    uses this exact inversion, not the small-damping ``zeta = (w2 - w1) / (2 omega_n)``.
+
+    The record must be long enough for the response to decay (a few times 1/(zeta
+    omega_n)), otherwise truncation widens the peak. Raises InputError when the spectrum
+    has no resonance peak with both half-power points (over-damped or too short a record).
+    """
+    t, y = _validate_signal(t, y)
+    dt = np.diff(t)
+    if np.ptp(dt) > 1e-6 * dt.mean():
+        raise InputError("half_power needs uniformly sampled time (constant time_s step)")
+    if int(pad_factor) != pad_factor or pad_factor < 1:
+        raise InputError(f"pad_factor must be an integer >= 1, got {pad_factor!r}")
+    n = int(pad_factor) * len(t)
+    omega = 2.0 * np.pi * np.fft.rfftfreq(n, dt.mean())
+    H = np.abs(np.fft.rfft(y - y[-1] if force is None else y, n))
+    if force is not None:
+        _, f = _validate_signal(t, force)
+        F = np.abs(np.fft.rfft(f, n))
+        keep = F > 1e-6 * F.max()
+        H = np.where(keep, H / np.where(keep, F, 1.0), 0.0)
+    k = int(np.argmax(H[1:])) + 1
+    level = H[k] / np.sqrt(2.0)
+    below = np.flatnonzero(H[:k] < level)
+    above = np.flatnonzero(H[k:] < level)
+    if k < 2 or len(below) == 0 or len(above) == 0:
+        raise InputError("no resonance peak with two half-power points: the response is over-damped "
+                         "or the record is too short to resolve it")
+    i1 = below[-1]
+    i2 = k + above[0]
+    w1 = np.interp(level, [H[i1], H[i1 + 1]], [omega[i1], omega[i1 + 1]])
+    w2 = np.interp(level, [H[i2], H[i2 - 1]], [omega[i2], omega[i2 - 1]])
+    u = (w2**2 - w1**2) / (w1**2 + w2**2)
+    zeta = float(np.sin(0.5 * np.arctan(u)))
+    omega_n = float(np.sqrt((w1**2 + w2**2) / (2.0 * (1.0 - 2.0 * zeta**2))))
+    return HalfPower(zeta=zeta, omega_n_rad_s=omega_n, half_power_rad_s=(float(w1), float(w2)),
+                     resolution_rad_s=float(omega[1]))
+
+
+@dataclass(frozen=True)
+class EnvelopeFit:
+    """Result of :func:`envelope_fit`: zeta [-], decay rate sigma = zeta omega_n [1/s],
+    damped frequency omega_d [rad/s], and the fitted window (t_start, t_end) [s]."""
+
+    zeta: float
+    decay_rate_per_s: float
+    omega_d_rad_s: float
+    window_s: tuple
+
+
+def envelope_fit(t, y, y_final=None, noise_band=0.02):
+    """Damping ratio from an exponential fit ``A exp(-sigma t)`` to the envelope of a
+    decaying oscillation.
+
+    The envelope is |analytic signal| (Hilbert transform) of ``y - y_final``; the fit
+    uses the samples whose envelope lies between ``noise_band`` and 90 % of its maximum,
+    away from the record ends, where the Hilbert envelope is distorted. The damped
+    frequency comes from the mean spacing of zero crossings; then
+    ``zeta = sigma / sqrt(sigma^2 + omega_d^2)``.
+
+    Raises InputError for a response with fewer than two full cycles above the noise band.
+    """
+    from scipy.signal import hilbert
+
+    t, y = _validate_signal(t, y)
+    if y_final is None:
+        y_final = float(np.mean(y[int(0.9 * len(y)):]))
+    r = y - y_final
+    env = np.abs(hilbert(r))
+    scale = env.max()
+    if scale == 0.0:
+        raise InputError("response is constant: nothing to identify")
+    strong = np.abs(r) > noise_band * np.abs(r).max()
+    crossings = np.flatnonzero((np.signbit(r[1:]) != np.signbit(r[:-1])) & (strong[1:] | strong[:-1]))
+    if len(crossings) < 4:
+        raise InputError("response does not oscillate: fewer than two cycles above the noise band; "
+                         "an envelope fit needs an under-damped response")
+    tc = t[crossings]
+    omega_d = float(np.pi / np.mean(np.diff(tc)))
+    i0 = int(np.argmax(env))
+    period = 2.0 * np.pi / omega_d
+    window = (t >= t[i0] + 0.5 * period) & (t <= tc[-1] - 0.5 * period)
+    window &= (env < 0.9 * scale) & (env > noise_band * scale)
+    if window.sum() < 8:
+        raise InputError("too few samples in the decaying part of the record for an envelope fit")
+    slope, _ = np.polyfit(t[window], np.log(env[window]), 1)
+    sigma = -float(slope)
+    if sigma <= 0.0:
+        raise InputError("the envelope does not decay: not a damped free vibration")
+    return EnvelopeFit(zeta=float(sigma / np.hypot(sigma, omega_d)), decay_rate_per_s=sigma,
+                       omega_d_rad_s=omega_d, window_s=(float(t[window][0]), float(t[window][-1])))
+
+
+def oscillates(t, y, y_final=0.0, noise_band=1e-6):
+    """True when the response, after its largest excursion from ``y_final``, crosses to the
+    other side of ``y_final`` by more than ``noise_band`` x that excursion.
+
+    This is ccedi's definition of "the response oscillates" for the CCEDI critical
+    damping search: an over-damped (or critically damped) impulse response approaches its
+    final value from one side; an under-damped one overshoots it. For noise-free
+    simulations a tiny band (1e-6) resolves damping ratios up to about 0.97; for measured
+    data the band must exceed the noise.
+    """
+    t, y = _validate_signal(t, y)
+    r = np.asarray(y) - y_final
+    i = int(np.argmax(np.abs(r)))
+    peak = r[i]
+    if peak == 0.0:
+        raise InputError("response never leaves its final value: nothing to judge")
+    return bool(np.min(np.sign(peak) * r[i:]) < -noise_band * abs(peak))

@@ -45,3 +45,77 @@ def test_overdamped_response_is_refused():
 def test_bad_signals_are_named(t, y, match):
     with pytest.raises(InputError, match=match):
         log_decrement(t, y)
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from rom.damping import envelope_fit, half_power, oscillates  # noqa: E402
+
+
+def sdof_impulse_response(zeta, omega_n, noise, seed, periods_min=30):
+    """h(t) = exp(-zeta wn t) sin(wd t) / wd, sampled 40 times per period over at least
+    ``periods_min`` periods and 8 decay times 1/(zeta wn), plus white noise of
+    ``noise`` x the peak."""
+    wd = omega_n * np.sqrt(1 - zeta**2)
+    t_end = max(periods_min * 2 * np.pi / wd, 8.0 / (zeta * omega_n))
+    t = np.arange(0.0, t_end, 2 * np.pi / wd / 40)
+    h = np.exp(-zeta * omega_n * t) * np.sin(wd * t) / wd
+    rng = np.random.default_rng(seed)
+    return t, h + noise * np.abs(h).max() * rng.standard_normal(len(t))
+
+
+zetas = st.floats(0.001, 0.3)
+
+
+@settings(max_examples=25, deadline=None)
+@given(zetas, st.floats(10.0, 500.0), st.integers(0, 2**16))
+def test_log_decrement_recovers_zeta_with_noise(zeta, omega_n, seed):
+    t, y = sdof_impulse_response(zeta, omega_n, noise=1e-3, seed=seed)
+    ld = log_decrement(t, y, y_final=0.0, noise_band=0.02)
+    assert ld.zeta == pytest.approx(zeta, rel=0.05)
+
+
+@settings(max_examples=25, deadline=None)
+@given(zetas, st.floats(10.0, 500.0), st.integers(0, 2**16))
+def test_half_power_recovers_zeta_with_noise(zeta, omega_n, seed):
+    t, y = sdof_impulse_response(zeta, omega_n, noise=1e-3, seed=seed)
+    hp = half_power(t, y)
+    assert hp.zeta == pytest.approx(zeta, rel=0.05)
+    assert hp.omega_n_rad_s == pytest.approx(omega_n, rel=0.01)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.floats(0.005, 0.3), st.floats(10.0, 500.0), st.integers(0, 2**16))
+def test_envelope_fit_recovers_zeta_with_noise(zeta, omega_n, seed):
+    t, y = sdof_impulse_response(zeta, omega_n, noise=1e-3, seed=seed)
+    assert envelope_fit(t, y, y_final=0.0).zeta == pytest.approx(zeta, rel=0.05)
+
+
+def test_half_power_with_force_signal():
+    """A forced record: response to a 5-sample rectangular pulse, FRF = Y / F."""
+    zeta, wn = 0.05, 60.0
+    t, h = sdof_impulse_response(zeta, wn, noise=0.0, seed=0)
+    f = np.zeros_like(t)
+    f[:5] = 1.0
+    y = np.convolve(f, h)[:len(t)]
+    assert half_power(t, y, force=f).zeta == pytest.approx(zeta, rel=0.03)
+
+
+@pytest.mark.parametrize("method", [half_power, envelope_fit])
+def test_overdamped_response_is_refused_by_every_method(method):
+    t = np.linspace(0.0, 2.0, 2000)
+    y = np.exp(-30 * t) - np.exp(-60 * t)                 # over-damped impulse response
+    with pytest.raises(InputError, match="over-damped|does not oscillate"):
+        method(t, y)
+
+
+def test_oscillation_criterion_separates_under_from_critical_damping():
+    t = np.linspace(0.0, 1.0, 4000)
+    wn = 50.0
+    critical = t * np.exp(-wn * t)
+    assert not oscillates(t, critical)
+    for zeta in (0.9, 0.95):
+        wd = wn * np.sqrt(1 - zeta**2)
+        under = np.exp(-zeta * wn * t) * np.sin(wd * t)
+        assert oscillates(t, under)
