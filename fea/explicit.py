@@ -33,28 +33,37 @@ from .hex8 import deformation_gradient, internal_forces_numpy
 from .kernels import FASTMATH, internal_forces_numba
 from .material import cauchy_stress, von_mises
 from .model import Model, face_node_weights
+from .rod import rod_forces_numba, rod_forces_numpy, rod_max_stress
 
 TSSFAC = 0.9
 """Time-step scale factor of paper Eq. (5)."""
 
 # energy accumulator slots
 _W_EXT, _E_DAMP, _E_BULK, _KE, _IE, _HG = range(6)
-_OK, _INVERTED, _DIVERGED, _STEP_TOO_LARGE = 0, 1, 2, 3
+_OK, _INVERTED, _DIVERGED, _STEP_TOO_LARGE, _FOLDED = 0, 1, 2, 3, 4
 
 
-def _advance(forces, t, t_stop, dt_prev, dt_user, tssfac, beta, alpha,
+def _advance(forces, rod_forces, t, t_stop, dt_prev, dt_user, tssfac, beta, alpha,
              x, v, X, f_int, f_int_prev, f_ext, v_pres, mass, free,
              pulse_nodes, pulse_forces, pulse_t0, pulse_t1,
              rot_nodes, rot_center, rot_axis, rot_omega,
              hexes, b, volume, gamma, kappa, mu, lam, rho, c,
+             segments, rest_length, axial_stiffness, hinges, bending_stiffness, dt_rod,
              energy, reaction):
-    """Advance from t to t_stop. Returns (t, dt_prev, steps, status, info, dt_min_seen)."""
+    """Advance until t >= t_stop (the last step is not shortened: cutting a step to land on
+    an output time perturbs the highest mode and, repeated, can destabilise a mesh whose
+    CFL estimate is tight). Returns (t, dt_prev, steps, status, info, dt_min_seen)."""
     steps = 0
     dt_seen = np.inf
-    while t < t_stop * (1.0 - 1e-12):
+    while t < t_stop:
         dte, w_int, w_hg, p_bulk, bad = forces(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c, f_int)
         if bad >= 0:
             return t, dt_prev, steps, _INVERTED, bad, dt_seen
+        w_rod, folded = rod_forces(x, segments, rest_length, axial_stiffness, hinges, bending_stiffness, f_int)
+        if folded >= 0:
+            return t, dt_prev, steps, _FOLDED, folded, dt_seen
+        w_int += w_rod
+        dte = min(dte, dt_rod)
         dt_stable = dte
         if beta > 0.0:
             xi = beta / dte
@@ -66,8 +75,6 @@ def _advance(forces, t, t_stop, dt_prev, dt_user, tssfac, beta, alpha,
         else:
             dt = tssfac * dt_stable
         dt_seen = min(dt_seen, dt)
-        if t + dt > t_stop:
-            dt = t_stop - t
         f_ext[:, :] = 0.0
         for p in range(pulse_nodes.shape[0]):
             if pulse_t0[p] <= t and t < pulse_t1[p]:
@@ -158,9 +165,19 @@ def _pulse_arrays(pulses):
 
 
 def max_von_mises(model, x):
-    """Largest element von Mises (Cauchy) stress [Pa] at nodal positions x."""
-    F = deformation_gradient(x[model.mesh.hexes], model.geometry)
-    return float(von_mises(cauchy_stress(F, model.material.mu, model.material.lam)).max())
+    """Largest von Mises stress [Pa] at nodal positions x: Cauchy stress of the solid
+    elements, and the normal stress bound of the rods (:func:`fea.rod.rod_max_stress`)."""
+    sigma = rod_max_stress(x, model.rod_arrays)
+    if model.mesh.n_elements:
+        F = deformation_gradient(x[model.mesh.hexes], model.geometry)
+        sigma = max(sigma, float(von_mises(cauchy_stress(F, model.material.mu, model.material.lam)).max()))
+    return sigma
+
+
+def rod_time_step(model):
+    """Smallest critical step of the rod elements [s] (inf without rods), see :mod:`fea.rod`."""
+    r = model.rod_arrays
+    return float(min(np.min(r.segment_time_step, initial=np.inf), np.min(r.hinge_time_step, initial=np.inf)))
 
 
 def critical_time_step(model, x=None, v=None):
@@ -168,13 +185,13 @@ def critical_time_step(model, x=None, v=None):
     (default: reference), before the TSSFAC scale factor."""
     x = model.mesh.nodes if x is None else x
     v = np.zeros_like(x) if v is None else v
-    g, mat = model.geometry, model.material
+    g = model.geometry
     f = np.zeros_like(x)
     dt, *_ , bad = internal_forces_numba(x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa,
-                                        mat.mu, mat.lam, mat.rho, mat.wave_speed, f)
+                                        *model.solid_constants, f)
     if bad >= 0:
         raise SolverError(f"element {bad} is inverted (J <= 0)")
-    return dt
+    return min(dt, rod_time_step(model))
 
 
 def _initial_state(name, value, shape):
@@ -195,7 +212,11 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     backend : ``"numba"`` (compiled) or ``"numpy"`` (pure-numpy reference, slow).
     Records ``n_outputs`` evenly spaced rows: tip displacement (area-weighted mean over
     ``tip_set``), reaction force summed over ``reaction_set``, max von Mises stress and
-    the energy terms.
+    the energy terms. Steps are never shortened to hit an output time: positions (and
+    the displacement and stress derived from them) are interpolated to the output time,
+    exactly, since central differences move nodes linearly within a step; energies and
+    reactions are those of the step that reaches it (at most one step later). The final
+    state ``x, v`` is at ``summary["t_final_s"]`` (>= t_end_s, by less than one step).
     """
     if not isinstance(model, Model):
         raise InputError("model must be a fea.model.Model")
@@ -204,12 +225,16 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
         raise InputError(f"n_outputs must be an integer >= 1, got {n_outputs!r}")
     if backend not in ("numba", "numpy"):
         raise InputError(f"backend must be 'numba' or 'numpy', got {backend!r}")
-    mesh, g, mat = model.mesh, model.geometry, model.material
+    mesh, g = model.mesh, model.geometry
     dt_user = 0.0 if dt_s is None else require_finite_positive("dt_s (time step, s)", dt_s)
     dt_cfl = critical_time_step(model)
     if dt_user > dt_cfl:
         raise InputError(f"dt_s = {dt_user:.4g} s exceeds the CFL limit {dt_cfl:.4g} s "
                          f"(paper Eq. 6); use dt_s <= {TSSFAC * dt_cfl:.4g} s or leave it unset")
+    dt_first = dt_user if dt_user else TSSFAC * dt_cfl
+    if t_end_s / n_outputs < dt_first:
+        raise InputError(f"n_outputs = {n_outputs} gives an output interval {t_end_s / n_outputs:.3g} s shorter "
+                         f"than the time step {dt_first:.3g} s; use n_outputs <= {int(t_end_s / dt_first)}")
     X = mesh.nodes
     x = X.copy() if x0 is None else _initial_state("x0 (initial positions, m)", x0, X.shape)
     v = np.zeros_like(X) if v0 is None else _initial_state("v0 (initial velocities, m/s)", v0, X.shape)
@@ -224,45 +249,53 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     v *= free[:, None]
     pulse_args = _pulse_arrays(model.pulses)
     tip = mesh.node_sets[tip_set]
-    tip_w = face_node_weights(mesh, tip)
+    tip_w = face_node_weights(mesh, tip) if len(tip) > 1 else np.ones(1)
     react_nodes = mesh.node_sets[reaction_set]
     f_int, f_int_prev, f_ext, v_pres, reaction = (np.zeros_like(X) for _ in range(5))
     energy = np.zeros(6)
     if backend == "numba":
-        advance, forces = _advance_numba, internal_forces_numba
+        advance, forces, rod_forces = _advance_numba, internal_forces_numba, rod_forces_numba
     else:
-        advance, forces = _advance, internal_forces_numpy
-    const = (mesh.hexes, g.b, g.volume, g.gamma, model.kappa, mat.mu, mat.lam, mat.rho, mat.wave_speed)
+        advance, forces, rod_forces = _advance, internal_forces_numpy, rod_forces_numpy
+    ra = model.rod_arrays
+    const = (mesh.hexes, g.b, g.volume, g.gamma, model.kappa, *model.solid_constants,
+             ra.segments, ra.rest_length, ra.axial_stiffness, ra.hinges, ra.bending_stiffness, rod_time_step(model))
 
     rows, snapshots = [], []
     t, dt_prev, steps, dt_min = 0.0, 0.0, 0, np.inf
     wall0 = _time.perf_counter()
     for i_out, t_out in enumerate(np.linspace(0.0, t_end_s, n_outputs + 1)[1:]):
         t, dt_prev, n, status, info, dt_seen = advance(
-            forces, t, t_out, dt_prev, dt_user, TSSFAC, model.beta, model.alpha,
+            forces, rod_forces, t, t_out, dt_prev, dt_user, TSSFAC, model.beta, model.alpha,
             x, v, X, f_int, f_int_prev, f_ext, v_pres, model.mass, free, *pulse_args, *rot_args, *const,
             energy, reaction)
         steps += n
         dt_min = min(dt_min, dt_seen)
         if status == _INVERTED:
             raise SolverError(f"element {info} inverted (J <= 0) at t = {t:.6g} s, step {steps}")
+        if status == _FOLDED:
+            raise SolverError(f"rod hinge {info} folded back on itself (turning angle >= 180 deg) "
+                              f"at t = {t:.6g} s, step {steps}")
         if status == _DIVERGED:
             raise SolverError(f"solution diverged (non-finite velocity) at step {steps + 1}, t = {t:.6g} s")
         if status == _STEP_TOO_LARGE:
             raise SolverError(f"dt_s = {dt_user:.4g} s exceeds the current stable step {dt_seen:.4g} s "
                               f"at step {steps}, t = {t:.6g} s (the mesh deformed)")
-        u_tip = tip_w @ (x[tip] - X[tip])
+        # positions at t_out: central differences move each node linearly over a step
+        x_out = x - (t - t_out) * v
+        u_tip = tip_w @ (x_out[tip] - X[tip])
         r = reaction[react_nodes].sum(axis=0)
-        rows.append((t, *u_tip, *r, max_von_mises(model, x), *energy))
+        rows.append((t_out, *u_tip, *r, max_von_mises(model, x_out), *energy))
         if snapshot_every and (i_out + 1) % snapshot_every == 0:
-            snapshots.append((t, x.copy()))
+            snapshots.append((t_out, x_out))
     wall = _time.perf_counter() - wall0
     cols = ["time_s", "tip_ux_m", "tip_uy_m", "tip_uz_m", "reaction_x_N", "reaction_y_N", "reaction_z_N",
             "max_von_mises_Pa", "external_work_J", "damping_energy_J", "bulk_viscosity_energy_J",
             "kinetic_energy_J", "internal_energy_J", "hourglass_energy_J"]
     history = pd.DataFrame(rows, columns=cols)
-    summary = {"nodes": mesh.n_nodes, "elements": mesh.n_elements, "dt_initial_s": TSSFAC * dt_cfl,
-               "dt_min_s": float(dt_min), "steps": int(steps), "t_end_s": t_end_s,
+    n_elements = mesh.n_elements + len(ra.segments)
+    summary = {"nodes": mesh.n_nodes, "elements": n_elements, "dt_initial_s": TSSFAC * dt_cfl,
+               "dt_min_s": float(dt_min), "steps": int(steps), "t_end_s": t_end_s, "t_final_s": t,
                "wall_time_s": wall, "backend": backend, "alpha_per_s": model.alpha, "beta_s": model.beta,
-               "ns_per_element_cycle": 1e9 * wall / max(1, steps * mesh.n_elements)}
+               "ns_per_element_cycle": 1e9 * wall / max(1, steps * n_elements)}
     return RunResult(history=history, summary=summary, x=x, v=v, snapshots=snapshots)

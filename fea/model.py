@@ -12,6 +12,7 @@ from .errors import InputError, require_finite_positive
 from .hex8 import FACES, ElementGeometry, element_geometry, hourglass_stiffness
 from .material import NeoHookean
 from .mesh import Mesh
+from .rod import Rod, RodArrays, rod_arrays, rod_lumped_mass
 
 
 @dataclass(frozen=True)
@@ -71,16 +72,20 @@ class Model:
     beta : stiffness-proportional damping [s], >= 0.
     hourglass_coefficient : Q_hg of :func:`fea.hex8.hourglass_stiffness` [-], > 0.
     fixed_nodes : node ids with all displacements fixed (clamped root).
+    rods : :class:`fea.rod.Rod` chains on mesh nodes (beam elements), may share nodes with solids.
+    point_masses : {node id: mass [kg]} lumped point-mass elements.
     """
 
     mesh: Mesh
-    material: NeoHookean
+    material: NeoHookean | None
     alpha: float = 0.0
     beta: float = 0.0
     fixed_nodes: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     pulses: tuple = ()
     rotating: RotatingNodes | None = None
     hourglass_coefficient: float = 1.0
+    rods: tuple = ()
+    point_masses: dict = field(default_factory=dict)
 
     def __post_init__(self):
         self.alpha = require_finite_positive("alpha (mass-proportional damping, 1/s)", self.alpha, allow_zero=True)
@@ -91,8 +96,35 @@ class Model:
             self.geometry: ElementGeometry = element_geometry(self.mesh.nodes, self.mesh.hexes)
         except ValueError as err:
             raise InputError(f"mesh: {err}") from None
-        self.kappa = hourglass_stiffness(self.geometry, self.material.E, self.hourglass_coefficient)
-        self.mass = lumped_mass(self.mesh, self.geometry, self.material.rho)
+        if self.material is None and self.mesh.n_elements:
+            raise InputError("material is required when the mesh has solid elements")
+        E = self.material.E if self.material is not None else 0.0
+        self.kappa = hourglass_stiffness(self.geometry, E, self.hourglass_coefficient)
+        self.rods = tuple(self.rods)
+        if not all(isinstance(r, Rod) for r in self.rods):
+            raise InputError("rods must be fea.rod.Rod objects")
+        if any(r.nodes.max() >= self.mesh.n_nodes for r in self.rods):
+            raise InputError("a rod refers to a node id beyond the mesh")
+        self.rod_arrays: RodArrays = rod_arrays(self.mesh.nodes, self.rods)
+        rho = self.material.rho if self.material is not None else 0.0
+        self.mass = (lumped_mass(self.mesh, self.geometry, rho)
+                     + rod_lumped_mass(self.mesh.nodes, self.rods))
+        for node, m in dict(self.point_masses).items():
+            if not 0 <= int(node) < self.mesh.n_nodes:
+                raise InputError(f"point_masses: node {node} is not in the mesh (0..{self.mesh.n_nodes - 1})")
+            self.mass[int(node)] += require_finite_positive(f"point_masses[{node}] (mass, kg)", m)
+        free = np.ones(self.mesh.n_nodes, dtype=bool)
+        free[self.fixed_nodes] = False
+        if np.any(self.mass[free] <= 0.0):
+            bad = int(np.flatnonzero(free & (self.mass <= 0.0))[0])
+            raise InputError(f"node {bad} is free but has no mass (belongs to no element)")
+
+    @property
+    def solid_constants(self):
+        """(mu [Pa], lam [Pa], rho [kg/m^3], wave speed [m/s]) of the solid material, zeros
+        for a model without solid elements (the hexahedron kernel then has nothing to do)."""
+        m = self.material
+        return (m.mu, m.lam, m.rho, m.wave_speed) if m is not None else (0.0, 0.0, 0.0, 0.0)
 
     @property
     def total_mass(self):

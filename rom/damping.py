@@ -197,55 +197,67 @@ def half_power(t, y, force=None, pad_factor=16):
 @dataclass(frozen=True)
 class EnvelopeFit:
     """Result of :func:`envelope_fit`: zeta [-], decay rate sigma = zeta omega_n [1/s],
-    damped frequency omega_d [rad/s], and the fitted window (t_start, t_end) [s]."""
+    damped frequency omega_d [rad/s], fitted amplitude (units of y), the fitted window
+    (t_start, t_end) [s] and the RMS residual of the fit (units of y)."""
 
     zeta: float
     decay_rate_per_s: float
     omega_d_rad_s: float
+    amplitude: float
     window_s: tuple
+    rms_residual: float
 
 
 def envelope_fit(t, y, y_final=None, noise_band=0.02):
-    """Damping ratio from an exponential fit ``A exp(-sigma t)`` to the envelope of a
-    decaying oscillation.
+    """Damping ratio from a least-squares fit of an exponentially decaying sinusoid,
 
-    The envelope is |analytic signal| (Hilbert transform) of ``y - y_final``; the fit
-    uses the samples whose envelope lies between ``noise_band`` and 90 % of its maximum,
-    away from the record ends, where the Hilbert envelope is distorted. The damped
-    frequency comes from the mean spacing of zero crossings; then
-    ``zeta = sigma / sqrt(sigma^2 + omega_d^2)``.
+        y(t) = y_final + A exp(-sigma (t - t0)) cos(omega_d (t - t0) + phi),
 
-    Raises InputError for a response with fewer than two full cycles above the noise band.
+    to the record from its largest excursion (time t0) on: the exponential envelope
+    A exp(-sigma t) and the carrier are fitted together, so every sample counts, not just
+    the peaks. Start values come from the zero crossings (omega_d) and the lobe peaks
+    (sigma). ``zeta = sigma / sqrt(sigma^2 + omega_d^2)``.
+
+    Raises InputError for a response with fewer than three zero crossings above
+    ``noise_band`` x its largest excursion (it does not oscillate).
     """
-    from scipy.signal import hilbert
+    from scipy.optimize import least_squares
 
     t, y = _validate_signal(t, y)
     if y_final is None:
         y_final = float(np.mean(y[int(0.9 * len(y)):]))
     r = y - y_final
-    env = np.abs(hilbert(r))
-    scale = env.max()
+    i0 = int(np.argmax(np.abs(r)))
+    tw, rw = t[i0:] - t[i0], r[i0:]
+    scale = abs(rw[0])
     if scale == 0.0:
         raise InputError("response is constant: nothing to identify")
-    strong = np.abs(r) > noise_band * np.abs(r).max()
-    crossings = np.flatnonzero((np.signbit(r[1:]) != np.signbit(r[:-1])) & (strong[1:] | strong[:-1]))
-    if len(crossings) < 4:
-        raise InputError("response does not oscillate: fewer than two cycles above the noise band; "
+    strong = np.abs(rw) > noise_band * scale
+    crossings = np.flatnonzero((np.signbit(rw[1:]) != np.signbit(rw[:-1])) & (strong[1:] | strong[:-1]))
+    if len(crossings) < 3:
+        raise InputError("response does not oscillate: fewer than three zero crossings above the noise band; "
                          "an envelope fit needs an under-damped response")
-    tc = t[crossings]
-    omega_d = float(np.pi / np.mean(np.diff(tc)))
-    i0 = int(np.argmax(env))
-    period = 2.0 * np.pi / omega_d
-    window = (t >= t[i0] + 0.5 * period) & (t <= tc[-1] - 0.5 * period)
-    window &= (env < 0.9 * scale) & (env > noise_band * scale)
-    if window.sum() < 8:
-        raise InputError("too few samples in the decaying part of the record for an envelope fit")
-    slope, _ = np.polyfit(t[window], np.log(env[window]), 1)
-    sigma = -float(slope)
+    omega_d0 = np.pi / np.mean(np.diff(tw[crossings]))
+    bounds = np.concatenate([[0], crossings + 1, [len(rw)]])
+    peaks = [(tw[lo + np.argmax(np.abs(rw[lo:hi]))], np.abs(rw[lo:hi]).max())
+             for lo, hi in zip(bounds[:-1], bounds[1:]) if hi > lo and np.abs(rw[lo:hi]).max() > noise_band * scale]
+    tp, ap = np.array(peaks).T
+    sigma0 = max(-np.polyfit(tp, np.log(ap), 1)[0], 1e-6 * omega_d0) if len(tp) > 1 else 0.1 * omega_d0
+    keep = tw <= tp[-1] + np.pi / omega_d0            # drop the tail lost in the noise
+
+    def residual(p):
+        A, sigma, wd, phi = p
+        return A * np.exp(-sigma * tw[keep]) * np.cos(wd * tw[keep] + phi) - rw[keep]
+
+    fit = least_squares(residual, [rw[0], sigma0, omega_d0, 0.0], x_scale=[scale, sigma0, omega_d0, 1.0],
+                        bounds=([-np.inf, 0.0, 0.0, -np.pi], [np.inf, np.inf, np.inf, np.pi]))
+    A, sigma, wd, _ = fit.x
     if sigma <= 0.0:
         raise InputError("the envelope does not decay: not a damped free vibration")
-    return EnvelopeFit(zeta=float(sigma / np.hypot(sigma, omega_d)), decay_rate_per_s=sigma,
-                       omega_d_rad_s=omega_d, window_s=(float(t[window][0]), float(t[window][-1])))
+    return EnvelopeFit(zeta=float(sigma / np.hypot(sigma, wd)), decay_rate_per_s=float(sigma),
+                       omega_d_rad_s=float(wd), amplitude=float(abs(A)),
+                       window_s=(float(t[i0]), float(t[i0] + tw[keep][-1])),
+                       rms_residual=float(np.sqrt(np.mean(fit.fun**2))))
 
 
 def oscillates(t, y, y_final=0.0, noise_band=1e-6):
