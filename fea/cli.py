@@ -3,6 +3,7 @@
 Sub-commands:
   table1   the paper's Table 1 for SM-A and SM-B (nodes, elements, time step, stiffness)
   impulse  impulse response of the SM-A finger for several alpha (paper Fig. 7), CSV + plot
+and the sub-commands of :mod:`rom.cli` (identify, damping-fits).
 """
 import argparse
 import sys
@@ -76,6 +77,8 @@ def build_parser():
     i.add_argument("--t-end-s", type=float, default=0.2, help="simulated time [s]")
     i.add_argument("--out", default="reports/impulse", help="output directory")
     i.set_defaults(func=_cmd_impulse)
+    from rom.cli import add_parsers as add_rom_parsers
+    add_rom_parsers(sub)
     return p
 
 

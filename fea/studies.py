@@ -36,13 +36,19 @@ def table1(length_in=4.5, material=RUBBER, stiffness=True):
     return out
 
 
+def impulse_model(length_in=4.5, alpha=180.0, force_N=1.0, duration_s=0.01, material=RUBBER, beta=0.0,
+                  mesh=None):
+    """A clamped SM-A finger (or ``mesh``) loaded by a tip force ``force_N`` [N] in the soft
+    direction (+y) held for ``duration_s`` [s]: the paper's impulse test."""
+    mesh = sm_a(length_in=length_in) if mesh is None else mesh
+    return cantilever_model(mesh, material, alpha=alpha, beta=beta,
+                            pulses=[tip_pulse(mesh, [0.0, force_N, 0.0], duration_s)])
+
+
 def impulse_response(length_in=4.5, alpha=180.0, force_N=1.0, duration_s=0.01, t_end_s=0.2,
                      n_outputs=400, material=RUBBER, beta=0.0, mesh=None):
-    """Tip response of a clamped SM-A finger to a tip force ``force_N`` [N] in the soft
-    direction (+y) held for ``duration_s`` [s]. Returns the solver's RunResult."""
-    mesh = sm_a(length_in=length_in) if mesh is None else mesh
-    model = cantilever_model(mesh, material, alpha=alpha, beta=beta,
-                             pulses=[tip_pulse(mesh, [0.0, force_N, 0.0], duration_s)])
+    """Tip response of :func:`impulse_model`; returns the solver's RunResult."""
+    model = impulse_model(length_in, alpha, force_N, duration_s, material, beta, mesh)
     return run(model, t_end_s, n_outputs=n_outputs)
 
 

@@ -1,0 +1,217 @@
+"""CCEDI: the paper's coupled computational and experimental damping identification (Fig. 2).
+
+Rayleigh damping with beta = 0 (low-frequency structures): ``C = alpha M``, so the modal
+damping ratios are ``zeta_i = alpha / (2 omega_i)`` (paper Eq. 3b).
+
+* Under-damped structure: measure zeta by log-decrement, find by simulation the
+  critical coefficient alpha_cr at which the impulse response stops oscillating
+  (:func:`critical_alpha`), and set ``alpha = zeta alpha_cr``.
+* Over-damped structure: search alpha until the simulated impulse response matches the
+  measured one in the least-squares sense (:func:`match_alpha`).
+
+Both take a ``simulate(alpha) -> (time_s, tip_displacement_m)`` callable, so the full
+FE model and a reduced model can be swapped (:func:`fe_simulator` builds one from any
+``alpha -> fea.model.Model`` factory). Both report how many simulations they used.
+"""
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from fea.errors import InputError, require_finite_positive
+
+from .damping import _validate_signal, log_decrement, oscillates
+
+
+def fe_simulator(model_factory, t_end_s, n_outputs=400, tip_component="tip_uy_m"):
+    """``simulate(alpha)`` running the explicit FE solver on ``model_factory(alpha)`` for
+    ``t_end_s`` [s] and returning (time_s, tip displacement [m]) at ``n_outputs`` times."""
+    from fea.explicit import run
+
+    def simulate(alpha):
+        h = run(model_factory(alpha), t_end_s, n_outputs=n_outputs).history
+        return h.time_s.values, h[tip_component].values
+
+    return simulate
+
+
+@dataclass(frozen=True)
+class CriticalAlpha:
+    """Result of :func:`critical_alpha`.
+
+    alpha_cr_per_s : midpoint of the final bracket [1/s]; bracket_per_s : (oscillating,
+    not oscillating) [1/s]; n_runs : simulations used; runs : [(alpha, oscillates), ...].
+    """
+
+    alpha_cr_per_s: float
+    bracket_per_s: tuple
+    n_runs: int
+    runs: list = field(default_factory=list)
+
+
+def critical_alpha(simulate, alpha_guess, rtol=0.01, bracket=(0.8, 1.1), noise_band=1e-6, max_expand=6):
+    """Critical mass-proportional coefficient alpha_cr [1/s] by bisection on "the
+    simulated tip response oscillates" (:func:`rom.damping.oscillates`: after its
+    largest excursion the response crosses its final value, 0 after an impulse, by more
+    than ``noise_band`` x that excursion).
+
+    The search starts from the bracket ``alpha_guess * bracket`` (a good guess is
+    2 omega_1, the critical value of mode 1 alone), widens it by 1.5x until the low end
+    oscillates and the high end does not, then halves it until its width is below
+    ``rtol`` x its upper end. The simulation must run long enough for a nearly critical
+    response to cross zero (about 12 / omega_1 after the load ends).
+    """
+    alpha_guess = require_finite_positive("alpha_guess (1/s)", alpha_guess)
+    lo, hi = alpha_guess * bracket[0], alpha_guess * bracket[1]
+    if not 0.0 < lo < hi:
+        raise InputError(f"bracket must be two factors 0 < low < high, got {bracket!r}")
+    if not 0.0 < rtol < 1.0:
+        raise InputError(f"rtol must be in (0, 1), got {rtol!r}")
+    runs = []
+
+    def oscillating(alpha):
+        t, y = simulate(alpha)
+        result = oscillates(t, y, y_final=0.0, noise_band=noise_band)
+        runs.append((float(alpha), bool(result)))
+        return result
+
+    for _ in range(max_expand):
+        if oscillating(lo):
+            break
+        hi, lo = lo, lo / 1.5
+    else:
+        raise InputError(f"no oscillating response down to alpha = {lo:.4g} 1/s: check the model and load")
+    for _ in range(max_expand):
+        if not oscillating(hi):
+            break
+        lo, hi = hi, hi * 1.5
+    else:
+        raise InputError(f"the response still oscillates at alpha = {hi:.4g} 1/s: run longer or widen the bracket")
+    while hi - lo > rtol * hi:
+        mid = 0.5 * (lo + hi)
+        if oscillating(mid):
+            lo = mid
+        else:
+            hi = mid
+    return CriticalAlpha(alpha_cr_per_s=0.5 * (lo + hi), bracket_per_s=(lo, hi), n_runs=len(runs), runs=runs)
+
+
+@dataclass(frozen=True)
+class AlphaMatch:
+    """Result of :func:`match_alpha`: alpha [1/s], RMS misfit [m] and RMS misfit relative
+    to the RMS of the measured response [-], simulations used, and every (alpha, misfit)."""
+
+    alpha_per_s: float
+    rms_error_m: float
+    relative_rms_error: float
+    n_runs: int
+    evaluations: list = field(default_factory=list)
+
+
+def match_alpha(simulate, time_s, tip_displacement_m, bounds_per_s, xatol_rel=0.002):
+    """alpha [1/s] minimising the RMS difference between the simulated and the measured
+    tip response on the measured times (bounded Brent search, scipy.optimize).
+
+    The simulation is interpolated onto ``time_s`` (which must lie within the simulated
+    time span). ``xatol_rel`` is the absolute tolerance on alpha relative to the upper
+    bound.
+    """
+    t, y = _validate_signal(time_s, tip_displacement_m)
+    lo, hi = (require_finite_positive(f"bounds_per_s[{i}] (1/s)", b, allow_zero=True)
+              for i, b in enumerate(bounds_per_s))
+    if not lo < hi:
+        raise InputError(f"bounds_per_s must be (low, high) with low < high, got {bounds_per_s!r}")
+    evaluations = []
+    y_rms = float(np.sqrt(np.mean(y**2)))
+
+    def misfit(alpha):
+        ts, ys = simulate(alpha)
+        if t[0] < ts[0] - 1e-12 or t[-1] > ts[-1] + 1e-12:
+            raise InputError(f"measured times [{t[0]:.4g}, {t[-1]:.4g}] s fall outside the simulation "
+                             f"[{ts[0]:.4g}, {ts[-1]:.4g}] s")
+        err = float(np.sqrt(np.mean((np.interp(t, ts, ys) - y) ** 2)))
+        evaluations.append((float(alpha), err))
+        return err
+
+    res = minimize_scalar(misfit, bounds=(lo, hi), method="bounded", options={"xatol": xatol_rel * hi})
+    best = min(evaluations, key=lambda e: e[1])
+    return AlphaMatch(alpha_per_s=float(res.x), rms_error_m=best[1], relative_rms_error=best[1] / y_rms,
+                      n_runs=len(evaluations), evaluations=evaluations)
+
+
+@dataclass(frozen=True)
+class Identification:
+    """Result of :func:`identify`: the CCEDI branch taken ("under-damped" or
+    "over-damped"), alpha [1/s], zeta [-] (measured, or alpha / alpha_cr when
+    over-damped), alpha_cr [1/s] (None when not computed) and simulations used."""
+
+    regime: str
+    alpha_per_s: float
+    zeta: float
+    alpha_cr_per_s: float | None
+    n_runs: int
+    detail: dict = field(default_factory=dict)
+
+
+def identify(time_s, tip_displacement_m, simulate, alpha_guess, bounds_per_s=None, noise_band=0.02,
+             critical=None):
+    """The CCEDI procedure (paper Fig. 2) on a measured impulse response.
+
+    If the measured response oscillates (crosses its final value by more than
+    ``noise_band`` x its peak after the peak), zeta comes from log-decrement and
+    ``alpha = zeta alpha_cr`` with alpha_cr from :func:`critical_alpha` (or ``critical``,
+    a precomputed CriticalAlpha). Otherwise alpha is matched by :func:`match_alpha`
+    within ``bounds_per_s`` (default 0.2 to 10 x ``alpha_guess``).
+    """
+    t, y = _validate_signal(time_s, tip_displacement_m)
+    final = float(np.mean(y[int(0.9 * len(y)):]))
+    if oscillates(t, y, y_final=final, noise_band=noise_band):
+        ld = log_decrement(t, y, y_final=final, noise_band=noise_band)
+        crit = critical or critical_alpha(simulate, alpha_guess)
+        return Identification(regime="under-damped", alpha_per_s=ld.zeta * crit.alpha_cr_per_s, zeta=ld.zeta,
+                              alpha_cr_per_s=crit.alpha_cr_per_s, n_runs=0 if critical else crit.n_runs,
+                              detail={"zeta_ci95": ld.zeta_ci95, "n_cycles": ld.n_cycles,
+                                      "omega_d_rad_s": ld.omega_d_rad_s,
+                                      "alpha_cr_bracket_per_s": crit.bracket_per_s})
+    bounds = bounds_per_s or (0.2 * alpha_guess, 10.0 * alpha_guess)
+    match = match_alpha(simulate, t, y, bounds)
+    zeta = match.alpha_per_s / critical.alpha_cr_per_s if critical else float("nan")
+    return Identification(regime="over-damped", alpha_per_s=match.alpha_per_s, zeta=zeta,
+                          alpha_cr_per_s=critical.alpha_cr_per_s if critical else None, n_runs=match.n_runs,
+                          detail={"rms_error_m": match.rms_error_m,
+                                  "relative_rms_error": match.relative_rms_error})
+
+
+def power_law_fit(x, y):
+    """Least-squares fit of ``y = c x^p`` in log-log space; returns (c, p)."""
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    if len(x) < 2 or x.shape != y.shape or np.any(x <= 0) or np.any(y <= 0):
+        raise InputError("power_law_fit needs at least two positive (x, y) pairs of equal length")
+    p, logc = np.polyfit(np.log(x), np.log(y), 1)
+    return float(np.exp(logc)), float(p)
+
+
+def paper_alpha_cr(length_in):
+    """Paper Eq. (8): alpha_cr = 3120.4 x^-1.983 [1/s], finger length x in inches, 3 <= x <= 8."""
+    return 3120.4 * np.asarray(length_in, dtype=float) ** -1.983
+
+
+def paper_alpha(length_in):
+    """Paper Eq. (7): alpha [1/s] of the rubber fingers against length x [in], 3 <= x <= 8:
+    56.667 x^2 - 705 x + 2205 for x <= 6, -3.75 x + 37.5 above."""
+    x = np.asarray(length_in, dtype=float)
+    return np.where(x <= 6.0, 56.667 * x**2 - 705.0 * x + 2205.0, -3.75 * x + 37.5)
+
+
+def piecewise_alpha_fit(length_in, alpha):
+    """The form of paper Eq. (7) fitted to four (length [in], alpha [1/s]) points at
+    3, 4.5, 6 and 8 in: a quadratic through the first three and a line through the last
+    two. Returns ((a2, a1, a0), (b1, b0))."""
+    x = np.asarray(length_in, dtype=float)
+    a = np.asarray(alpha, dtype=float)
+    if x.shape != (4,) or a.shape != (4,) or not np.all(np.diff(x) > 0):
+        raise InputError("piecewise_alpha_fit needs four increasing lengths and four alphas")
+    quad = np.polyfit(x[:3], a[:3], 2)
+    line = np.polyfit(x[2:], a[2:], 1)
+    return tuple(float(c) for c in quad), tuple(float(c) for c in line)

@@ -1,0 +1,153 @@
+"""``ccedi`` sub-commands of the damping identification (registered by :mod:`fea.cli`).
+
+  identify       CCEDI on a measured CSV, or alpha_cr of an SM-A finger (--alpha-cr)
+  damping-fits   alpha_cr of the 3/4.5/6/8-in fingers, the paper's Eq. (7) and (8) refitted
+"""
+import numpy as np
+
+from fea.errors import InputError
+
+
+def add_parsers(sub):
+    i = sub.add_parser("identify", help="CCEDI damping identification: alpha, zeta and alpha_cr from a "
+                       "measured impulse response, or alpha_cr of an SM-A finger (--alpha-cr)")
+    i.add_argument("csv", nargs="?", help="measured response CSV: time_s, tip_displacement_m[, force_N]")
+    i.add_argument("--model", choices=("finger", "steel-rod"), default="finger",
+                   help="structure: SM-A rubber finger (give --length-in) or the paper's steel rod")
+    i.add_argument("--length-in", type=float, help="finger length [in]")
+    i.add_argument("--alpha-cr", action="store_true", help="only compute alpha_cr of the model")
+    i.add_argument("--force-N", type=float, help="impulse force [N] (default: from the force_N column, else 1 N "
+                   "for a finger, 0.003 N for the rod)")
+    i.add_argument("--duration-s", type=float, help="impulse duration [s] (default: from force_N, else 0.01 s "
+                   "finger, 0.2 s rod)")
+    i.add_argument("--noise-band", type=float, default=0.02,
+                   help="fraction of the peak a measured crossing must exceed to count as oscillation")
+    i.add_argument("--rtol", type=float, default=0.01, help="relative width of the final alpha_cr bracket")
+    i.add_argument("--json", help="write the result as JSON to this path")
+    i.set_defaults(func=cmd_identify)
+    f = sub.add_parser("damping-fits", help="alpha_cr of the 3, 4.5, 6 and 8-in SM-A fingers and the paper's "
+                       "Eq. (7) and (8) refitted from them (slow: ~30 FE runs)")
+    f.add_argument("--lengths-in", type=float, nargs="+", default=[3.0, 4.5, 6.0, 8.0])
+    f.add_argument("--out", default="reports/damping_fits", help="output directory")
+    f.set_defaults(func=cmd_damping_fits)
+
+
+def _pulse_from_force(t, force):
+    """(amplitude [N], duration [s]) of a measured force pulse: peak |F| and the time span
+    where |F| exceeds half of it."""
+    peak = float(np.max(np.abs(force)))
+    if peak == 0.0:
+        raise InputError("force_N column is all zero: cannot infer the impulse")
+    on = np.flatnonzero(np.abs(force) >= 0.5 * peak)
+    dt = float(np.median(np.diff(t)))
+    return float(force[on[np.argmax(np.abs(force[on]))]]), float(t[on[-1]] - t[on[0]] + dt)
+
+
+def _simulator_and_guess(args, t_end_s):
+    from rom.finger_identification import SETTLE_PERIODS, finger_omega1, finger_simulator, rod_simulator
+    if args.model == "steel-rod":
+        from fea.steel_rod import PAPER_ROD, STEEL_ROD
+        force = STEEL_ROD["force_N"] if args.force_N is None else args.force_N
+        duration = STEEL_ROD["duration_s"] if args.duration_s is None else args.duration_s
+        omega1 = PAPER_ROD["omega1_rad_s"]
+        t_end = max(t_end_s or 0.0, duration + SETTLE_PERIODS / omega1)
+        return rod_simulator(t_end_s=t_end, force_N=force, duration_s=duration), 2.0 * omega1, omega1
+    if args.length_in is None:
+        raise InputError("--length-in (finger length, in) is required for --model finger")
+    force = 1.0 if args.force_N is None else args.force_N
+    duration = 0.01 if args.duration_s is None else args.duration_s
+    omega1 = finger_omega1(args.length_in)
+    t_end = max(t_end_s or 0.0, duration + SETTLE_PERIODS / omega1)
+    return finger_simulator(args.length_in, force_N=force, duration_s=duration, t_end_s=t_end), 2.0 * omega1, omega1
+
+
+def cmd_identify(args):
+    from fea.outputs import write_json
+    from rom.ccedi import critical_alpha, identify
+    from rom.measurement import load_response
+
+    if not 0.0 < args.rtol < 1.0:
+        raise InputError(f"--rtol must be in (0, 1), got {args.rtol}")
+    if args.alpha_cr:
+        simulate, guess, omega1 = _simulator_and_guess(args, None)
+        crit = critical_alpha(simulate, guess, rtol=args.rtol)
+        result = {"model": args.model, "length_in": args.length_in, "alpha_cr_per_s": crit.alpha_cr_per_s,
+                  "bracket_per_s": list(crit.bracket_per_s), "n_fe_runs": crit.n_runs,
+                  "omega1_rad_s": omega1, "two_omega1_per_s": 2.0 * omega1,
+                  "runs": [{"alpha_per_s": a, "oscillates": o} for a, o in crit.runs]}
+        print(f"alpha_cr = {crit.alpha_cr_per_s:.4g} 1/s (bracket {crit.bracket_per_s[0]:.4g}-"
+              f"{crit.bracket_per_s[1]:.4g}, {crit.n_runs} FE runs); 2 omega_1 = {2 * omega1:.4g} 1/s")
+    else:
+        if not args.csv:
+            raise InputError("give a measured response CSV, or --alpha-cr to compute alpha_cr only")
+        data = load_response(args.csv)
+        if data.force_N is not None and (args.force_N is None or args.duration_s is None):
+            force, duration = _pulse_from_force(data.time_s, data.force_N)
+            args.force_N = force if args.force_N is None else args.force_N
+            args.duration_s = duration if args.duration_s is None else args.duration_s
+        simulate, guess, omega1 = _simulator_and_guess(args, float(data.time_s[-1]))
+        crit = critical_alpha(simulate, guess, rtol=args.rtol)
+        ident = identify(data.time_s, data.tip_displacement_m, simulate, guess, noise_band=args.noise_band,
+                         critical=crit)
+        result = {"model": args.model, "length_in": args.length_in, "source": data.source,
+                  "regime": ident.regime, "alpha_per_s": ident.alpha_per_s, "zeta": ident.zeta,
+                  "alpha_cr_per_s": ident.alpha_cr_per_s, "n_fe_runs": crit.n_runs + ident.n_runs,
+                  "impulse_force_N": args.force_N, "impulse_duration_s": args.duration_s,
+                  **{k: (list(v) if isinstance(v, tuple) else v) for k, v in ident.detail.items()}}
+        print(f"{ident.regime}: alpha = {ident.alpha_per_s:.4g} 1/s, zeta = {ident.zeta:.4g}, "
+              f"alpha_cr = {ident.alpha_cr_per_s:.4g} 1/s ({result['n_fe_runs']} FE runs)")
+    if args.json:
+        write_json(args.json, result)
+        print(f"wrote {args.json}")
+
+
+def cmd_damping_fits(args):
+    from pathlib import Path
+
+    from fea.outputs import write_figure, write_json
+    from rom.ccedi import paper_alpha, paper_alpha_cr, piecewise_alpha_fit, power_law_fit
+    from rom.finger_identification import alpha_cr_table
+
+    out = Path(args.out)
+    rows = alpha_cr_table(args.lengths_in)
+    for r in rows:
+        print(f"{r['length_in']:g} in: alpha_cr = {r['alpha_cr_per_s']:.4g} 1/s, 2 omega_1 = "
+              f"{r['two_omega1_per_s']:.4g} 1/s, paper Eq. (8) {r['paper_eq8_per_s']:.4g} 1/s ({r['n_runs']} runs)")
+    x = np.array([r["length_in"] for r in rows])
+    acr = np.array([r["alpha_cr_per_s"] for r in rows])
+    c, p = power_law_fit(x, acr)
+    result = {"alpha_cr": rows, "power_law": {"coefficient": c, "exponent": p,
+                                              "form": "alpha_cr = coefficient * x**exponent, x in inches, 1/s"},
+              "paper_eq8": {"coefficient": 3120.4, "exponent": -1.983}}
+    if list(x) == [3.0, 4.5, 6.0, 8.0]:
+        # Eq. (7): alpha at 3 and 4.5 in are the paper's matches to its measured (over-damped)
+        # responses, which are not available; at 6 and 8 in, the paper's measured zeta times our alpha_cr.
+        alpha = np.array([600.0, 180.0, 0.17 * acr[2], 0.15 * acr[3]])
+        quad, line = piecewise_alpha_fit(x, alpha)
+        result["eq7"] = {"alpha_per_s": alpha.tolist(), "quadratic_3_to_6_in": quad, "linear_6_to_8_in": line,
+                         "paper_quadratic": [56.667, -705.0, 2205.0], "paper_linear": [-3.75, 37.5],
+                         "note": "alpha(3), alpha(4.5): the paper's matched values (600, 180 1/s); "
+                                 "alpha(6), alpha(8): paper's measured zeta (0.17, 0.15) x our alpha_cr"}
+    print(f"fitted alpha_cr = {c:.1f} x^{p:.3f} (paper: 3120.4 x^-1.983)")
+    write_json(out / "alpha_cr_fit.json", result)
+    write_figure(out / "alpha_cr_fit.png", _plot_fits(x, acr, c, p, paper_alpha_cr, paper_alpha))
+    print(f"wrote {out}/alpha_cr_fit.json, .png")
+
+
+def _plot_fits(x, acr, c, p, eq8, eq7):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    xs = np.linspace(3.0, 8.0, 100)
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    ax.plot(x, acr, "o", label="alpha_cr, ccedi FEA bisection")
+    ax.plot(xs, c * xs**p, "-", label=f"fit {c:.0f} x^{p:.3f}")
+    ax.plot(xs, eq8(xs), "--", label="paper Eq. (8)")
+    ax.plot(xs, eq7(xs), ":", label="paper Eq. (7), alpha")
+    ax.set_xlabel("finger length x [in]")
+    ax.set_ylabel("mass-proportional damping [1/s]")
+    ax.set_yscale("log")
+    ax.legend()
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,123 @@
+"""CCEDI (paper Fig. 2): the critical-alpha bisection and over-damped matching, first on
+exact single-DOF responses (fast), then on the paper's FE structures."""
+import numpy as np
+import pytest
+
+from fea.errors import InputError
+from fea.steel_rod import PAPER_ROD, STEEL_ROD
+from rom.ccedi import critical_alpha, identify, match_alpha, paper_alpha, paper_alpha_cr, power_law_fit
+from rom.damping import log_decrement
+from rom.finger_identification import finger_alpha_cr, finger_simulator, rod_alpha_cr, rod_simulator
+
+OMEGA = 50.0
+
+
+def sdof_simulator(omega=OMEGA, t_end=2.0, n=4000):
+    """Exact impulse response of x'' + alpha x' + omega^2 x = delta(t) (mass damping only)."""
+    t = np.linspace(0.0, t_end, n)
+
+    def simulate(alpha):
+        s = alpha / 2.0
+        if s < omega:
+            wd = np.sqrt(omega**2 - s**2)
+            return t, np.exp(-s * t) * np.sin(wd * t) / wd
+        if s == omega:
+            return t, t * np.exp(-s * t)
+        r = np.sqrt(s**2 - omega**2)
+        return t, (np.exp((-s + r) * t) - np.exp((-s - r) * t)) / (2 * r)
+
+    return simulate
+
+
+@pytest.mark.parametrize("guess", [100.0, 40.0, 300.0])
+def test_critical_alpha_of_sdof_is_two_omega(guess):
+    crit = critical_alpha(sdof_simulator(), guess, rtol=0.005)
+    assert crit.alpha_cr_per_s == pytest.approx(2 * OMEGA, rel=0.03)
+    assert crit.alpha_cr_per_s < 2 * OMEGA                  # the band resolves zeta up to ~0.97
+    assert crit.n_runs == len(crit.runs) >= 3
+    lo, hi = crit.bracket_per_s
+    assert (hi - lo) <= 0.005 * hi
+
+
+def test_match_alpha_recovers_overdamped_sdof_with_noise():
+    simulate = sdof_simulator()
+    t, y = simulate(160.0)
+    noise = 0.02 * y.max()
+    y = y + noise * np.random.default_rng(0).standard_normal(len(t))
+    m = match_alpha(simulate, t, y, (50.0, 500.0))
+    assert m.alpha_per_s == pytest.approx(160.0, rel=0.01)
+    assert m.n_runs == len(m.evaluations) < 40
+    assert m.rms_error_m == pytest.approx(noise, rel=0.1)          # what is left is the noise
+
+
+def test_identify_under_damped_sdof_gives_zeta_times_alpha_cr():
+    simulate = sdof_simulator(t_end=4.0, n=8000)
+    t, y = simulate(10.0)                                   # zeta = 10 / (2 * 50) = 0.1
+    ident = identify(t, y, simulate, alpha_guess=100.0)
+    assert ident.regime == "under-damped"
+    assert ident.zeta == pytest.approx(0.1, rel=0.02)
+    assert ident.alpha_per_s == pytest.approx(ident.zeta * ident.alpha_cr_per_s, rel=1e-12)
+    assert ident.alpha_per_s == pytest.approx(10.0, rel=0.05)
+
+
+def test_identify_over_damped_sdof_matches():
+    simulate = sdof_simulator()
+    t, y = simulate(250.0)
+    ident = identify(t, y, simulate, alpha_guess=100.0)
+    assert ident.regime == "over-damped" and ident.alpha_per_s == pytest.approx(250.0, rel=0.01)
+
+
+def test_power_law_and_paper_equations():
+    x = np.array([3.0, 4.5, 6.0, 8.0])
+    c, p = power_law_fit(x, paper_alpha_cr(x))
+    assert (c, p) == (pytest.approx(3120.4), pytest.approx(-1.983))
+    assert paper_alpha(x) == pytest.approx([600.0, 180.0, 15.0, 7.5], abs=0.1)   # the paper's identified alphas
+    with pytest.raises(InputError):
+        power_law_fit([1.0], [2.0])
+
+
+def test_bad_bracket_and_tolerance_are_named():
+    with pytest.raises(InputError, match="bracket"):
+        critical_alpha(sdof_simulator(), 100.0, bracket=(1.2, 0.8))
+    with pytest.raises(InputError, match="rtol"):
+        critical_alpha(sdof_simulator(), 100.0, rtol=2.0)
+    with pytest.raises(InputError, match="bounds"):
+        match_alpha(sdof_simulator(), *sdof_simulator()(100.0), (300.0, 100.0))
+
+
+# ---- the paper's structures (explicit FEA) ----------------------------------------------
+
+@pytest.fixture(scope="module")
+def rod_critical():
+    return rod_alpha_cr(omega1_guess=PAPER_ROD["omega1_rad_s"], rtol=0.02)
+
+
+def test_steel_rod_alpha_cr_matches_paper(rod_critical):
+    """Paper section 2.2: alpha_cr = 30 1/s."""
+    assert rod_critical.alpha_cr_per_s == pytest.approx(PAPER_ROD["alpha_cr_per_s"], rel=0.15)
+
+
+def test_steel_rod_alpha_from_zeta_reproduces_zeta(rod_critical):
+    """alpha = zeta alpha_cr with the measured zeta = 0.0055: the simulated free vibration
+    has a log-decrement damping ratio within 10 % of 0.0055."""
+    alpha = PAPER_ROD["zeta"] * rod_critical.alpha_cr_per_s
+    t, y = rod_simulator(t_end_s=4.0, n_outputs=4000)(alpha)
+    free = t > STEEL_ROD["duration_s"]
+    ld = log_decrement(t[free], y[free], y_final=0.0)
+    assert ld.zeta == pytest.approx(PAPER_ROD["zeta"], rel=0.10)
+    assert ld.n_cycles >= 8
+
+
+def test_finger_alpha_cr_45_in():
+    """Acceptance: within 15 % of paper Eq. (8) and within 5 % of 2 omega_1 of our model."""
+    crit, omega1 = finger_alpha_cr(4.5, rtol=0.02)
+    assert crit.alpha_cr_per_s == pytest.approx(float(paper_alpha_cr(4.5)), rel=0.15)
+    assert crit.alpha_cr_per_s == pytest.approx(2 * omega1, rel=0.05)
+
+
+def test_overdamped_match_45_in_alpha_180_with_noise():
+    simulate = finger_simulator(4.5, t_end_s=0.12, n_outputs=240)
+    t, y = simulate(180.0)
+    y_meas = y + 0.02 * np.abs(y).max() * np.random.default_rng(4).standard_normal(len(t))
+    m = match_alpha(simulate, t, y_meas, (60.0, 400.0), xatol_rel=0.005)
+    assert m.alpha_per_s == pytest.approx(180.0, rel=0.05)

@@ -1,0 +1,55 @@
+"""``ccedi identify``: the 3-in finger (alpha_cr, and over-damped matching of a noisy
+response at alpha = 600 1/s) and measured-file errors."""
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from fea.cli import main
+from rom.ccedi import paper_alpha_cr
+from rom.finger_identification import finger_simulator
+from rom.measurement import load_response
+
+
+def test_alpha_cr_of_3_in_finger(tmp_path):
+    path = tmp_path / "acr.json"
+    assert main(["identify", "--length-in", "3", "--alpha-cr", "--rtol", "0.02", "--json", str(path)]) == 0
+    out = json.loads(path.read_text())
+    assert out["alpha_cr_per_s"] == pytest.approx(float(paper_alpha_cr(3.0)), rel=0.15)
+    assert out["alpha_cr_per_s"] == pytest.approx(out["two_omega1_per_s"], rel=0.05)
+    assert out["n_fe_runs"] == len(out["runs"])
+
+
+def test_identify_overdamped_3_in_from_csv(tmp_path):
+    t, y = finger_simulator(3.0, t_end_s=0.08, n_outputs=320)(600.0)
+    y = y + 0.02 * np.abs(y).max() * np.random.default_rng(7).standard_normal(len(t))
+    force = np.where(t <= 0.01, 1.0, 0.0)
+    csv = tmp_path / "measured.csv"
+    pd.DataFrame({"time_s": t, "tip_displacement_m": y, "force_N": force}).to_csv(csv, index=False)
+    path = tmp_path / "id.json"
+    assert main(["identify", str(csv), "--length-in", "3", "--rtol", "0.05", "--json", str(path)]) == 0
+    out = json.loads(path.read_text())
+    assert out["regime"] == "over-damped"
+    assert out["alpha_per_s"] == pytest.approx(600.0, rel=0.05)
+    assert out["impulse_force_N"] == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize("text, match", [
+    ("time_s,tip_displacement_m\n0,0\n1,1\n", "at least 8"),
+    ("time_s,displacement\n" + "".join(f"{i},{i}\n" for i in range(10)), "missing column"),
+    ("time_s,tip_displacement_m\n" + "".join(f"{i % 5},{i}\n" for i in range(10)), "strictly increasing"),
+    ("time_s,tip_displacement_m\n" + "".join(f"{i},{'nan' if i == 4 else i}\n" for i in range(10)), "row 5"),
+])
+def test_bad_measured_files_are_named(tmp_path, text, match, capsys):
+    csv = tmp_path / "bad.csv"
+    csv.write_text(text)
+    with pytest.raises(Exception, match=match):
+        load_response(csv)
+    assert main(["identify", str(csv), "--length-in", "3"]) == 1
+    assert "Traceback" not in capsys.readouterr().err
+
+
+def test_identify_needs_a_length(capsys):
+    assert main(["identify", "--alpha-cr"]) == 1
+    assert "--length-in" in capsys.readouterr().err
