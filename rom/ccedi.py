@@ -20,7 +20,7 @@ from scipy.optimize import minimize_scalar
 
 from fea.errors import InputError, require_finite_positive
 
-from .damping import _validate_signal, log_decrement, oscillates
+from .damping import _validate_signal, log_decrement, noise_level, oscillates
 
 
 def fe_simulator(model_factory, t_end_s, n_outputs=400, tip_component="tip_uy_m"):
@@ -157,20 +157,23 @@ def identify(time_s, tip_displacement_m, simulate, alpha_guess, bounds_per_s=Non
              critical=None):
     """The CCEDI procedure (paper Fig. 2) on a measured impulse response.
 
-    If the measured response oscillates (crosses its final value by more than
-    ``noise_band`` x its peak after the peak), zeta comes from log-decrement and
+    If the measured response oscillates (crosses its final value, after its peak, by more
+    than the band: ``noise_band`` x the peak, or five times the measurement noise
+    estimated by :func:`rom.damping.noise_level` if larger), zeta comes from log-decrement and
     ``alpha = zeta alpha_cr`` with alpha_cr from :func:`critical_alpha` (or ``critical``,
     a precomputed CriticalAlpha). Otherwise alpha is matched by :func:`match_alpha`
     within ``bounds_per_s`` (default 0.2 to 10 x ``alpha_guess``).
     """
     t, y = _validate_signal(time_s, tip_displacement_m)
     final = float(np.mean(y[int(0.9 * len(y)):]))
-    if oscillates(t, y, y_final=final, noise_band=noise_band):
-        ld = log_decrement(t, y, y_final=final, noise_band=noise_band)
+    peak = float(np.max(np.abs(y - final)))
+    band = min(max(noise_band, 5.0 * noise_level(y) / peak), 0.5) if peak > 0 else noise_band
+    if oscillates(t, y, y_final=final, noise_band=band):
+        ld = log_decrement(t, y, y_final=final, noise_band=band)
         crit = critical or critical_alpha(simulate, alpha_guess)
         return Identification(regime="under-damped", alpha_per_s=ld.zeta * crit.alpha_cr_per_s, zeta=ld.zeta,
                               alpha_cr_per_s=crit.alpha_cr_per_s, n_runs=0 if critical else crit.n_runs,
-                              detail={"zeta_ci95": ld.zeta_ci95, "n_cycles": ld.n_cycles,
+                              detail={"zeta_ci95": ld.zeta_ci95, "n_cycles": ld.n_cycles, "noise_band": band,
                                       "omega_d_rad_s": ld.omega_d_rad_s,
                                       "alpha_cr_bracket_per_s": crit.bracket_per_s})
     bounds = bounds_per_s or (0.2 * alpha_guess, 10.0 * alpha_guess)
@@ -178,7 +181,7 @@ def identify(time_s, tip_displacement_m, simulate, alpha_guess, bounds_per_s=Non
     zeta = match.alpha_per_s / critical.alpha_cr_per_s if critical else float("nan")
     return Identification(regime="over-damped", alpha_per_s=match.alpha_per_s, zeta=zeta,
                           alpha_cr_per_s=critical.alpha_cr_per_s if critical else None, n_runs=match.n_runs,
-                          detail={"rms_error_m": match.rms_error_m,
+                          detail={"rms_error_m": match.rms_error_m, "noise_band": band,
                                   "relative_rms_error": match.relative_rms_error})
 
 

@@ -105,7 +105,7 @@ def cmd_damping_fits(args):
     from pathlib import Path
 
     from fea.outputs import write_figure, write_json
-    from rom.ccedi import paper_alpha, paper_alpha_cr, piecewise_alpha_fit, power_law_fit
+    from rom.ccedi import piecewise_alpha_fit, power_law_fit
     from rom.finger_identification import alpha_cr_table
 
     out = Path(args.out)
@@ -130,11 +130,12 @@ def cmd_damping_fits(args):
                                  "alpha(6), alpha(8): paper's measured zeta (0.17, 0.15) x our alpha_cr"}
     print(f"fitted alpha_cr = {c:.1f} x^{p:.3f} (paper: 3120.4 x^-1.983)")
     write_json(out / "alpha_cr_fit.json", result)
-    write_figure(out / "alpha_cr_fit.png", _plot_fits(x, acr, c, p, paper_alpha_cr, paper_alpha))
+    write_figure(out / "alpha_cr_fit.png", _plot_fits(x, acr, c, p, result.get("eq7")))
     print(f"wrote {out}/alpha_cr_fit.json, .png")
 
 
-def _plot_fits(x, acr, c, p, eq8, eq7):
+def _plot_fits(x, acr, c, p, eq7_fit=None):
+    from rom.ccedi import paper_alpha, paper_alpha_cr
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -143,11 +144,15 @@ def _plot_fits(x, acr, c, p, eq8, eq7):
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
     ax.plot(x, acr, "o", label="alpha_cr, ccedi FEA bisection")
     ax.plot(xs, c * xs**p, "-", label=f"fit {c:.0f} x^{p:.3f}")
-    ax.plot(xs, eq8(xs), "--", label="paper Eq. (8)")
-    ax.plot(xs, eq7(xs), ":", label="paper Eq. (7), alpha")
+    ax.plot(xs, paper_alpha_cr(xs), "--", label="paper Eq. (8), alpha_cr")
+    ax.plot(xs, paper_alpha(xs), ":", label="paper Eq. (7), alpha")
+    if eq7_fit:
+        quad, line = np.poly1d(eq7_fit["quadratic_3_to_6_in"]), np.poly1d(eq7_fit["linear_6_to_8_in"])
+        ax.plot([3.0, 4.5, 6.0, 8.0], eq7_fit["alpha_per_s"], "s", label="alpha (3, 4.5 in: paper; 6, 8 in: zeta alpha_cr)")
+        ax.plot(xs, np.where(xs <= 6.0, quad(xs), line(xs)), "-.", label="Eq. (7) form refitted")
     ax.set_xlabel("finger length x [in]")
     ax.set_ylabel("mass-proportional damping [1/s]")
     ax.set_yscale("log")
-    ax.legend()
+    ax.legend(fontsize=8)
     fig.tight_layout()
     return fig

@@ -65,7 +65,8 @@ def log_decrement(t, y, y_final=None, noise_band=0.01, max_cycles=None):
     max_cycles : use at most this many cycles after the first peak (default: all).
 
     Raises InputError when fewer than two peaks rise above the noise band: the response
-    does not oscillate (over-damped) and a log-decrement would be meaningless.
+    does not oscillate (over-damped) and a log-decrement would be meaningless; or when
+    the peaks grow beyond their scatter. Peaks constant within their scatter give zeta = 0.
     """
     t, y = _validate_signal(t, y)
     if not 0.0 <= noise_band < 1.0:
@@ -76,42 +77,69 @@ def log_decrement(t, y, y_final=None, noise_band=0.01, max_cycles=None):
     scale = np.max(np.abs(r))
     if scale == 0.0:
         raise InputError("response is constant: nothing to identify")
-    # one peak per lobe (stretch between zero crossings of r) on the side of the largest
-    # excursion, so higher-mode ripples cannot add spurious peaks
-    sign = 1.0 if r[np.argmax(np.abs(r))] > 0 else -1.0
-    lobes = _lobe_peaks(sign * r, noise_band * scale)
-    if lobes:                                                     # start at the largest peak
-        lobes = lobes[int(np.argmax([np.max(sign * r[lobe]) for lobe in lobes])):]
+    # one peak per half-cycle on the side of the largest excursion, from it on, so that
+    # higher-mode ripples and noise cannot add spurious peaks
+    i_max = int(np.argmax(np.abs(r)))
+    sign = 1 if r[i_max] > 0 else -1
+    cycles = [c for c, sg in half_cycles(r, noise_band * scale) if sg == sign]
+    first = next((i for i, c in enumerate(cycles) if c[0] <= i_max <= c[-1]), len(cycles))
+    lobes = cycles[first:]
     if max_cycles is not None:
         lobes = lobes[:int(max_cycles) + 1]
     if len(lobes) < 2:
         raise InputError("response does not oscillate: fewer than two peaks above the noise band "
                          f"({noise_band:g} x max excursion); log-decrement needs an under-damped response")
     tp, ap = _refine_peaks(t, sign * r, lobes)
+    n = _regular_prefix(tp)
+    tp, ap = tp[:n], ap[:n]
     k = np.arange(len(ap))
     slope, intercept = np.polyfit(k, np.log(ap), 1)
     delta = -slope
-    if delta <= 0.0:
-        raise InputError("peak amplitudes do not decay: the response is not a damped free vibration")
-    ci = (np.nan, np.nan)
+    half = np.nan
     if len(ap) > 2:
         resid = np.log(ap) - (intercept + slope * k)
         se = np.sqrt(np.sum(resid**2) / (len(k) - 2) / np.sum((k - k.mean())**2))
         half = stats.t.ppf(0.975, len(k) - 2) * se
-        ci = (float(_zeta(max(delta - half, 0.0))), float(_zeta(delta + half)))
+    if delta + (half if np.isfinite(half) else 0.0) <= 0.0:
+        raise InputError("peak amplitudes grow: the response is not a damped free vibration")
+    ci = (float(_zeta(max(delta - half, 0.0))), float(_zeta(delta + half))) if np.isfinite(half) else (np.nan, np.nan)
+    delta = max(delta, 0.0)             # no decay within the scatter of the peaks: zeta = 0
     period = float(np.mean(np.diff(tp)))
     return LogDecrement(zeta=float(_zeta(delta)), delta=float(delta), zeta_ci95=ci, n_cycles=len(ap) - 1,
                         period_s=period, omega_d_rad_s=2.0 * np.pi / period,
                         peak_times_s=tp, peak_amplitudes=ap)
 
 
-def _lobe_peaks(r, height):
-    """Lobes of r (stretches between sign changes) whose maximum exceeds ``height``:
-    a list of index arrays, one per positive lobe."""
-    crossings = np.flatnonzero(np.signbit(r[1:]) != np.signbit(r[:-1])) + 1
-    bounds = np.concatenate([[0], crossings, [len(r)]])
-    return [np.arange(lo, hi) for lo, hi in zip(bounds[:-1], bounds[1:])
-            if r[lo] > 0.0 and r[lo:hi].max() > height]
+def _regular_prefix(tp):
+    """Length of the leading run of peak times whose spacings stay within 0.5-1.5 times
+    their median: where an oscillation fades into the noise band, half-cycles merge or
+    split, and the peaks after that point no longer count cycles."""
+    if len(tp) < 3:
+        return len(tp)
+    d = np.diff(tp)
+    med = np.median(d)
+    bad = np.flatnonzero((d > 1.5 * med) | (d < 0.5 * med))
+    return int(bad[0] + 1) if len(bad) else len(tp)
+
+
+def half_cycles(r, band):
+    """Half-cycles of an oscillation about zero, with hysteresis: the sign of r only
+    changes when r goes beyond +band or -band, so noise near a zero crossing cannot split
+    a half-cycle. Returns a list of (index array, sign), consecutive signs alternating.
+    A last half-cycle still rising when the record ends is dropped (its largest sample
+    is not a peak)."""
+    state = np.where(r > band, 1, np.where(r < -band, -1, 0))
+    idx = np.where(state != 0, np.arange(len(r)), 0)
+    np.maximum.accumulate(idx, out=idx)
+    filled = state[idx]                                # forward-filled sign, 0 before the first
+    change = np.flatnonzero(np.diff(filled) != 0) + 1
+    bounds = np.concatenate([[0], change, [len(r)]])
+    cycles = [(np.arange(lo, hi), int(filled[lo])) for lo, hi in zip(bounds[:-1], bounds[1:]) if filled[lo] != 0]
+    if cycles:
+        last, sgn = cycles[-1]
+        if last[-1] == len(r) - 1 and np.argmax(sgn * r[last]) == len(last) - 1:
+            cycles.pop()
+    return cycles
 
 
 def _refine_peaks(t, r, lobes):
@@ -218,8 +246,8 @@ def envelope_fit(t, y, y_final=None, noise_band=0.02):
     the peaks. Start values come from the zero crossings (omega_d) and the lobe peaks
     (sigma). ``zeta = sigma / sqrt(sigma^2 + omega_d^2)``.
 
-    Raises InputError for a response with fewer than three zero crossings above
-    ``noise_band`` x its largest excursion (it does not oscillate).
+    Raises InputError for a response with fewer than three half-cycles (lobes between
+    zero crossings) reaching ``noise_band`` x its largest excursion (it does not oscillate).
     """
     from scipy.optimize import least_squares
 
@@ -232,17 +260,14 @@ def envelope_fit(t, y, y_final=None, noise_band=0.02):
     scale = abs(rw[0])
     if scale == 0.0:
         raise InputError("response is constant: nothing to identify")
-    strong = np.abs(rw) > noise_band * scale
-    crossings = np.flatnonzero((np.signbit(rw[1:]) != np.signbit(rw[:-1])) & (strong[1:] | strong[:-1]))
-    if len(crossings) < 3:
-        raise InputError("response does not oscillate: fewer than three zero crossings above the noise band; "
+    peaks = [c[np.argmax(np.abs(rw[c]))] for c, _ in half_cycles(rw, noise_band * scale)]
+    peaks = peaks[:_regular_prefix(tw[peaks])]
+    if len(peaks) < 3:
+        raise InputError("response does not oscillate: fewer than three half-cycles above the noise band; "
                          "an envelope fit needs an under-damped response")
-    omega_d0 = np.pi / np.mean(np.diff(tw[crossings]))
-    bounds = np.concatenate([[0], crossings + 1, [len(rw)]])
-    peaks = [(tw[lo + np.argmax(np.abs(rw[lo:hi]))], np.abs(rw[lo:hi]).max())
-             for lo, hi in zip(bounds[:-1], bounds[1:]) if hi > lo and np.abs(rw[lo:hi]).max() > noise_band * scale]
-    tp, ap = np.array(peaks).T
-    sigma0 = max(-np.polyfit(tp, np.log(ap), 1)[0], 1e-6 * omega_d0) if len(tp) > 1 else 0.1 * omega_d0
+    tp, ap = tw[peaks], np.abs(rw[peaks])
+    omega_d0 = np.pi / np.mean(np.diff(tp))
+    sigma0 = max(-np.polyfit(tp, np.log(ap), 1)[0], 1e-6 * omega_d0)
     keep = tw <= tp[-1] + np.pi / omega_d0            # drop the tail lost in the noise
 
     def residual(p):
@@ -277,3 +302,15 @@ def oscillates(t, y, y_final=0.0, noise_band=1e-6):
     if peak == 0.0:
         raise InputError("response never leaves its final value: nothing to judge")
     return bool(np.min(np.sign(peak) * r[i:]) < -noise_band * abs(peak))
+
+
+def noise_level(y):
+    """Standard deviation of white measurement noise on a smooth, finely sampled record,
+    from the median absolute second difference: for noise of std s, the second difference
+    y[i+1] - 2 y[i] + y[i-1] has std sqrt(6) s; the median makes it robust to the signal's
+    own (sparse, large) curvature. Same unit as y."""
+    y = np.asarray(y, dtype=float)
+    if len(y) < 5:
+        raise InputError("noise_level needs at least 5 samples")
+    d2 = y[2:] - 2.0 * y[1:-1] + y[:-2]
+    return float(1.4826 * np.median(np.abs(d2 - np.median(d2))) / np.sqrt(6.0))

@@ -119,3 +119,12 @@ def test_oscillation_criterion_separates_under_from_critical_damping():
         wd = wn * np.sqrt(1 - zeta**2)
         under = np.exp(-zeta * wn * t) * np.sin(wd * t)
         assert oscillates(t, under)
+
+
+def test_noise_level_of_a_noisy_decay():
+    t, y = sdof_impulse_response(0.05, 60.0, noise=0.0, seed=0)
+    rng = np.random.default_rng(9)
+    sigma = 0.01 * np.abs(y).max()
+    from rom.damping import noise_level
+    assert noise_level(y + sigma * rng.standard_normal(len(y))) == pytest.approx(sigma, rel=0.1)
+    assert noise_level(y) < 0.05 * sigma               # a clean, finely sampled signal has ~none
