@@ -30,6 +30,7 @@ import pandas as pd
 
 from .errors import InputError, SolverError, require_finite_positive
 from .hex8 import deformation_gradient, internal_forces_numpy
+from .contact import PLANE, STEP_SHRINK, contact_forces, penalty_stiffness
 from .kernels import FASTMATH, internal_forces_numba
 from .material import cauchy_stress, von_mises
 from .model import Model, face_node_weights
@@ -39,16 +40,124 @@ TSSFAC = 0.9
 """Time-step scale factor of paper Eq. (5)."""
 
 # energy accumulator slots
-_W_EXT, _E_DAMP, _E_BULK, _KE, _IE, _HG = range(6)
+_W_EXT, _E_DAMP, _E_BULK, _KE, _IE, _HG, _E_PENALTY, _W_NORMAL, _W_FRICTION = range(9)
 _OK, _INVERTED, _DIVERGED, _STEP_TOO_LARGE, _FOLDED = 0, 1, 2, 3, 4
 
 
-def _advance(forces, rod_forces, t, t_stop, dt_prev, dt_user, tssfac, beta, alpha,
-             x, v, X, f_int, f_int_prev, f_ext, v_pres, mass, free,
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _trial_velocities(v, v_new, x, f_ext, f_int, f_int_prev, v_pres, mass, free, reaction,
+                      alpha, relative, rot_center, rot_axis, rot_omega, Dt, beta_rate):
+    """v^{n+1/2} of every node without friction, into v_new; support reactions.
+
+    Mass damping acts on v - v_ref, with v_ref = 0 (``global``, absolute velocity) or the
+    velocity of the rotating frame at the node, omega axis x (x - c) (``relative``)."""
+    a = 0.5 * alpha * Dt
+    inv_den = 1.0 / (1.0 + a)
+    for n in range(x.shape[0]):
+        m = mass[n]
+        vr0 = 0.0
+        vr1 = 0.0
+        vr2 = 0.0
+        if relative:
+            d0 = x[n, 0] - rot_center[0]
+            d1 = x[n, 1] - rot_center[1]
+            d2 = x[n, 2] - rot_center[2]
+            vr0 = rot_omega * (rot_axis[1] * d2 - rot_axis[2] * d1)
+            vr1 = rot_omega * (rot_axis[2] * d0 - rot_axis[0] * d2)
+            vr2 = rot_omega * (rot_axis[0] * d1 - rot_axis[1] * d0)
+        for i in range(3):
+            vref = vr0 if i == 0 else (vr1 if i == 1 else vr2)
+            fb = beta_rate * (f_int[n, i] - f_int_prev[n, i])
+            if free[n] > 0.0:
+                v_new[n, i] = ((1.0 - a) * v[n, i] + 2.0 * a * vref
+                               + Dt * (f_ext[n, i] - f_int[n, i] - fb) / m) * inv_den
+                reaction[n, i] = 0.0
+            else:
+                # constrained: prescribed velocity; the support supplies what is missing
+                vn = v_pres[n, i]
+                v_new[n, i] = vn
+                reaction[n, i] = (m * (vn - v[n, i]) / Dt + alpha * m * (0.5 * (vn + v[n, i]) - vref)
+                                  + f_int[n, i] + fb - f_ext[n, i])
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _friction(v, v_new, f_ext, mass, free, c_nodes, c_normal, c_fn, mu, alpha, Dt, c_out):
+    """Coulomb friction impulse on the contact nodes (see :mod:`fea.contact`): reduce the
+    tangential trial velocity by at most mu f_n Dt / m_eff (slip) or to zero (stick).
+    Adds the friction force to f_ext and its reaction to the surface force c_out[:3];
+    returns (normal work, friction work) of the step [J]."""
+    m_fac = 1.0 + 0.5 * alpha * Dt
+    w_n = 0.0
+    w_f = 0.0
+    for s in range(c_nodes.shape[0]):
+        n = c_nodes[s]
+        fn = c_fn[n]
+        if fn <= 0.0:
+            continue
+        n0 = c_normal[n, 0]
+        n1 = c_normal[n, 1]
+        n2 = c_normal[n, 2]
+        if free[n] > 0.0 and mu > 0.0:
+            vn = v_new[n, 0] * n0 + v_new[n, 1] * n1 + v_new[n, 2] * n2
+            t0 = v_new[n, 0] - vn * n0
+            t1 = v_new[n, 1] - vn * n1
+            t2 = v_new[n, 2] - vn * n2
+            vt = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+            if vt > 0.0:
+                m_eff = mass[n] * m_fac
+                scale = -min(mu * fn * Dt / m_eff, vt) / vt
+                for i in range(3):
+                    change = scale * (t0 if i == 0 else (t1 if i == 1 else t2))
+                    v_new[n, i] += change
+                    ff = change * m_eff / Dt
+                    f_ext[n, i] += ff
+                    c_out[i] -= ff
+                    w_f += ff * 0.5 * (v[n, i] + v_new[n, i])
+        for i in range(3):
+            w_n += fn * (n0 if i == 0 else (n1 if i == 1 else n2)) * 0.5 * (v[n, i] + v_new[n, i])
+    return Dt * w_n, Dt * w_f
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _commit(v, v_new, x, f_ext, f_int, f_int_prev, mass, reaction, alpha, relative,
+            rot_center, rot_axis, rot_omega, Dt, dt, beta_rate):
+    """Move to the new state: x^{n+1} = x^n + dt v^{n+1/2}. Returns the step's external
+    work and damping work [J] and twice the kinetic energy at t^n [J]."""
+    w_ext = 0.0
+    w_damp = 0.0
+    ke = 0.0
+    for n in range(x.shape[0]):
+        m = mass[n]
+        vr0 = 0.0
+        vr1 = 0.0
+        vr2 = 0.0
+        if relative:
+            d0 = x[n, 0] - rot_center[0]
+            d1 = x[n, 1] - rot_center[1]
+            d2 = x[n, 2] - rot_center[2]
+            vr0 = rot_omega * (rot_axis[1] * d2 - rot_axis[2] * d1)
+            vr1 = rot_omega * (rot_axis[2] * d0 - rot_axis[0] * d2)
+            vr2 = rot_omega * (rot_axis[0] * d1 - rot_axis[1] * d0)
+        for i in range(3):
+            vref = vr0 if i == 0 else (vr1 if i == 1 else vr2)
+            fb = beta_rate * (f_int[n, i] - f_int_prev[n, i])
+            vb = 0.5 * (v[n, i] + v_new[n, i])
+            w_ext += (f_ext[n, i] + reaction[n, i]) * vb
+            w_damp += (alpha * m * (vb - vref) + fb) * vb
+            ke += m * vb * vb
+            v[n, i] = v_new[n, i]
+            x[n, i] += dt * v_new[n, i]
+            f_int_prev[n, i] = f_int[n, i]
+    return Dt * w_ext, Dt * w_damp, ke
+
+
+def _advance(forces, rod_forces, contact, t, t_stop, dt_prev, dt_user, tssfac, beta, alpha, relative,
+             x, v, v_new, X, f_int, f_int_prev, f_ext, v_pres, mass, free,
              pulse_nodes, pulse_forces, pulse_t0, pulse_t1,
              rot_nodes, rot_center, rot_axis, rot_omega,
              hexes, b, volume, gamma, kappa, mu, lam, rho, c,
              segments, rest_length, axial_stiffness, hinges, bending_stiffness, dt_rod,
+             c_nodes, c_k, c_kind, c_params, c_mu, c_normal, c_fn, c_out,
              energy, reaction):
     """Advance until t >= t_stop (the last step is not shortened: cutting a step to land on
     an output time perturbs the highest mode and, repeated, can destabilise a mesh whose
@@ -80,6 +189,8 @@ def _advance(forces, rod_forces, t, t_stop, dt_prev, dt_user, tssfac, beta, alph
             if pulse_t0[p] <= t and t < pulse_t1[p]:
                 for i in range(3):
                     f_ext[pulse_nodes[p], i] += pulse_forces[p, i]
+        if c_nodes.shape[0] > 0:
+            contact(x, c_nodes, c_k, c_kind, c_params, f_ext, c_normal, c_fn, c_out)
         if rot_nodes.shape[0] > 0:
             th = rot_omega * (t + dt)
             ct, st = np.cos(th), np.sin(th)
@@ -91,35 +202,18 @@ def _advance(forces, rod_forces, t, t_stop, dt_prev, dt_user, tssfac, beta, alph
                 x_new = rot_center + d * ct + kxd * st + rot_axis * kd * (1.0 - ct)
                 v_pres[n, :] = (x_new - x[n, :]) / dt
         Dt = 0.5 * (dt_prev + dt)
-        inv_den = 1.0 / (1.0 + 0.5 * alpha * Dt)
-        c_v = (1.0 - 0.5 * alpha * Dt) * inv_den
-        c_f = Dt * inv_den
         beta_rate = beta / dt_prev if (beta > 0.0 and dt_prev > 0.0) else 0.0
-        w_ext = 0.0
-        w_damp = 0.0
-        ke = 0.0
-        for n in range(x.shape[0]):
-            m = mass[n]
-            is_free = free[n] > 0.0
-            for i in range(3):
-                fb = beta_rate * (f_int[n, i] - f_int_prev[n, i])
-                if is_free:
-                    vn = c_v * v[n, i] + c_f * (f_ext[n, i] - f_int[n, i] - fb) / m
-                    reaction[n, i] = 0.0
-                else:
-                    # constrained: prescribed velocity; the support supplies what is missing
-                    vn = v_pres[n, i]
-                    reaction[n, i] = (m * (vn - v[n, i]) / Dt + 0.5 * alpha * m * (vn + v[n, i])
-                                      + f_int[n, i] + fb - f_ext[n, i])
-                vb = 0.5 * (v[n, i] + vn)
-                w_ext += (f_ext[n, i] + reaction[n, i]) * vb
-                w_damp += (alpha * m * vb + fb) * vb
-                ke += m * vb * vb
-                v[n, i] = vn
-                x[n, i] += dt * vn
-                f_int_prev[n, i] = f_int[n, i]
-        energy[_W_EXT] += Dt * w_ext
-        energy[_E_DAMP] += Dt * w_damp
+        _trial_velocities(v, v_new, x, f_ext, f_int, f_int_prev, v_pres, mass, free, reaction,
+                          alpha, relative, rot_center, rot_axis, rot_omega, Dt, beta_rate)
+        if c_nodes.shape[0] > 0:
+            w_n, w_f = _friction(v, v_new, f_ext, mass, free, c_nodes, c_normal, c_fn, c_mu, alpha, Dt, c_out)
+            energy[_W_NORMAL] += w_n
+            energy[_W_FRICTION] += w_f
+            energy[_E_PENALTY] = c_out[3]
+        w_ext, w_damp, ke = _commit(v, v_new, x, f_ext, f_int, f_int_prev, mass, reaction, alpha, relative,
+                                    rot_center, rot_axis, rot_omega, Dt, dt, beta_rate)
+        energy[_W_EXT] += w_ext
+        energy[_E_DAMP] += w_damp
         energy[_E_BULK] += Dt * p_bulk
         energy[_KE] = 0.5 * ke
         energy[_IE] = w_int
@@ -204,11 +298,36 @@ def _initial_state(name, value, shape):
     return a
 
 
+def _contact_args(model, dt_cfl, backend):
+    """Arrays the step loop takes for the model's contact (empty when there is none)."""
+    n = model.mesh.n_nodes
+    c = model.contact
+    if c is None:
+        kind, params, nodes, k, mu = PLANE, np.zeros(8), np.zeros(0, np.int64), np.zeros(0), 0.0
+    else:
+        kind, params = c.surface.params()
+        nodes = np.asarray(c.nodes, dtype=np.int64)
+        k = penalty_stiffness(model.mass[nodes], dt_cfl) if c.stiffness is None else np.asarray(c.stiffness, float)
+        mu = float(c.surface.mu)
+    fn = contact_forces if backend == "numba" else contact_forces.py_func
+    return fn, (nodes, k, kind, params, mu, np.zeros((n, 3)), np.zeros(n), np.zeros(8))
+
+
+CONTACT_COLUMNS = ["contact_force_x_N", "contact_force_y_N", "contact_force_z_N", "penalty_energy_J",
+                   "max_penetration_m", "contact_nodes", "contact_point_x_m", "contact_point_y_m",
+                   "normal_contact_work_J", "friction_work_J"]
+"""History columns added when the model has contact: force on the rigid surface [N],
+stored penalty energy [J], deepest penetration [m], nodes in contact, force-weighted
+contact point [m], work of the normal and friction contact forces on the body [J]."""
+
+
 def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_set="tip",
-        reaction_set="root", snapshot_every=0, x0=None, v0=None):
+        reaction_set="root", snapshot_every=0, x0=None, v0=None, progress=False):
     """Integrate ``model`` from rest (or x0, v0) to ``t_end_s`` [s].
 
-    dt_s : fixed step [s] (default: CFL-controlled, TSSFAC x min dt_e, every step).
+    dt_s : fixed step [s] (default: CFL-controlled, TSSFAC x min dt_e, every step; times
+    0.9 more when the model has contact, see :mod:`fea.contact`).
+    progress : show a progress bar (tqdm) over the output times.
     backend : ``"numba"`` (compiled) or ``"numpy"`` (pure-numpy reference, slow).
     Records ``n_outputs`` evenly spaced rows: tip displacement (area-weighted mean over
     ``tip_set``), reaction force summed over ``reaction_set``, max von Mises stress and
@@ -231,10 +350,8 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     if dt_user > dt_cfl:
         raise InputError(f"dt_s = {dt_user:.4g} s exceeds the CFL limit {dt_cfl:.4g} s "
                          f"(paper Eq. 6); use dt_s <= {TSSFAC * dt_cfl:.4g} s or leave it unset")
-    dt_first = dt_user if dt_user else TSSFAC * dt_cfl
-    if t_end_s / n_outputs < dt_first:
-        raise InputError(f"n_outputs = {n_outputs} gives an output interval {t_end_s / n_outputs:.3g} s shorter "
-                         f"than the time step {dt_first:.3g} s; use n_outputs <= {int(t_end_s / dt_first)}")
+    tssfac = TSSFAC * (STEP_SHRINK if model.contact is not None else 1.0)
+    dt_first = dt_user if dt_user else tssfac * dt_cfl
     X = mesh.nodes
     x = X.copy() if x0 is None else _initial_state("x0 (initial positions, m)", x0, X.shape)
     v = np.zeros_like(X) if v0 is None else _initial_state("v0 (initial velocities, m/s)", v0, X.shape)
@@ -252,7 +369,10 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     tip_w = face_node_weights(mesh, tip) if len(tip) > 1 else np.ones(1)
     react_nodes = mesh.node_sets[reaction_set]
     f_int, f_int_prev, f_ext, v_pres, reaction = (np.zeros_like(X) for _ in range(5))
-    energy = np.zeros(6)
+    energy = np.zeros(9)
+    v_new = np.zeros_like(X)
+    contact, contact_arrays = _contact_args(model, dt_cfl, backend)
+    relative = model.damping == "relative"
     if backend == "numba":
         advance, forces, rod_forces = _advance_numba, internal_forces_numba, rod_forces_numba
     else:
@@ -264,11 +384,15 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     rows, snapshots = [], []
     t, dt_prev, steps, dt_min = 0.0, 0.0, 0, np.inf
     wall0 = _time.perf_counter()
-    for i_out, t_out in enumerate(np.linspace(0.0, t_end_s, n_outputs + 1)[1:]):
+    times = np.linspace(0.0, t_end_s, n_outputs + 1)[1:]
+    if progress:
+        from tqdm import tqdm
+        times = tqdm(times, unit="output", desc=f"t_end {t_end_s:g} s")
+    for i_out, t_out in enumerate(times):
         t, dt_prev, n, status, info, dt_seen = advance(
-            forces, rod_forces, t, t_out, dt_prev, dt_user, TSSFAC, model.beta, model.alpha,
-            x, v, X, f_int, f_int_prev, f_ext, v_pres, model.mass, free, *pulse_args, *rot_args, *const,
-            energy, reaction)
+            forces, rod_forces, contact, t, t_out, dt_prev, dt_user, tssfac, model.beta, model.alpha, relative,
+            x, v, v_new, X, f_int, f_int_prev, f_ext, v_pres, model.mass, free, *pulse_args, *rot_args, *const,
+            *contact_arrays, energy, reaction)
         steps += n
         dt_min = min(dt_min, dt_seen)
         if status == _INVERTED:
@@ -281,20 +405,27 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
         if status == _STEP_TOO_LARGE:
             raise SolverError(f"dt_s = {dt_user:.4g} s exceeds the current stable step {dt_seen:.4g} s "
                               f"at step {steps}, t = {t:.6g} s (the mesh deformed)")
-        # positions at t_out: central differences move each node linearly over a step
+        # positions at t_out, which always lies within the last step (t - dt_prev, t]:
+        # central differences move each node linearly over a step
         x_out = x - (t - t_out) * v
         u_tip = tip_w @ (x_out[tip] - X[tip])
         r = reaction[react_nodes].sum(axis=0)
-        rows.append((t_out, *u_tip, *r, max_von_mises(model, x_out), *energy))
+        row = (t_out, *u_tip, *r, max_von_mises(model, x_out), *energy[:_E_PENALTY])
+        if model.contact is not None:
+            out = contact_arrays[-1]
+            row += (*out[:3], energy[_E_PENALTY], *out[4:], energy[_W_NORMAL], energy[_W_FRICTION])
+        rows.append(row)
         if snapshot_every and (i_out + 1) % snapshot_every == 0:
             snapshots.append((t_out, x_out))
     wall = _time.perf_counter() - wall0
     cols = ["time_s", "tip_ux_m", "tip_uy_m", "tip_uz_m", "reaction_x_N", "reaction_y_N", "reaction_z_N",
             "max_von_mises_Pa", "external_work_J", "damping_energy_J", "bulk_viscosity_energy_J",
             "kinetic_energy_J", "internal_energy_J", "hourglass_energy_J"]
+    if model.contact is not None:
+        cols += CONTACT_COLUMNS
     history = pd.DataFrame(rows, columns=cols)
     n_elements = mesh.n_elements + len(ra.segments)
-    summary = {"nodes": mesh.n_nodes, "elements": n_elements, "dt_initial_s": TSSFAC * dt_cfl,
+    summary = {"nodes": mesh.n_nodes, "elements": n_elements, "dt_initial_s": dt_first,
                "dt_min_s": float(dt_min), "steps": int(steps), "t_end_s": t_end_s, "t_final_s": t,
                "wall_time_s": wall, "backend": backend, "alpha_per_s": model.alpha, "beta_s": model.beta,
                "ns_per_element_cycle": 1e9 * wall / max(1, steps * n_elements)}

@@ -74,6 +74,10 @@ class Model:
     fixed_nodes : node ids with all displacements fixed (clamped root).
     rods : :class:`fea.rod.Rod` chains on mesh nodes (beam elements), may share nodes with solids.
     point_masses : {node id: mass [kg]} lumped point-mass elements.
+    contact : :class:`fea.contact.Contact` of mesh nodes against a rigid surface, or None.
+    damping : ``"global"`` (mass damping on the absolute velocity, LS-DYNA
+        *DAMPING_GLOBAL) or ``"relative"`` (on the velocity relative to the frame of
+        ``rotating``, *DAMPING_RELATIVE).
     """
 
     mesh: Mesh
@@ -86,12 +90,18 @@ class Model:
     hourglass_coefficient: float = 1.0
     rods: tuple = ()
     point_masses: dict = field(default_factory=dict)
+    contact: object = None
+    damping: str = "global"
 
     def __post_init__(self):
         self.alpha = require_finite_positive("alpha (mass-proportional damping, 1/s)", self.alpha, allow_zero=True)
         self.beta = require_finite_positive("beta (stiffness-proportional damping, s)", self.beta, allow_zero=True)
         self.hourglass_coefficient = require_finite_positive("hourglass_coefficient", self.hourglass_coefficient)
         self.fixed_nodes = np.asarray(self.fixed_nodes, dtype=np.int64)
+        if self.damping not in ("global", "relative"):
+            raise InputError(f"damping must be 'global' or 'relative', got {self.damping!r}")
+        if self.damping == "relative" and self.rotating is None:
+            raise InputError("damping = 'relative' needs a rotating frame (rotating nodes)")
         try:
             self.geometry: ElementGeometry = element_geometry(self.mesh.nodes, self.mesh.hexes)
         except ValueError as err:

@@ -1,0 +1,111 @@
+"""Penalty contact and Coulomb friction against rigid surfaces, on small cases with
+analytic answers."""
+import numpy as np
+import pytest
+
+from fea.contact import Contact, RigidEllipse, RigidPlane, _ellipse_gap, boundary_nodes, contact_forces
+from fea.explicit import run
+from fea.material import NeoHookean
+from fea.mesh import elliptical_cantilever
+from fea.model import ForcePulse, Model, face_node_weights
+
+STIFF = NeoHookean(E=2e8, nu=0.3, rho=1000.0)
+
+
+def block_on_plane(normal_N, tangential_N=0.0, alpha=0.0, mu=0.0, t_start=0.0):
+    """A 24 x 17 x 10 mm block (elliptical prism) standing on the rigid plane z = 0,
+    pushed down by ``normal_N`` and sideways (+x) by ``tangential_N`` on its top face."""
+    mesh = elliptical_cantilever(0.01, 2, 2)
+    top = mesh.node_sets["tip"]
+    w = face_node_weights(mesh, top)
+    pulses = [ForcePulse(nodes=top, weights=w, force_N=[tangential_N, 0.0, -normal_N], t_start_s=t_start,
+                         t_end_s=10.0)]
+    contact = Contact(nodes=mesh.node_sets["root"], surface=RigidPlane((0, 0, 0), (0, 0, 1), mu=mu))
+    return Model(mesh=mesh, material=STIFF, alpha=alpha, pulses=tuple(pulses), contact=contact)
+
+
+def test_pressed_block_settles_on_its_penalty_springs():
+    """The damped dynamic run settles where the static problem of the block on springs of
+    the penalty stiffness puts it: contact force = load, and each bottom node's
+    penetration equals the static spring compression."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    from fea.contact import penalty_stiffness
+    from fea.explicit import critical_time_step
+    from fea.static import tangent_stiffness
+
+    F = 50.0
+    model = block_on_plane(F, alpha=2000.0)
+    res = run(model, 0.03, n_outputs=30)
+    h = res.history
+    assert h.contact_force_z_N.iloc[-1] == pytest.approx(-F, rel=0.01)     # the plane is pushed down
+    bottom = model.contact.nodes
+    k = penalty_stiffness(model.mass[bottom], critical_time_step(model))
+    springs = np.zeros((model.mesh.n_nodes, 3))
+    springs[bottom, 2] = k
+    springs[bottom, :2] = 1e-6 * k[:, None]                 # removes the free in-plane motion
+    K = tangent_stiffness(model) + sp.diags(springs.ravel())
+    top = model.mesh.node_sets["tip"]
+    f = np.zeros_like(model.mesh.nodes)
+    f[top, 2] = -F * face_node_weights(model.mesh, top)
+    u = spla.spsolve(K.tocsc(), f.ravel()).reshape(-1, 3)
+    penetration_dynamic = -(res.x[bottom, 2] - model.mesh.nodes[bottom, 2])
+    assert np.allclose(penetration_dynamic, -u[bottom, 2], rtol=0.01)
+    assert h.max_penetration_m.iloc[-1] == pytest.approx(-u[bottom, 2].min(), rel=0.01)
+
+
+def test_sliding_block_feels_mu_times_normal_force():
+    """Pushed sideways harder than mu N, the block slides and the plane feels mu N of
+    friction; pushed more gently it sticks and the friction balances the push."""
+    N, mu = 20.0, 0.4
+    slide = run(block_on_plane(N, tangential_N=2.0 * mu * N, alpha=0.0, mu=mu), 0.02, n_outputs=40).history
+    late = slide[slide.time_s > 0.01]
+    assert late.contact_force_x_N.mean() == pytest.approx(mu * late.contact_force_z_N.abs().mean(), rel=0.02)
+    stick = run(block_on_plane(N, tangential_N=0.5 * mu * N, alpha=500.0, mu=mu), 0.03, n_outputs=30).history
+    assert stick.contact_force_x_N.iloc[-1] == pytest.approx(0.5 * mu * N, rel=0.02)
+    assert abs(stick.tip_ux_m.iloc[-1] - stick.tip_ux_m.iloc[-10]) < 1e-6
+
+
+def test_block_balance_of_energy_with_friction():
+    h = run(block_on_plane(20.0, tangential_N=16.0, mu=0.4), 0.02, n_outputs=20).history
+    stored = (h.kinetic_energy_J + h.internal_energy_J + h.hourglass_energy_J + h.damping_energy_J
+              + h.bulk_viscosity_energy_J)
+    assert (h.external_work_J - stored).abs().max() < 0.01 * h.external_work_J.abs().max()
+    assert h.friction_work_J.iloc[-1] < 0.0                  # friction only dissipates
+
+
+@pytest.mark.parametrize("a, b", [(0.05, 0.03), (0.02, 0.04)])
+def test_ellipse_closest_point_and_normal(a, b):
+    """p = q + d n with |d| below the smallest radius of curvature (min(a,b)^2 / max(a,b))
+    has q as its closest boundary point and |d| as its distance."""
+    rng = np.random.default_rng(1)
+    for _ in range(200):
+        th = rng.uniform(0, 2 * np.pi)
+        q = np.array([a * np.cos(th), b * np.sin(th)])
+        n = np.array([q[0] / a**2, q[1] / b**2])
+        n /= np.linalg.norm(n)
+        depth = rng.uniform(-2e-3, 2e-3)
+        p = q + depth * n
+        gap, nx, ny = _ellipse_gap(p[0], p[1], a, b)
+        assert gap == pytest.approx(depth, abs=1e-12)
+        assert np.allclose([nx, ny], n, atol=1e-9)
+
+
+def test_rotated_ellipse_pushes_along_its_normal():
+    surface = RigidEllipse(center_m=(0.1, 0.2), a_m=0.05, b_m=0.03, angle_rad=0.6, mu=0.0)
+    # a point 1 mm inside the end of the a-axis
+    u = np.array([np.cos(0.6), np.sin(0.6), 0.0])
+    x = np.array([[0.1, 0.2, 0.0] + (0.05 - 1e-3) * u])
+    f = np.zeros_like(x)
+    out = np.zeros(8)
+    kind, params = surface.params()
+    contact_forces(x, np.array([0]), np.array([1e4]), kind, params, f, np.zeros_like(x), np.zeros(1), out)
+    assert np.allclose(f[0], 1e4 * 1e-3 * u, rtol=1e-6)
+    assert out[4] == pytest.approx(1e-3)
+
+
+def test_boundary_nodes_of_a_block():
+    mesh = elliptical_cantilever(0.01, 3, 3)
+    nb = boundary_nodes(mesh.hexes)
+    assert len(nb) == mesh.n_nodes - 2 * 2 * 2             # the 2x2x2 interior nodes are not on it
