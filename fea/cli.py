@@ -3,6 +3,7 @@
 Sub-commands:
   table1   the paper's Table 1 for SM-A and SM-B (nodes, elements, time step, stiffness)
   impulse  impulse response of the SM-A finger for several alpha (paper Fig. 7), CSV + plot
+  contact, contact-sweep  the finger on the drum over the object (paper 3.3-3.4)
 and the sub-commands of :mod:`rom.cli` (identify, damping-fits).
 """
 import argparse
@@ -57,6 +58,69 @@ def _cmd_impulse(args):
     print(f"wrote {out}/impulse_response.csv, .png, impulse_summary.json")
 
 
+def _contact_setup(args):
+    from dataclasses import replace
+
+    from .drum import CALIBRATED_THETA0_RAD, DrumSetup, calibrate_initial_angle
+
+    setup = DrumSetup(theta0_rad=CALIBRATED_THETA0_RAD if args.theta0_rad is None else args.theta0_rad)
+    if args.calibrate:
+        theta0, steps = calibrate_initial_angle(setup)
+        for th, t_c in steps:
+            print(f"theta0 = {th:.5f} rad: first contact at {t_c:.4f} s")
+        setup = replace(setup, theta0_rad=theta0)
+    return setup
+
+
+def _cmd_contact(args):
+    from .drum import contact_run, contact_summary
+    from .outputs import write_csv, write_json
+    from .vtu import write_series
+
+    setup = _contact_setup(args)
+    out = Path(args.out)
+    result, model = contact_run(setup, args.alpha, damping=args.damping, t_end_s=args.t_end_s,
+                                n_outputs=args.n_outputs, progress=True, snapshot_every=5 if args.vtu else 0)
+    summary = contact_summary(setup, result, model)
+    stem = f"contact_alpha{args.alpha:g}_{args.damping}"
+    write_csv(out / f"{stem}.csv", result.history)
+    write_json(args.json or out / f"{stem}.json", summary)
+    if args.vtu:
+        print(f"wrote {write_series(args.vtu, model, result, stem=stem)}")
+    for k in ("contact_start_s", "contact_end_s", "contact_duration_s", "first_contact_side",
+              "peak_reaction_force_N", "max_finger_stress_Pa", "max_object_stress_Pa", "wall_time_s"):
+        print(f"{k} = {summary.get(k)}")
+    print(f"wrote {out / stem}.csv and the JSON summary")
+
+
+def _cmd_contact_sweep(args):
+    from .contact_study import plot_contact_shapes, plot_reaction_force, plot_stresses, sweep
+    from .outputs import write_csv, write_figure
+
+    setup = _contact_setup(args)
+    out = Path(args.out)
+    history, table, shapes = sweep(setup, args.alphas, damping=args.damping, t_end_s=args.t_end_s,
+                                   n_outputs=args.n_outputs, progress=True)
+    write_csv(out / f"contact_histories_{args.damping}.csv", history)
+    write_csv(out / f"contact_summary_{args.damping}.csv", table)
+    write_figure(out / f"fig10_reaction_force_{args.damping}.png", plot_reaction_force(history))
+    write_figure(out / f"fig14_stresses_{args.damping}.png", plot_stresses(history))
+    write_figure(out / f"fig13_contact_shapes_{args.damping}.png", plot_contact_shapes(setup, shapes))
+    print(table[["alpha_per_s", "contact_start_s", "contact_end_s", "contact_duration_s", "first_contact_side",
+                 "peak_reaction_force_N", "max_object_stress_Pa"]].to_string(index=False))
+    print(f"wrote {out}/")
+
+
+def _contact_arguments(p):
+    p.add_argument("--damping", choices=("global", "relative"), default="global",
+                   help="mass damping on the absolute velocity (global, the paper) or relative to the drum")
+    p.add_argument("--t-end-s", type=float, default=1.5, help="simulated time [s]")
+    p.add_argument("--n-outputs", type=int, default=300, help="number of output times")
+    p.add_argument("--theta0-rad", type=float, help="initial finger angle [rad] (default: the calibrated one)")
+    p.add_argument("--calibrate", action="store_true",
+                   help="recalibrate theta0 so that alpha = 7.5 1/s first touches at t = 0.32 s")
+
+
 def build_parser():
     p = argparse.ArgumentParser(prog="ccedi", description="Compliant finger design: explicit FEA, "
                                 "damping identification, reduced models, design optimisation.")
@@ -77,6 +141,18 @@ def build_parser():
     i.add_argument("--t-end-s", type=float, default=0.2, help="simulated time [s]")
     i.add_argument("--out", default="reports/impulse", help="output directory")
     i.set_defaults(func=_cmd_impulse)
+    c = sub.add_parser("contact", help="finger on the rotating drum over the elliptical object (paper 3.3-3.4)")
+    c.add_argument("--alpha", type=float, required=True, help="mass-proportional damping [1/s]")
+    c.add_argument("--json", help="summary JSON path (default: OUT/contact_alpha<A>_<damping>.json)")
+    c.add_argument("--vtu", help="directory for a VTU/PVD animation of the finger")
+    c.add_argument("--out", default="reports/contact", help="output directory for the CSV history")
+    _contact_arguments(c)
+    c.set_defaults(func=_cmd_contact)
+    w = sub.add_parser("contact-sweep", help="the contact run for several alpha; paper Figs. 10, 13, 14 analogues")
+    w.add_argument("--alphas", type=float, nargs="+", default=[1.0, 7.5, 20.0, 50.0, 180.0, 600.0])
+    w.add_argument("--out", default="reports/contact", help="output directory")
+    _contact_arguments(w)
+    w.set_defaults(func=_cmd_contact_sweep)
     from rom.cli import add_parsers as add_rom_parsers
     add_rom_parsers(sub)
     return p

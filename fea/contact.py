@@ -167,7 +167,11 @@ def contact_forces(x, nodes, stiffness, kind, params, f_ext, normal, f_normal, o
             dy = x[n, 1] - params[1]
             ca = params[4]
             sa = params[5]
-            gap, lx, ly = _ellipse_gap(ca * dx + sa * dy, -sa * dx + ca * dy, params[2], params[3])
+            u = ca * dx + sa * dy
+            w = -sa * dx + ca * dy
+            if (u / params[2]) ** 2 + (w / params[3]) ** 2 >= 1.0:
+                continue                                    # outside: no contact, skip Newton
+            gap, lx, ly = _ellipse_gap(u, w, params[2], params[3])
             n0 = ca * lx - sa * ly
             n1 = sa * lx + ca * ly
             n2 = 0.0

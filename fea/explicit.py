@@ -322,12 +322,15 @@ contact point [m], work of the normal and friction contact forces on the body [J
 
 
 def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_set="tip",
-        reaction_set="root", snapshot_every=0, x0=None, v0=None, progress=False):
+        reaction_set="root", snapshot_every=0, x0=None, v0=None, progress=False, output_hook=None):
     """Integrate ``model`` from rest (or x0, v0) to ``t_end_s`` [s].
 
     dt_s : fixed step [s] (default: CFL-controlled, TSSFAC x min dt_e, every step; times
     0.9 more when the model has contact, see :mod:`fea.contact`).
     progress : show a progress bar (tqdm) over the output times.
+    output_hook : optional ``hook(t_out, x_out, f_ext) -> dict`` called at every output
+    with the interpolated positions and the external nodal forces of the last step
+    (pulses and contact); its dict values become extra history columns.
     backend : ``"numba"`` (compiled) or ``"numpy"`` (pure-numpy reference, slow).
     Records ``n_outputs`` evenly spaced rows: tip displacement (area-weighted mean over
     ``tip_set``), reaction force summed over ``reaction_set``, max von Mises stress and
@@ -414,6 +417,9 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
         if model.contact is not None:
             out = contact_arrays[-1]
             row += (*out[:3], energy[_E_PENALTY], *out[4:], energy[_W_NORMAL], energy[_W_FRICTION])
+        if output_hook is not None:
+            extra = output_hook(t_out, x_out, f_ext)
+            row += tuple(extra.values())
         rows.append(row)
         if snapshot_every and (i_out + 1) % snapshot_every == 0:
             snapshots.append((t_out, x_out))
@@ -423,6 +429,8 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
             "kinetic_energy_J", "internal_energy_J", "hourglass_energy_J"]
     if model.contact is not None:
         cols += CONTACT_COLUMNS
+    if output_hook is not None:
+        cols += list(extra)
     history = pd.DataFrame(rows, columns=cols)
     n_elements = mesh.n_elements + len(ra.segments)
     summary = {"nodes": mesh.n_nodes, "elements": n_elements, "dt_initial_s": dt_first,

@@ -1,0 +1,279 @@
+"""A compliant finger on a rotating drum sweeping over a fixed elliptical object (paper
+sections 3.3-3.4, Table 2, Fig. 9).
+
+Frame: the drum turns about the global z axis through the origin at omega = 20 rpm
+(2.095 rad/s, counter-clockwise seen from +z); everything moves in the x-y plane.
+
+Choices where Table 2 is ambiguous (all are :class:`DrumSetup` parameters):
+
+* drum "82.55 (25)": radius 82.55 mm (3.25 in), 25 mm wide. The drum is rigid: the
+  finger's root face turns with it (prescribed rotation).
+* object "99.1, 67, 3(25)": an ellipse of full axes 99.1 mm (along x) by 67 mm (along y),
+  i.e. semi-axes 49.55 and 33.5 mm, a solid plate 25 mm thick centred on the finger's
+  mid-plane, centre at (Dx, Dy) = (101.6, 184.15) mm. It is rigid for the dynamics.
+* F/T sensor "20 (12.25)": a 20 mm diameter pad under the object's centre, where the
+  object is clamped in the static stress solve.
+* finger: the 8-in SM-A finger (5 x 5 x 51 hexahedra, 1275 elements, 1872 nodes, as in
+  Table 2), root on the drum surface, pointing radially out, soft (8.45 mm) direction
+  tangential, 24 mm wide along the drum axis. At t = 0 it turns rigidly with the drum
+  (initial velocity omega x r), the paper's "drum rotating at a constant speed".
+* initial angle theta0 (the one unknown): calibrated so that the alpha = 7.5 1/s finger
+  first touches the object at t = 0.32 s (:func:`calibrate_initial_angle`).
+
+Object stress: the object is rigid in the dynamics; at every output time a linear
+static FE solve of the object (hexahedra, AL6061, clamped on the sensor pad) under the
+finger's contact forces, each applied at the nearest node of the object's lateral
+surface, gives its largest von Mises stress. Point-like loads make this maximum
+mesh dependent (it grows under refinement); it is a comparative measure.
+"""
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse.linalg as spla
+
+from .contact import Contact, RigidEllipse, boundary_nodes
+from .errors import InputError, require_finite_positive
+from .explicit import run
+from .hex8 import deformation_gradient
+from .material import RUBBER, NeoHookean, cauchy_stress, von_mises
+from .mesh import Mesh, elliptical_cantilever, sm_a
+from .model import Model, RotatingNodes
+from .static import free_dofs, tangent_stiffness
+
+AL6061 = NeoHookean(E=69e9, nu=0.33, rho=2700.0)
+"""Object and sensor material (Table 2)."""
+
+CALIBRATED_THETA0_RAD = 0.17228
+"""Initial finger angle [rad] from :func:`calibrate_initial_angle` with the default
+:class:`DrumSetup` (alpha = 7.5 1/s first touches at 0.32 s, to the 1 ms output step;
+rigid-finger estimate 0.15133 rad, then one FE correction). Recalibrate with
+``ccedi contact --calibrate`` after changing the geometry."""
+
+PAPER_CONTACT = {"first_contact_s": {7.5: 0.32, 600.0: 0.57},
+                 "contact_duration_s": {7.5: 0.92, 180.0: 0.85, 600.0: 0.79}}
+"""The paper's reported contact timings (section 3.4)."""
+
+
+@dataclass(frozen=True)
+class DrumSetup:
+    """Geometry, speeds and materials of the rotating-finger test (SI units)."""
+
+    drum_radius_m: float = 0.08255
+    finger_length_m: float = 0.2032
+    omega_rad_s: float = 2.095
+    object_center_m: tuple = (0.1016, 0.18415)
+    object_semi_axes_m: tuple = (0.04955, 0.0335)
+    object_angle_rad: float = 0.0
+    object_thickness_m: float = 0.025
+    sensor_radius_m: float = 0.010
+    friction: float = 0.6
+    theta0_rad: float = CALIBRATED_THETA0_RAD
+    finger_material: NeoHookean = RUBBER
+    object_material: NeoHookean = AL6061
+
+    def __post_init__(self):
+        for name in ("drum_radius_m", "finger_length_m", "omega_rad_s", "object_thickness_m", "sensor_radius_m"):
+            require_finite_positive(name, getattr(self, name))
+        require_finite_positive("friction (coefficient)", self.friction, allow_zero=True)
+        for s in self.object_semi_axes_m:
+            require_finite_positive("object_semi_axes_m", s)
+        if not np.isfinite(self.theta0_rad):
+            raise InputError(f"theta0_rad must be finite, got {self.theta0_rad!r}")
+        c = np.hypot(*self.object_center_m)
+        if c - max(self.object_semi_axes_m) <= self.drum_radius_m:
+            raise InputError("the object overlaps the drum: move object_center_m or shrink it")
+
+    @property
+    def object_surface(self):
+        h = 0.5 * self.object_thickness_m
+        return RigidEllipse(center_m=self.object_center_m, a_m=self.object_semi_axes_m[0],
+                            b_m=self.object_semi_axes_m[1], angle_rad=self.object_angle_rad,
+                            z_min_m=-h, z_max_m=h, mu=self.friction)
+
+
+def finger_frame(theta):
+    """Rotation taking finger mesh coordinates (x: wide, y: soft, z: along) to the drum
+    frame at angle theta: z -> radial e_r, y -> tangential e_theta, x -> e_theta x e_r
+    (along -z), a proper rotation."""
+    er = np.array([np.cos(theta), np.sin(theta), 0.0])
+    et = np.array([-np.sin(theta), np.cos(theta), 0.0])
+    return np.column_stack([np.cross(et, er), et, er])
+
+
+def finger_on_drum(setup: DrumSetup, alpha, damping="global"):
+    """The finger model at angle ``setup.theta0_rad``: root face turning with the drum,
+    contact of its surface nodes with the rigid object. Returns (model, v0)."""
+    local = sm_a(length_m=setup.finger_length_m)
+    Q = finger_frame(setup.theta0_rad)
+    nodes = (local.nodes + [0.0, 0.0, setup.drum_radius_m]) @ Q.T
+    mesh = Mesh(nodes=nodes, hexes=local.hexes, node_sets=dict(local.node_sets))
+    axis = np.array([0.0, 0.0, 1.0])
+    rotating = RotatingNodes(nodes=mesh.node_sets["root"], center_m=np.zeros(3), axis=axis,
+                             omega_rad_s=setup.omega_rad_s)
+    contact = Contact(nodes=boundary_nodes(mesh.hexes), surface=setup.object_surface)
+    model = Model(mesh=mesh, material=setup.finger_material, alpha=alpha, rotating=rotating, contact=contact,
+                  damping=damping)
+    v0 = setup.omega_rad_s * np.cross(axis, nodes)
+    return model, v0
+
+
+@dataclass
+class ObjectStress:
+    """Linear static stress of the object under the finger's contact forces."""
+
+    setup: DrumSetup
+    n_section: int = 12
+    n_thickness: int = 4
+    model: Model = field(init=False)
+
+    def __post_init__(self):
+        s = self.setup
+        a, b = s.object_semi_axes_m
+        local = elliptical_cantilever(s.object_thickness_m, self.n_section, self.n_thickness, a=a, b=b)
+        ca, sa = np.cos(s.object_angle_rad), np.sin(s.object_angle_rad)
+        R = np.array([[ca, -sa, 0.0], [sa, ca, 0.0], [0.0, 0.0, 1.0]])
+        nodes = local.nodes @ R.T + [s.object_center_m[0], s.object_center_m[1], -0.5 * s.object_thickness_m]
+        back = local.node_sets["root"]
+        pad = back[np.hypot(*(local.nodes[back, :2].T)) <= s.sensor_radius_m]
+        if len(pad) < 3:
+            raise InputError("sensor_radius_m is too small for the object mesh: no nodes to clamp")
+        mesh = Mesh(nodes=nodes, hexes=local.hexes, node_sets={"sensor": pad})
+        self.model = Model(mesh=mesh, material=s.object_material, fixed_nodes=pad)
+        K = tangent_stiffness(self.model)
+        self._free = free_dofs(self.model)
+        self._solve = spla.factorized(K[self._free][:, self._free].tocsc())
+        on_side = boundary_nodes(mesh.hexes)
+        r = np.hypot(*((local.nodes[on_side, :2] / [a, b]).T))
+        self._side = on_side[r > 0.999]                     # the lateral (elliptical) surface
+
+    def max_von_mises(self, points, forces):
+        """Largest element von Mises stress [Pa] for contact ``forces`` (k, 3) [N] on the
+        object at finger-node ``points`` (k, 3) [m] (each lumped to the nearest lateral
+        surface node). Zero without forces."""
+        if len(points) == 0:
+            return 0.0
+        side_xyz = self.model.mesh.nodes[self._side]
+        nearest = self._side[np.argmin(((points[:, None, :] - side_xyz[None]) ** 2).sum(-1), axis=1)]
+        f = np.zeros_like(self.model.mesh.nodes)
+        np.add.at(f, nearest, forces)
+        u = np.zeros(f.size)
+        u[self._free] = self._solve(f.ravel()[self._free])
+        x = self.model.mesh.nodes + u.reshape(-1, 3)
+        F = deformation_gradient(x[self.model.mesh.hexes], self.model.geometry)
+        mat = self.model.material
+        return float(von_mises(cauchy_stress(F, mat.mu, mat.lam)).max())
+
+
+def contact_run(setup: DrumSetup, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False,
+                snapshot_every=0, object_stress=True):
+    """Run the finger over the object. Returns (RunResult, model); the history gains
+    ``reaction_force_N`` (magnitude of the force on the object), ``max_object_von_mises_Pa``
+    and the contact patch along the finger, ``contact_patch_start_m`` /
+    ``contact_patch_end_m`` (distance from the root, NaN without contact)."""
+    model, v0 = finger_on_drum(setup, alpha, damping)
+    nodes = model.contact.nodes
+    along = (model.mesh.nodes[nodes] @ finger_frame(setup.theta0_rad))[:, 2] - setup.drum_radius_m
+    stress = ObjectStress(setup) if object_stress else None
+
+    def hook(t, x, f_ext):
+        f = f_ext[nodes]
+        active = np.abs(f).sum(axis=1) > 0.0
+        out = {"max_object_von_mises_Pa": stress.max_von_mises(x[nodes][active], -f[active]) if stress else np.nan,
+               "contact_patch_start_m": float(along[active].min()) if active.any() else np.nan,
+               "contact_patch_end_m": float(along[active].max()) if active.any() else np.nan}
+        return out
+
+    result = run(model, t_end_s, n_outputs=n_outputs, v0=v0, progress=progress, snapshot_every=snapshot_every,
+                 output_hook=hook)
+    h = result.history
+    h.insert(h.columns.get_loc("contact_force_z_N") + 1, "reaction_force_N",
+             np.sqrt(h.contact_force_x_N**2 + h.contact_force_y_N**2 + h.contact_force_z_N**2))
+    return result, model
+
+
+def object_side(setup: DrumSetup, point_xy):
+    """"front" if a contact point faces the oncoming finger (the side the drum rotation
+    comes from), else "rear"."""
+    c = np.asarray(setup.object_center_m, dtype=float)
+    e_theta = np.array([-c[1], c[0]]) / np.hypot(*c)           # direction of finger motion at the object
+    return "front" if float(np.dot(np.asarray(point_xy) - c, e_theta)) < 0.0 else "rear"
+
+
+def contact_summary(setup: DrumSetup, result, model):
+    """The summary the CLI writes (keys of issue 4), from a :func:`contact_run`."""
+    h = result.history
+    on = h.contact_nodes > 0
+    summary = {"alpha_per_s": model.alpha, "damping": model.damping, "theta0_rad": setup.theta0_rad,
+               "wall_time_s": result.summary["wall_time_s"], "steps": result.summary["steps"]}
+    if on.any():
+        first, last = h[on].iloc[0], h[on].iloc[-1]
+        start, end = float(first.time_s), float(last.time_s)
+        p_first = [float(first.contact_point_x_m), float(first.contact_point_y_m)]
+        p_last = [float(last.contact_point_x_m), float(last.contact_point_y_m)]
+        summary.update({
+            "contact_start_s": start, "contact_end_s": end, "contact_duration_s": end - start,
+            "contact_ended": bool(end < float(h.time_s.iloc[-1])),
+            "first_contact_point_m": p_first, "last_contact_point_m": p_last,
+            "first_contact_side": object_side(setup, p_first), "last_contact_side": object_side(setup, p_last),
+            "peak_reaction_force_N": float(h.reaction_force_N.max()),
+            "max_object_stress_Pa": float(np.nanmax(h.max_object_von_mises_Pa)),
+            "max_penetration_m": float(h.max_penetration_m.max()),
+        })
+    else:
+        summary.update({k: None for k in ("contact_start_s", "contact_end_s", "contact_duration_s",
+                                          "first_contact_point_m", "last_contact_point_m")})
+        summary.update({"peak_reaction_force_N": 0.0, "max_object_stress_Pa": 0.0, "max_penetration_m": 0.0})
+    stored = (h.kinetic_energy_J + h.internal_energy_J + h.hourglass_energy_J + h.damping_energy_J
+              + h.bulk_viscosity_energy_J)
+    summary["max_finger_stress_Pa"] = float(h.max_von_mises_Pa.max())
+    summary["penetration_to_thickness"] = summary["max_penetration_m"] / (2 * 8.45e-3)
+    summary["energy_balance_error"] = float((h.external_work_J - stored).abs().max()
+                                            / max(h.external_work_J.abs().max(), 1e-300))
+    summary["friction_work_J"] = float(h.friction_work_J.iloc[-1])
+    summary["max_penalty_energy_J"] = float(h.penalty_energy_J.max())
+    return summary
+
+
+def first_contact_angle(setup: DrumSetup, samples=4000):
+    """Drum angle change [rad] after which the undeformed finger, turning rigidly from
+    ``setup.theta0_rad``, first touches the object (geometry only)."""
+    model, _ = finger_on_drum(setup, 0.0)
+    pts = model.mesh.nodes[model.contact.nodes]
+    s = setup.object_surface
+    c = np.asarray(s.center_m)
+    ca, sa = np.cos(s.angle_rad), np.sin(s.angle_rad)
+    for dtheta in np.linspace(0.0, 2 * np.pi, samples):
+        cr, sr = np.cos(dtheta), np.sin(dtheta)
+        x = cr * pts[:, 0] - sr * pts[:, 1] - c[0]
+        y = sr * pts[:, 0] + cr * pts[:, 1] - c[1]
+        u, v = ca * x + sa * y, -sa * x + ca * y
+        inside = (u / s.a_m) ** 2 + (v / s.b_m) ** 2 < 1.0
+        inside &= (pts[:, 2] >= s.z_min_m) & (pts[:, 2] <= s.z_max_m)
+        if inside.any():
+            return float(dtheta)
+    raise InputError("the finger never reaches the object: check the drum radius, finger length and object")
+
+
+def calibrate_initial_angle(setup: DrumSetup, alpha=7.5, target_s=0.32, iterations=3, tol_s=0.004):
+    """theta0 [rad] such that the finger with ``alpha`` first touches the object at
+    ``target_s``: start from the rigid-finger geometry, then correct by FE runs
+    (theta0 += omega (t_contact - target)). Returns (theta0, [(theta0, t_contact), ...])."""
+    from dataclasses import replace
+    theta0 = setup.theta0_rad
+    reach = first_contact_angle(replace(setup, theta0_rad=0.0))
+    theta0 = reach - setup.omega_rad_s * target_s
+    history = []
+    for _ in range(iterations):
+        trial = replace(setup, theta0_rad=theta0)
+        res, _ = contact_run(trial, alpha, t_end_s=target_s + 0.1, n_outputs=int((target_s + 0.1) / 0.001),
+                             object_stress=False)
+        h = res.history
+        on = h[h.contact_nodes > 0]
+        if on.empty:
+            raise InputError(f"no contact within {target_s + 0.1:.3g} s at theta0 = {theta0:.4f} rad")
+        t_c = float(on.time_s.iloc[0])
+        history.append((theta0, t_c))
+        if abs(t_c - target_s) <= tol_s:
+            break
+        theta0 += setup.omega_rad_s * (t_c - target_s)
+    return theta0, history
