@@ -108,7 +108,25 @@ def _cmd_contact_sweep(args):
     write_figure(out / f"fig13_contact_shapes_{args.damping}.png", plot_contact_shapes(setup, shapes))
     print(table[["alpha_per_s", "contact_start_s", "contact_end_s", "contact_duration_s", "first_contact_side",
                  "peak_reaction_force_N", "max_object_stress_Pa"]].to_string(index=False))
+    _write_contact_report(setup, out)
     print(f"wrote {out}/")
+
+
+def _write_contact_report(setup, out):
+    """contact_report.md from the summaries and histories in ``out`` (global, and relative if present)."""
+    import pandas as pd
+
+    from .contact_study import contact_report
+
+    def load(kind):
+        s, h = out / f"contact_summary_{kind}.csv", out / f"contact_histories_{kind}.csv"
+        return (pd.read_csv(s), pd.read_csv(h)) if s.exists() and h.exists() else (None, None)
+
+    g_table, g_hist = load("global")
+    if g_table is None:
+        return
+    r_table, r_hist = load("relative")
+    (out / "contact_report.md").write_text(contact_report(setup, g_table, g_hist, r_table, r_hist))
 
 
 def _contact_arguments(p):
@@ -153,6 +171,10 @@ def build_parser():
     w.add_argument("--out", default="reports/contact", help="output directory")
     _contact_arguments(w)
     w.set_defaults(func=_cmd_contact_sweep)
+    r = sub.add_parser("contact-report", help="contact_report.md from the CSVs a contact-sweep wrote")
+    r.add_argument("--out", default="reports/contact", help="directory holding the sweep CSVs")
+    _contact_arguments(r)
+    r.set_defaults(func=lambda args: _write_contact_report(_contact_setup(args), Path(args.out)))
     from rom.cli import add_parsers as add_rom_parsers
     add_rom_parsers(sub)
     return p
