@@ -5,11 +5,13 @@ reference (or a preloaded) state and the lumped mass M::
 
     K phi = omega^2 M phi                     omega [rad/s]
 
-solved by shift-invert Lanczos (scipy.sparse.linalg.eigsh, sigma = 0).
+solved by shift-invert Lanczos (scipy.sparse.linalg.eigsh, sigma = 0), or densely when
+(nearly) all modes are asked for.
 """
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from scipy.linalg import eigh
 
 from .errors import InputError
 from .model import Model
@@ -22,9 +24,14 @@ def natural_frequencies(model: Model, n_modes=3, x=None, return_modes=False):
     if int(n_modes) != n_modes or n_modes < 1:
         raise InputError(f"n_modes must be an integer >= 1, got {n_modes!r}")
     free = free_dofs(model)
+    if n_modes > len(free):
+        raise InputError(f"n_modes = {n_modes} exceeds the {len(free)} free degrees of freedom")
     K = tangent_stiffness(model, x)[free][:, free].tocsc()
     M = sp.diags(np.repeat(model.mass, 3)[free]).tocsc()
-    w2, phi = spla.eigsh(K, k=int(n_modes), M=M, sigma=0.0, which="LM")
+    if n_modes >= len(free) - 1:                 # all (or nearly all) modes: dense solve
+        w2, phi = eigh(K.toarray(), M.toarray(), subset_by_index=[0, int(n_modes) - 1])
+    else:
+        w2, phi = spla.eigsh(K, k=int(n_modes), M=M, sigma=0.0, which="LM")
     order = np.argsort(w2)
     omega = np.sqrt(np.clip(w2[order], 0.0, None))
     if not return_modes:

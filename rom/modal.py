@@ -1,0 +1,199 @@
+"""Modal reduced model of a linearised FE model with Rayleigh damping (issue 5, part A).
+
+From the tangent stiffness K (at the undeformed or a preloaded state) and the lumped
+mass M, the first N mass-normalised modes phi_i (K phi = omega^2 M phi) decouple the
+equations of motion. With Rayleigh damping C = alpha M + beta K every mode is a
+single-DOF oscillator, paper Eq. (3b)::
+
+    q_i'' + 2 zeta_i omega_i q_i' + omega_i^2 q_i = (phi_i . f_shape) F(t)
+    zeta_i = alpha / (2 omega_i) + beta omega_i / 2
+    y(t)   = sum_i (c . phi_i) q_i(t)
+
+with f_shape the nodal distribution of a unit load and c the output weights (here: the
+area-weighted tip displacement). g_i = (c . phi_i)(phi_i . f_shape) [m/N per (rad/s)^2]
+is the mode's gain: its static flexibility contribution is g_i / omega_i^2.
+
+The response to a rectangular pulse of force F held for T seconds is exact, whatever the
+damping (under-, critically or over-damped), from the unit step response of each mode::
+
+    s(t) = (1 - exp(-zeta w t) [cos(w_d t) + zeta w sin(w_d t) / w_d]) / w^2,
+    w_d = w sqrt(1 - zeta^2)   (complex when zeta > 1; sin(w_d t)/w_d -> t at zeta = 1)
+    y(t) = F sum_i g_i [s_i(t) - H(t - T) s_i(t - T)]
+
+"Fitted from the FEA" (:func:`fit_to_response`): omega_i, zeta_i and g_i are refined
+by bounded least squares against a full FE impulse response, so the surrogate matches
+what the full model does (its lumped-mass explicit dynamics and, at the amplitude of the
+fit, its geometric nonlinearity); the fit's residual is reported.
+"""
+from dataclasses import dataclass, replace
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from fea.errors import InputError, require_finite_positive
+from fea.modal import natural_frequencies
+from fea.model import Model, face_node_weights
+
+
+@dataclass(frozen=True)
+class ModalROM:
+    """N uncoupled Rayleigh-damped modes from one force input to one displacement output.
+
+    omega_rad_s (N,), gain (N,) [m/(N s^2)] (see module docstring), alpha [1/s], beta [s];
+    zeta overrides the Rayleigh ratios when given (a fitted model).
+    """
+
+    omega_rad_s: np.ndarray
+    gain: np.ndarray
+    alpha: float = 0.0
+    beta: float = 0.0
+    zeta_fitted: np.ndarray | None = None
+
+    @property
+    def n_modes(self):
+        return len(self.omega_rad_s)
+
+    @property
+    def zeta(self):
+        """Modal damping ratios: fitted, or alpha / (2 omega) + beta omega / 2."""
+        if self.zeta_fitted is not None:
+            return self.zeta_fitted
+        return self.alpha / (2.0 * self.omega_rad_s) + self.beta * self.omega_rad_s / 2.0
+
+    def with_damping(self, alpha, beta=0.0):
+        """The same modes with Rayleigh damping alpha [1/s], beta [s] (drops fitted zeta)."""
+        return replace(self, alpha=require_finite_positive("alpha (1/s)", alpha, allow_zero=True),
+                       beta=require_finite_positive("beta (s)", beta, allow_zero=True), zeta_fitted=None)
+
+    @property
+    def static_flexibility(self):
+        """Tip displacement per unit static force [m/N]: sum g_i / omega_i^2."""
+        return float(np.sum(self.gain / self.omega_rad_s**2))
+
+    def pulse_response(self, time_s, force_N, duration_s):
+        """Output at ``time_s`` [s] for a force ``force_N`` [N] held from 0 to ``duration_s``."""
+        t = np.asarray(time_s, dtype=float)
+        y = _step(self.omega_rad_s, self.zeta, t) - _step(self.omega_rad_s, self.zeta, t - duration_s)
+        return force_N * (self.gain @ y)
+
+    def state_space(self):
+        """The model as a python-control StateSpace: state (q_1..q_N, q_1'..q_N'), input
+        force [N], output displacement [m]."""
+        import control
+
+        n = self.n_modes
+        w, z = self.omega_rad_s, self.zeta
+        A = np.block([[np.zeros((n, n)), np.eye(n)], [-np.diag(w**2), -np.diag(2 * z * w)]])
+        B = np.concatenate([np.zeros(n), np.ones(n)])[:, None]
+        C = np.concatenate([self.gain, np.zeros(n)])[None, :]
+        return control.ss(A, B, C, np.zeros((1, 1)))
+
+
+def _step(omega, zeta, t):
+    """Unit step responses s_i(t) (N, len(t)) of q'' + 2 zeta w q' + w^2 q = H(t)."""
+    w = omega[:, None]
+    z = zeta[:, None]
+    tt = np.clip(t, 0.0, None)[None, :]
+    wd = w * np.sqrt((1.0 - z**2).astype(complex))
+    sin_over_wd = tt * np.sinc(wd * tt / np.pi)                 # sin(wd t) / wd, -> t at wd = 0
+    s = (1.0 - np.exp(-z * w * tt) * (np.cos(wd * tt) + z * w * sin_over_wd)) / w**2
+    return np.where(t[None, :] > 0.0, s.real, 0.0)
+
+
+def modal_rom(model: Model, n_modes, load_nodes, load_weights, direction=1, output_nodes=None,
+              output_weights=None, x=None):
+    """Modal ROM of ``model`` linearised at positions ``x`` (default: reference) from a unit
+    force along ``direction`` (0, 1, 2) shared by ``load_nodes`` with ``load_weights``, to
+    the weighted displacement of ``output_nodes`` along the same direction (default: the
+    load nodes and weights). Damping: the model's alpha and beta."""
+    if int(n_modes) != n_modes or n_modes < 1:
+        raise InputError(f"n_modes must be an integer >= 1, got {n_modes!r}")
+    if direction not in (0, 1, 2):
+        raise InputError(f"direction must be 0, 1 or 2, got {direction!r}")
+    omega, phi = natural_frequencies(model, n_modes, x=x, return_modes=True)
+    output_nodes = load_nodes if output_nodes is None else output_nodes
+    output_weights = load_weights if output_weights is None else output_weights
+    b = np.asarray(load_weights) @ phi[3 * np.asarray(load_nodes) + direction]
+    c = np.asarray(output_weights) @ phi[3 * np.asarray(output_nodes) + direction]
+    return ModalROM(omega_rad_s=omega, gain=b * c, alpha=model.alpha, beta=model.beta)
+
+
+def tip_modal_rom(model: Model, n_modes=6, direction=1):
+    """Modal ROM from a uniform tip-face force to the mean tip displacement (the paper's
+    impulse test), keeping the ``n_modes`` modes with the largest static contribution
+    g_i / omega_i^2 among the lowest 3 x n_modes (modes in the other bending plane or in
+    torsion have no gain here)."""
+    tip = model.mesh.node_sets["tip"]
+    w = face_node_weights(model.mesh, tip)
+    full = modal_rom(model, 3 * n_modes, tip, w, direction)
+    keep = np.sort(np.argsort(-np.abs(full.gain / full.omega_rad_s**2))[:n_modes])
+    return replace(full, omega_rad_s=full.omega_rad_s[keep], gain=full.gain[keep])
+
+
+@dataclass(frozen=True)
+class ModalFit:
+    """Result of :func:`fit_to_response`: the fitted ROM and its NRMSE against the data
+    before and after the fit (RMS error over the data's range)."""
+
+    rom: ModalROM
+    nrmse_before: float
+    nrmse_after: float
+
+
+def nrmse(y_model, y_reference):
+    """Root-mean-square difference over the range (max - min) of the reference [-]."""
+    y_reference = np.asarray(y_reference, dtype=float)
+    span = float(np.ptp(y_reference))
+    if span == 0.0:
+        raise InputError("reference response is constant: NRMSE undefined")
+    return float(np.sqrt(np.mean((np.asarray(y_model) - y_reference) ** 2)) / span)
+
+
+PRIOR_WEIGHT = 1e-4
+"""Weight of the pull towards the FE model's omega_i and g_i in :func:`fit_to_response`:
+moving a frequency or gain by 1 % costs as much as an RMS misfit of 0.01 % of the
+response's range, so parameters the data cannot resolve (a heavily damped high mode)
+stay at their FE values instead of drifting."""
+
+
+def fit_to_response(rom: ModalROM, time_s, y, force_N, duration_s):
+    """Refine omega_i (within +-20 %), zeta_i (> 0) and g_i (within a factor 2) so that
+    the pulse response matches ``y`` at ``time_s`` (e.g. a full FE impulse response) in
+    the least-squares sense, with a weak prior towards the FE values (``PRIOR_WEIGHT``).
+    Returns a :class:`ModalFit`."""
+    t = np.asarray(time_s, dtype=float)
+    y = np.asarray(y, dtype=float)
+    if t.shape != y.shape or t.ndim != 1:
+        raise InputError("time_s and y must be 1-D arrays of equal length")
+    w0, z0, g0 = rom.omega_rad_s, np.maximum(rom.zeta, 1e-4), rom.gain
+    n = rom.n_modes
+    p0 = np.concatenate([np.ones(n), np.log(z0), np.ones(n)])
+    lo = np.concatenate([np.full(n, 0.8), np.log(z0) - 5.0, np.where(g0 > 0, 0.5, 2.0)])
+    hi = np.concatenate([np.full(n, 1.2), np.log(z0) + 5.0, np.where(g0 > 0, 2.0, 0.5)])
+    scale = float(np.ptp(y)) or 1.0
+
+    def model_of(p):
+        return replace(rom, omega_rad_s=w0 * p[:n], zeta_fitted=np.exp(p[n:2 * n]), gain=g0 * p[2 * n:])
+
+    def residual(p):
+        misfit = (model_of(p).pulse_response(t, force_N, duration_s) - y) / (scale * np.sqrt(len(t)))
+        prior = PRIOR_WEIGHT * np.concatenate([(p[:n] - 1.0) / 0.01, np.log(np.abs(p[2 * n:])) / 0.01])
+        return np.concatenate([misfit, prior])
+
+    fit = least_squares(residual, p0, bounds=(np.minimum(lo, hi), np.maximum(lo, hi)), x_scale="jac")
+    fitted = model_of(fit.x)
+    return ModalFit(rom=fitted, nrmse_before=nrmse(rom.pulse_response(t, force_N, duration_s), y),
+                    nrmse_after=nrmse(fitted.pulse_response(t, force_N, duration_s), y))
+
+
+def rom_simulator(rom: ModalROM, force_N, duration_s, t_end_s, n_outputs=400):
+    """``simulate(alpha) -> (time_s, displacement_m)`` of the modal ROM with Rayleigh
+    damping alpha, for a pulse of ``force_N`` [N] held ``duration_s`` [s]: the same
+    interface as :func:`rom.ccedi.fe_simulator`, so CCEDI studies can swap the full FE
+    model for the surrogate."""
+    t = np.linspace(0.0, t_end_s, n_outputs + 1)[1:]
+
+    def simulate(alpha):
+        return t, rom.with_damping(alpha, rom.beta).pulse_response(t, force_N, duration_s)
+
+    return simulate
