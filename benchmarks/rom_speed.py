@@ -1,0 +1,48 @@
+"""Speed-up of the reduced models over full FEA (issue 5, acceptance 3).
+
+Impulse ROM: the 4.5-in SM-A finger, 1 N tip pulse for 10 ms, alpha = 180 1/s, 400
+outputs over 0.2 s; full explicit FEA against the 6-mode ROM (building the ROM, i.e. the
+eigen-solve, is reported separately: it is done once per geometry). Target: >= 5000x.
+The contact (Craig-Bampton) ROM is not built yet; its line says so.
+
+Run: ``.venv/bin/python benchmarks/rom_speed.py``; writes benchmarks/rom_speed.json.
+"""
+import json
+import time
+from pathlib import Path
+
+
+
+from fea.studies import impulse_model, impulse_response
+from rom.modal import nrmse, tip_modal_rom
+
+OUT = Path(__file__).with_suffix(".json")
+
+
+def main():
+    impulse_response(t_end_s=1e-3, n_outputs=1)                 # compile outside the timing
+    fe = impulse_response(alpha=180.0, force_N=1.0, duration_s=0.01, t_end_s=0.2, n_outputs=400)
+    t0 = time.perf_counter()
+    rom = tip_modal_rom(impulse_model(alpha=180.0), n_modes=6)
+    build = time.perf_counter() - t0
+    t = fe.history.time_s.values
+    repeats = 2000
+    t0 = time.perf_counter()
+    for _ in range(repeats):
+        y = rom.pulse_response(t, 1.0, 0.01)
+    per_eval = (time.perf_counter() - t0) / repeats
+    figures = {"case": "4.5-in finger impulse, alpha 180 1/s, 0.2 s, 400 outputs",
+               "fe_wall_time_s": round(fe.summary["wall_time_s"], 3),
+               "rom_eval_time_s": per_eval, "rom_build_time_s": round(build, 3),
+               "impulse_speedup": round(fe.summary["wall_time_s"] / per_eval),
+               "impulse_target_speedup": 5000,
+               "nrmse_rom_vs_fe": nrmse(y, fe.history.tip_uy_m.values),
+               "contact_speedup": None, "contact_note": "contact Craig-Bampton ROM not implemented yet"}
+    for k, v in figures.items():
+        print(f"{k:24s} {v}")
+    OUT.write_text(json.dumps(figures, indent=2) + "\n")
+    print(f"wrote {OUT}")
+
+
+if __name__ == "__main__":
+    main()

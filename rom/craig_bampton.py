@@ -1,0 +1,90 @@
+"""Craig-Bampton reduction (issue 5, part B, linear core).
+
+Split the free degrees of freedom of a linearised FE model into boundary DOFs b (kept
+physically: the root/drum interface, the contact-side surface nodes) and interior DOFs i.
+The interior motion is spanned by the static constraint modes and the first n
+fixed-interface normal modes::
+
+    u_i = Psi u_b + Phi q,     Psi = -K_ii^-1 K_ib,     K_ii Phi = M_ii Phi Omega^2
+
+    [u_i]   [Psi  Phi] [u_b]                     K_r = T^T K T,  M_r = T^T M T
+    [u_b] = [ I    0 ] [ q ]  = T [u_b; q]        f_r = T^T f
+
+With n = 0 this is Guyan static condensation, exact for static loads on the boundary;
+with every interior mode kept it is exact for all frequencies.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+from scipy.linalg import eigh
+
+from fea.errors import InputError
+from fea.model import Model
+from fea.static import free_dofs, tangent_stiffness
+
+
+def fe_matrices(model: Model, x=None):
+    """(K, M, dofs): tangent stiffness [N/m] and lumped mass [kg] on the free DOFs (sparse
+    CSC), and the global DOF index (node * 3 + direction) of each row."""
+    dofs = free_dofs(model)
+    K = tangent_stiffness(model, x)[dofs][:, dofs].tocsc()
+    M = sp.diags(np.repeat(model.mass, 3)[dofs]).tocsc()
+    return K, M, dofs
+
+
+@dataclass(frozen=True)
+class CraigBampton:
+    """Reduced matrices K_r, M_r (dense) in coordinates [u_b (n_b), q (n_modes)], the
+    transformation T (n_free x n_r) back to the free DOFs, the global DOF ids of the
+    boundary coordinates and of the free DOFs, and the fixed-interface frequencies [rad/s]."""
+
+    K_r: np.ndarray
+    M_r: np.ndarray
+    T: np.ndarray
+    boundary_dofs: np.ndarray
+    free_dofs: np.ndarray
+    interface_omega_rad_s: np.ndarray
+
+    def expand(self, z):
+        """Free-DOF displacements (n_free,) from reduced coordinates z (n_r,)."""
+        return self.T @ z
+
+    def reduce_force(self, f_free):
+        """Reduced load T^T f for a free-DOF load vector f (n_free,)."""
+        return self.T.T @ f_free
+
+
+def craig_bampton(K, M, dofs, boundary_dofs, n_modes):
+    """Craig-Bampton reduction of (K, M) on ``dofs`` (from :func:`fe_matrices`) with the
+    global DOF ids ``boundary_dofs`` kept and ``n_modes`` fixed-interface modes."""
+    boundary_dofs = np.unique(np.asarray(boundary_dofs, dtype=np.int64))
+    pos = np.searchsorted(dofs, boundary_dofs)
+    if np.any(pos >= len(dofs)) or np.any(dofs[np.minimum(pos, len(dofs) - 1)] != boundary_dofs):
+        raise InputError("boundary_dofs must be free degrees of freedom of the model")
+    b = pos
+    i = np.setdiff1d(np.arange(len(dofs)), b)
+    if int(n_modes) != n_modes or not 0 <= n_modes <= len(i):
+        raise InputError(f"n_modes must be an integer in 0..{len(i)}, got {n_modes!r}")
+    K, M = sp.csc_matrix(K), sp.csc_matrix(M)
+    Kii, Kib, Mii = K[i][:, i].tocsc(), K[i][:, b].tocsc(), M[i][:, i].tocsc()
+    psi = -spla.splu(Kii).solve(Kib.toarray())
+    if n_modes == 0:
+        omega, phi = np.zeros(0), np.zeros((len(i), 0))
+    elif n_modes >= len(i) - 1:
+        w2, phi = eigh(Kii.toarray(), Mii.toarray(), subset_by_index=[0, int(n_modes) - 1])
+        omega = np.sqrt(np.clip(w2, 0.0, None))
+    else:
+        w2, phi = spla.eigsh(Kii, k=int(n_modes), M=Mii, sigma=0.0, which="LM")
+        order = np.argsort(w2)
+        omega, phi = np.sqrt(np.clip(w2[order], 0.0, None)), phi[:, order]
+    n_b = len(b)
+    T = np.zeros((len(dofs), n_b + len(omega)))
+    T[i, :n_b] = psi
+    T[i, n_b:] = phi
+    T[b, :n_b] = np.eye(n_b)
+    K_r = T.T @ (K @ T)
+    M_r = T.T @ (M @ T)
+    return CraigBampton(K_r=0.5 * (K_r + K_r.T), M_r=0.5 * (M_r + M_r.T), T=T, boundary_dofs=boundary_dofs,
+                        free_dofs=dofs, interface_omega_rad_s=omega)
