@@ -151,6 +151,26 @@ def _commit(v, v_new, x, f_ext, f_int, f_int_prev, mass, reaction, alpha, relati
     return Dt * w_ext, Dt * w_damp, ke
 
 
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _prescribed_rotation(nodes, X, x, v_pres, center, axis, angle, dt):
+    """Velocities that carry ``nodes`` to their rigidly rotated reference positions
+    (Rodrigues: c + d cos + (k x d) sin + k (k . d)(1 - cos), d = X - c) in one step."""
+    ct = np.cos(angle)
+    st = np.sin(angle)
+    for r in range(nodes.shape[0]):
+        n = nodes[r]
+        d0 = X[n, 0] - center[0]
+        d1 = X[n, 1] - center[1]
+        d2 = X[n, 2] - center[2]
+        kd = axis[0] * d0 + axis[1] * d1 + axis[2] * d2
+        c0 = axis[1] * d2 - axis[2] * d1
+        c1 = axis[2] * d0 - axis[0] * d2
+        c2 = axis[0] * d1 - axis[1] * d0
+        v_pres[n, 0] = (center[0] + d0 * ct + c0 * st + axis[0] * kd * (1.0 - ct) - x[n, 0]) / dt
+        v_pres[n, 1] = (center[1] + d1 * ct + c1 * st + axis[1] * kd * (1.0 - ct) - x[n, 1]) / dt
+        v_pres[n, 2] = (center[2] + d2 * ct + c2 * st + axis[2] * kd * (1.0 - ct) - x[n, 2]) / dt
+
+
 def _advance(forces, rod_forces, contact, t, t_stop, dt_prev, dt_user, tssfac, beta, alpha, relative,
              x, v, v_new, X, f_int, f_int_prev, f_ext, v_pres, mass, free,
              pulse_nodes, pulse_forces, pulse_t0, pulse_t1,
@@ -192,15 +212,7 @@ def _advance(forces, rod_forces, contact, t, t_stop, dt_prev, dt_user, tssfac, b
         if c_nodes.shape[0] > 0:
             contact(x, c_nodes, c_k, c_kind, c_params, f_ext, c_normal, c_fn, c_out)
         if rot_nodes.shape[0] > 0:
-            th = rot_omega * (t + dt)
-            ct, st = np.cos(th), np.sin(th)
-            for r in range(rot_nodes.shape[0]):
-                n = rot_nodes[r]
-                d = X[n, :] - rot_center
-                kxd = np.cross(rot_axis, d)
-                kd = np.dot(rot_axis, d)
-                x_new = rot_center + d * ct + kxd * st + rot_axis * kd * (1.0 - ct)
-                v_pres[n, :] = (x_new - x[n, :]) / dt
+            _prescribed_rotation(rot_nodes, X, x, v_pres, rot_center, rot_axis, rot_omega * (t + dt), dt)
         Dt = 0.5 * (dt_prev + dt)
         beta_rate = beta / dt_prev if (beta > 0.0 and dt_prev > 0.0) else 0.0
         _trial_velocities(v, v_new, x, f_ext, f_int, f_int_prev, v_pres, mass, free, reaction,
