@@ -7,12 +7,13 @@ contact summary. Target: under 5 minutes on the 2-core CI machine.
 
 Run: ``.venv/bin/python benchmarks/contact_speed.py``.
 """
-import json
 import platform
 import sys
 from pathlib import Path
 
 from fea.drum import DrumSetup, contact_run, contact_summary
+
+from _output import report  # benchmarks/ is on sys.path when run as a script
 
 OUT = Path(__file__).with_suffix(".json")
 
@@ -29,10 +30,7 @@ def main():
                "target_wall_time_s": 300.0, "contact_start_s": s["contact_start_s"],
                "contact_duration_s": s["contact_duration_s"], "python": sys.version.split()[0],
                "machine": platform.machine()}
-    for k, v in figures.items():
-        print(f"{k:24s} {v}")
-    OUT.write_text(json.dumps(figures, indent=2) + "\n")
-    print(f"wrote {OUT}")
+    report(figures, OUT)
 
 
 if __name__ == "__main__":

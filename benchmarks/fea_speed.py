@@ -6,7 +6,6 @@ element-cycle for the whole run and for the internal-force kernel alone. Target:
 
 Run: ``make bench`` or ``.venv/bin/python benchmarks/fea_speed.py``.
 """
-import json
 import os
 import platform
 import sys
@@ -22,6 +21,8 @@ from fea.kernels import internal_forces_numba  # noqa: E402
 from fea.material import RUBBER  # noqa: E402
 from fea.mesh import sm_a  # noqa: E402
 from fea.model import cantilever_model, tip_pulse  # noqa: E402
+
+from _output import report  # noqa: E402  (benchmarks/ is on sys.path when run as a script)
 
 OUT = Path(__file__).with_suffix(".json")
 
@@ -63,10 +64,7 @@ def main():
         "machine": platform.machine(),
         "processor": platform.processor() or platform.machine(),
     }
-    for k, v in figures.items():
-        print(f"{k:28s} {v}")
-    OUT.write_text(json.dumps(figures, indent=2) + "\n")
-    print(f"wrote {OUT}")
+    report(figures, OUT)
 
 
 if __name__ == "__main__":

@@ -7,7 +7,6 @@ The contact (Craig-Bampton) ROM is not built yet; its line says so.
 
 Run: ``.venv/bin/python benchmarks/rom_speed.py``; writes benchmarks/rom_speed.json.
 """
-import json
 import time
 from pathlib import Path
 
@@ -15,6 +14,8 @@ from pathlib import Path
 
 from fea.studies import impulse_model, impulse_response
 from rom.modal import nrmse, tip_modal_rom
+
+from _output import report  # benchmarks/ is on sys.path when run as a script
 
 OUT = Path(__file__).with_suffix(".json")
 
@@ -38,10 +39,7 @@ def main():
                "impulse_target_speedup": 5000,
                "nrmse_rom_vs_fe": nrmse(y, fe.history.tip_uy_m.values),
                "contact_speedup": None, "contact_note": "contact Craig-Bampton ROM not implemented yet"}
-    for k, v in figures.items():
-        print(f"{k:24s} {v}")
-    OUT.write_text(json.dumps(figures, indent=2) + "\n")
-    print(f"wrote {OUT}")
+    report(figures, OUT)
 
 
 if __name__ == "__main__":

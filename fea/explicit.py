@@ -45,6 +45,16 @@ _OK, _INVERTED, _DIVERGED, _STEP_TOO_LARGE, _FOLDED = 0, 1, 2, 3, 4
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
+def _frame_velocity(x, n, center, axis, omega):
+    """Velocity omega axis x (x_n - c) [m/s] of the rotating frame at node n, as 3 scalars."""
+    d0 = x[n, 0] - center[0]
+    d1 = x[n, 1] - center[1]
+    d2 = x[n, 2] - center[2]
+    return (omega * (axis[1] * d2 - axis[2] * d1), omega * (axis[2] * d0 - axis[0] * d2),
+            omega * (axis[0] * d1 - axis[1] * d0))
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
 def _trial_velocities(v, v_new, x, f_ext, f_int, f_int_prev, v_pres, mass, free, reaction,
                       alpha, relative, rot_center, rot_axis, rot_omega, Dt, beta_rate):
     """v^{n+1/2} of every node without friction, into v_new; support reactions.
@@ -55,16 +65,7 @@ def _trial_velocities(v, v_new, x, f_ext, f_int, f_int_prev, v_pres, mass, free,
     inv_den = 1.0 / (1.0 + a)
     for n in range(x.shape[0]):
         m = mass[n]
-        vr0 = 0.0
-        vr1 = 0.0
-        vr2 = 0.0
-        if relative:
-            d0 = x[n, 0] - rot_center[0]
-            d1 = x[n, 1] - rot_center[1]
-            d2 = x[n, 2] - rot_center[2]
-            vr0 = rot_omega * (rot_axis[1] * d2 - rot_axis[2] * d1)
-            vr1 = rot_omega * (rot_axis[2] * d0 - rot_axis[0] * d2)
-            vr2 = rot_omega * (rot_axis[0] * d1 - rot_axis[1] * d0)
+        vr0, vr1, vr2 = _frame_velocity(x, n, rot_center, rot_axis, rot_omega) if relative else (0.0, 0.0, 0.0)
         for i in range(3):
             vref = vr0 if i == 0 else (vr1 if i == 1 else vr2)
             fb = beta_rate * (f_int[n, i] - f_int_prev[n, i])
@@ -128,16 +129,7 @@ def _commit(v, v_new, x, f_ext, f_int, f_int_prev, mass, reaction, alpha, relati
     ke = 0.0
     for n in range(x.shape[0]):
         m = mass[n]
-        vr0 = 0.0
-        vr1 = 0.0
-        vr2 = 0.0
-        if relative:
-            d0 = x[n, 0] - rot_center[0]
-            d1 = x[n, 1] - rot_center[1]
-            d2 = x[n, 2] - rot_center[2]
-            vr0 = rot_omega * (rot_axis[1] * d2 - rot_axis[2] * d1)
-            vr1 = rot_omega * (rot_axis[2] * d0 - rot_axis[0] * d2)
-            vr2 = rot_omega * (rot_axis[0] * d1 - rot_axis[1] * d0)
+        vr0, vr1, vr2 = _frame_velocity(x, n, rot_center, rot_axis, rot_omega) if relative else (0.0, 0.0, 0.0)
         for i in range(3):
             vref = vr0 if i == 0 else (vr1 if i == 1 else vr2)
             fb = beta_rate * (f_int[n, i] - f_int_prev[n, i])
@@ -163,9 +155,7 @@ def _prescribed_rotation(nodes, X, x, v_pres, center, axis, angle, dt):
         d1 = X[n, 1] - center[1]
         d2 = X[n, 2] - center[2]
         kd = axis[0] * d0 + axis[1] * d1 + axis[2] * d2
-        c0 = axis[1] * d2 - axis[2] * d1
-        c1 = axis[2] * d0 - axis[0] * d2
-        c2 = axis[0] * d1 - axis[1] * d0
+        c0, c1, c2 = _frame_velocity(X, n, center, axis, 1.0)          # k x d
         v_pres[n, 0] = (center[0] + d0 * ct + c0 * st + axis[0] * kd * (1.0 - ct) - x[n, 0]) / dt
         v_pres[n, 1] = (center[1] + d1 * ct + c1 * st + axis[1] * kd * (1.0 - ct) - x[n, 1]) / dt
         v_pres[n, 2] = (center[2] + d2 * ct + c2 * st + axis[2] * kd * (1.0 - ct) - x[n, 2]) / dt
