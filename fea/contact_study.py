@@ -71,7 +71,7 @@ def plot_stresses(history):
     return fig
 
 
-def plot_contact_shapes(setup: DrumSetup, shapes, model_hexes=None):
+def plot_contact_shapes(setup: DrumSetup, shapes):
     """Fig. 13 analogue: finger centre lines at first and last contact for each alpha,
     with the object outline and the drum, in the drum plane [mm]."""
     import matplotlib

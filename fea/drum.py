@@ -40,7 +40,7 @@ from .errors import InputError, require_finite_positive
 from .explicit import run
 from .hex8 import deformation_gradient
 from .material import RUBBER, NeoHookean, cauchy_stress, von_mises
-from .mesh import Mesh, elliptical_cantilever, sm_a
+from .mesh import SEMI_AXIS_MINOR, Mesh, elliptical_cantilever, sm_a
 from .model import Model, RotatingNodes
 from .static import free_dofs, tangent_stiffness
 
@@ -234,7 +234,7 @@ def contact_summary(setup: DrumSetup, result, model):
     stored = (h.kinetic_energy_J + h.internal_energy_J + h.hourglass_energy_J + h.damping_energy_J
               + h.bulk_viscosity_energy_J)
     summary["max_finger_stress_Pa"] = float(h.max_von_mises_Pa.max())
-    summary["penetration_to_thickness"] = summary["max_penetration_m"] / (2 * 8.45e-3)
+    summary["penetration_to_thickness"] = summary["max_penetration_m"] / (2 * SEMI_AXIS_MINOR)
     summary["energy_balance_error"] = float((h.external_work_J - stored).abs().max()
                                             / max(h.external_work_J.abs().max(), 1e-300))
     summary["friction_work_J"] = float(h.friction_work_J.iloc[-1])
