@@ -99,18 +99,23 @@ def plot_contact_shapes(setup: DrumSetup, shapes):
     return fig
 
 
-def tip_lag_m(setup: DrumSetup, history, t_s):
-    """How far the finger tip trails the rigidly turning finger at time ``t_s`` [m]
-    (positive = behind), from the tip displacement columns of a contact history."""
-    row = history.iloc[int(np.argmin(np.abs(history.time_s.values - t_s)))]
+def tip_lag_series_m(setup: DrumSetup, history):
+    """How far the finger tip trails the rigidly turning finger [m] (positive = behind,
+    along the drum's tangential direction) at every row of a contact history, from its
+    tip displacement columns (the displacement from the tip's initial position)."""
+    t = history.time_s.to_numpy()
     r_tip = setup.drum_radius_m + setup.finger_length_m
     th0 = setup.theta0_rad
-    tip0 = r_tip * np.array([np.cos(th0), np.sin(th0)])
-    th = th0 + setup.omega_rad_s * float(row.time_s)
-    rigid = r_tip * np.array([np.cos(th), np.sin(th)])
-    e_theta = np.array([-np.sin(th), np.cos(th)])
-    actual = tip0 + [float(row.tip_ux_m), float(row.tip_uy_m)]
-    return float(np.dot(rigid - actual, e_theta))
+    th = th0 + setup.omega_rad_s * t
+    ax = r_tip * np.cos(th0) + history.tip_ux_m.to_numpy()
+    ay = r_tip * np.sin(th0) + history.tip_uy_m.to_numpy()
+    return (r_tip * np.cos(th) - ax) * -np.sin(th) + (r_tip * np.sin(th) - ay) * np.cos(th)
+
+
+def tip_lag_m(setup: DrumSetup, history, t_s):
+    """:func:`tip_lag_series_m` at the output nearest ``t_s`` [s]."""
+    k = int(np.argmin(np.abs(history.time_s.to_numpy() - t_s)))
+    return float(tip_lag_series_m(setup, history)[k])
 
 
 def contact_report(setup: DrumSetup, global_table, global_history, relative_table=None, relative_history=None):

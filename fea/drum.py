@@ -40,7 +40,7 @@ from .errors import InputError, require_finite_positive
 from .explicit import run
 from .hex8 import deformation_gradient
 from .material import RUBBER, NeoHookean, cauchy_stress, von_mises
-from .mesh import SEMI_AXIS_MINOR, Mesh, elliptical_cantilever, sm_a
+from .mesh import SEMI_AXIS_MINOR, Mesh, elliptical_cantilever, sm_a_elements_along
 from .model import Model, RotatingNodes
 from .static import free_dofs, tangent_stiffness
 
@@ -74,6 +74,8 @@ class DrumSetup:
     theta0_rad: float = CALIBRATED_THETA0_RAD
     finger_material: NeoHookean = RUBBER
     object_material: NeoHookean = AL6061
+    finger_section_elements: int = 5
+    finger_elements_along: int | None = None
 
     def __post_init__(self):
         for name in ("drum_radius_m", "finger_length_m", "omega_rad_s", "object_thickness_m", "sensor_radius_m"):
@@ -81,6 +83,10 @@ class DrumSetup:
         require_finite_positive("friction (coefficient)", self.friction, allow_zero=True)
         for s in self.object_semi_axes_m:
             require_finite_positive("object_semi_axes_m", s)
+        for name in ("finger_section_elements", "finger_elements_along"):
+            n = getattr(self, name)
+            if n is not None and (int(n) != n or n < 1):
+                raise InputError(f"{name} must be an integer >= 1, got {n!r}")
         if not np.isfinite(self.theta0_rad):
             raise InputError(f"theta0_rad must be finite, got {self.theta0_rad!r}")
         c = np.hypot(*self.object_center_m)
@@ -104,10 +110,18 @@ def finger_frame(theta):
     return np.column_stack([np.cross(et, er), et, er])
 
 
+def finger_mesh(setup: DrumSetup):
+    """The finger's mesh in its own frame (root at z = 0): SM-A (5 x 5 in the section,
+    ~4 mm along) unless ``finger_section_elements`` / ``finger_elements_along`` say otherwise."""
+    L = setup.finger_length_m
+    n_along = setup.finger_elements_along or sm_a_elements_along(L)
+    return elliptical_cantilever(L, setup.finger_section_elements, n_along)
+
+
 def finger_on_drum(setup: DrumSetup, alpha, damping="global"):
     """The finger model at angle ``setup.theta0_rad``: root face turning with the drum,
     contact of its surface nodes with the rigid object. Returns (model, v0)."""
-    local = sm_a(length_m=setup.finger_length_m)
+    local = finger_mesh(setup)
     Q = finger_frame(setup.theta0_rad)
     nodes = (local.nodes + [0.0, 0.0, setup.drum_radius_m]) @ Q.T
     mesh = Mesh(nodes=nodes, hexes=local.hexes, node_sets=dict(local.node_sets))
@@ -207,39 +221,78 @@ def object_side(setup: DrumSetup, point_xy):
     return "front" if along * np.dot(e_theta, u_a) < 0.0 else "rear"
 
 
+def contact_timing(history):
+    """Contact timing and peaks from a contact history (columns of :func:`contact_run`,
+    also written by the reduced model of :mod:`rom.contact_rom`): first and last output
+    with contact [s], the contact points there [m], peak reaction force [N] and the
+    largest finger stress [Pa]."""
+    h = history
+    on = h.contact_nodes > 0
+    out = {"max_finger_stress_Pa": float(h.max_von_mises_Pa.max())}
+    if not on.any():
+        out.update({k: None for k in ("contact_start_s", "contact_end_s", "contact_duration_s",
+                                      "first_contact_point_m", "last_contact_point_m")})
+        out.update({"contact_ended": False, "peak_reaction_force_N": 0.0})
+        return out
+    first, last = h[on].iloc[0], h[on].iloc[-1]
+    start, end = float(first.time_s), float(last.time_s)
+    out.update({"contact_start_s": start, "contact_end_s": end, "contact_duration_s": end - start,
+                "contact_ended": bool(end < float(h.time_s.iloc[-1])),
+                "first_contact_point_m": [float(first.contact_point_x_m), float(first.contact_point_y_m)],
+                "last_contact_point_m": [float(last.contact_point_x_m), float(last.contact_point_y_m)],
+                "peak_reaction_force_N": float(h.reaction_force_N.max())})
+    return out
+
+
 def contact_summary(setup: DrumSetup, result, model):
     """The summary the CLI writes (keys of issue 4), from a :func:`contact_run`."""
     h = result.history
-    on = h.contact_nodes > 0
     summary = {"alpha_per_s": model.alpha, "damping": model.damping, "theta0_rad": setup.theta0_rad,
                "wall_time_s": result.summary["wall_time_s"], "steps": result.summary["steps"]}
-    if on.any():
-        first, last = h[on].iloc[0], h[on].iloc[-1]
-        start, end = float(first.time_s), float(last.time_s)
-        p_first = [float(first.contact_point_x_m), float(first.contact_point_y_m)]
-        p_last = [float(last.contact_point_x_m), float(last.contact_point_y_m)]
-        summary.update({
-            "contact_start_s": start, "contact_end_s": end, "contact_duration_s": end - start,
-            "contact_ended": bool(end < float(h.time_s.iloc[-1])),
-            "first_contact_point_m": p_first, "last_contact_point_m": p_last,
-            "first_contact_side": object_side(setup, p_first), "last_contact_side": object_side(setup, p_last),
-            "peak_reaction_force_N": float(h.reaction_force_N.max()),
-            "max_object_stress_Pa": float(np.nanmax(h.max_object_von_mises_Pa)),
-            "max_penetration_m": float(h.max_penetration_m.max()),
-        })
+    summary.update(contact_timing(h))
+    if summary["contact_start_s"] is not None:
+        summary.update({"first_contact_side": object_side(setup, summary["first_contact_point_m"]),
+                        "last_contact_side": object_side(setup, summary["last_contact_point_m"]),
+                        "max_object_stress_Pa": float(np.nanmax(h.max_object_von_mises_Pa)),
+                        "max_penetration_m": float(h.max_penetration_m.max())})
     else:
-        summary.update({k: None for k in ("contact_start_s", "contact_end_s", "contact_duration_s",
-                                          "first_contact_point_m", "last_contact_point_m")})
-        summary.update({"peak_reaction_force_N": 0.0, "max_object_stress_Pa": 0.0, "max_penetration_m": 0.0})
+        summary.update({"max_object_stress_Pa": 0.0, "max_penetration_m": 0.0})
     stored = (h.kinetic_energy_J + h.internal_energy_J + h.hourglass_energy_J + h.damping_energy_J
               + h.bulk_viscosity_energy_J)
-    summary["max_finger_stress_Pa"] = float(h.max_von_mises_Pa.max())
     summary["penetration_to_thickness"] = summary["max_penetration_m"] / (2 * SEMI_AXIS_MINOR)
     summary["energy_balance_error"] = float((h.external_work_J - stored).abs().max()
                                             / max(h.external_work_J.abs().max(), 1e-300))
     summary["friction_work_J"] = float(h.friction_work_J.iloc[-1])
     summary["max_penalty_energy_J"] = float(h.penalty_energy_J.max())
     return summary
+
+
+@dataclass
+class ContactResponse:
+    """What a contact model answers: the history (one row per output, columns with
+    units: time_s, reaction_force_N, contact_force_x_N / _y_N, contact_nodes,
+    contact_point_x_m / _y_m, max_penetration_m, max_von_mises_Pa, tip_ux_m, tip_uy_m)
+    and the summary (:func:`contact_timing` keys, wall_time_s, ...)."""
+
+    history: object
+    summary: dict
+
+
+class FullContactModel:
+    """The full explicit FE model of the finger on the drum, behind the interface the
+    reduced model (:class:`rom.contact_rom.ReducedContactModel`) shares:
+    ``run(alpha, damping, t_end_s, n_outputs) -> ContactResponse``."""
+
+    name = "fea"
+
+    def __init__(self, setup: DrumSetup, object_stress=True):
+        self.setup = setup
+        self.object_stress = object_stress
+
+    def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
+        result, model = contact_run(self.setup, alpha, damping=damping, t_end_s=t_end_s, n_outputs=n_outputs,
+                                    progress=progress, object_stress=self.object_stress)
+        return ContactResponse(history=result.history, summary=contact_summary(self.setup, result, model))
 
 
 def first_contact_angle(setup: DrumSetup, samples=4000):

@@ -2,6 +2,7 @@
 
   identify       CCEDI on a measured CSV, or alpha_cr of an SM-A finger (--alpha-cr)
   damping-fits   alpha_cr of the 3/4.5/6/8-in fingers, the paper's Eq. (7) and (8) refitted
+  rom-check      reduced models against the full FEA (impulse and contact cases)
 """
 import numpy as np
 
@@ -30,6 +31,17 @@ def add_parsers(sub):
     f.add_argument("--lengths-in", type=float, nargs="+", default=[3.0, 4.5, 6.0, 8.0])
     f.add_argument("--out", default="reports/damping_fits", help="output directory")
     f.set_defaults(func=cmd_damping_fits)
+    r = sub.add_parser("rom-check", help="reduced models against the full FEA: modal ROM on the 4.5-in impulse, "
+                       "superelement chain (co-rotational and linear) on the 8-in contact case (~7 min)")
+    r.add_argument("--json", required=True, help="output JSON path (one entry per case)")
+    r.add_argument("--alphas", type=float, nargs="*", default=[7.5, 180.0, 600.0],
+                   help="contact cases: alpha values [1/s] (none: skip the contact cases)")
+    r.add_argument("--impulse-alphas", type=float, nargs="*", default=[20.0, 180.0],
+                   help="impulse cases: alpha values [1/s] (none: skip)")
+    r.add_argument("--modes", type=int, default=6, help="modes of the impulse ROM")
+    r.add_argument("--damping", choices=("global", "relative"), default="global")
+    r.add_argument("--t-end-s", type=float, default=1.5, help="contact run length [s]")
+    r.set_defaults(func=cmd_rom_check)
 
 
 def _pulse_from_force(t, force):
@@ -156,3 +168,22 @@ def _plot_fits(x, acr, c, p, eq7_fit=None):
     ax.legend(fontsize=8)
     fig.tight_layout()
     return fig
+
+
+def cmd_rom_check(args):
+    from fea.drum import DrumSetup
+    from fea.outputs import write_json
+    from rom.check import contact_cases, impulse_cases
+
+    if args.modes < 1:
+        raise InputError(f"--modes must be >= 1, got {args.modes}")
+    cases = impulse_cases(args.impulse_alphas, n_modes=args.modes) if args.impulse_alphas else []
+    if args.alphas:
+        cases += contact_cases(DrumSetup(), args.alphas, args.damping, t_end_s=args.t_end_s, progress=True)
+    for c in cases:
+        timing = ("" if c["contact_start_error_s"] is None else
+                  f", start {c['contact_start_error_s']:+.3f} s, end {c['contact_end_error_s']:+.3f} s, "
+                  f"peak force {100 * c['peak_force_error']:+.1f} %, stress {100 * c['max_stress_error']:+.1f} %")
+        print(f"{c['case']} [{c['model']}]: NRMSE {100 * c['nrmse']:.3f} %{timing}, speed-up {c['speedup']:.0f}x")
+    write_json(args.json, {"cases": cases})
+    print(f"wrote {args.json}")

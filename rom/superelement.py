@@ -1,0 +1,322 @@
+"""The finger as a chain of Craig-Bampton superelements (issue 5, part B).
+
+The straight finger mesh (along z, soft bending along y, see :mod:`fea.mesh`) is cut at
+n + 1 stations z_0 = 0 < z_1 < ... < z_n = L (planes of mesh nodes) into n segments.
+Each segment keeps its two end sections as boundary; in the bending plane a section
+moves rigidly, so the boundary of a segment is six planar DOFs::
+
+    d = [U_a, V_a, theta_a, U_b, V_b, theta_b]     (along the finger, across it, rotation)
+    face node at height y:   u_z = U - theta y,   u_y = V,   u_x free (interior)
+
+The motion is symmetric about the finger's mid-plane x = 0, so nodes on that plane keep
+u_x = 0 (an exact symmetry condition, which also removes the out-of-plane rigid motions
+a planar interface cannot hold).
+
+Every other DOF of the segment is interior and is condensed by
+:func:`rom.craig_bampton.craig_bampton` with no fixed-interface modes (a segment's
+first fixed-interface mode lies above 10 kHz, far above anything the contact excites):
+``K_e = T^T K T``, ``M_e = T^T M T`` (6 x 6), and ``T`` recovers the segment's full
+displacement field, hence its stresses.
+
+A free segment moves rigidly with three of its six DOFs, so K_e = G^T K_n G with the
+natural deformations of the segment (chord of length l0 along z)::
+
+    e = G d = [U_b - U_a,  theta_a - (V_b - V_a)/l0,  theta_b - (V_b - V_a)/l0]
+
+and the 3 x 3 natural stiffness ``K_n`` (axial force, end moments) is what the co-rotational
+dynamics in :mod:`rom.chain_dynamics` uses. Station masses are the row sums of the
+translational Guyan mass (they add up to the finger's mass); the rotary inertia of a
+station is the diagonal rotation entry of M_e (the section's second moment of mass).
+
+A rigid section is stiffer than the real one (it stops the section's in-plane
+distortion at each cut), so the chain is "fitted from the FEA": the bending block of
+K_n is scaled by ``kappa = k_tip(FE) / k_tip(chain)`` so that the chain's linear tip
+stiffness equals the full FE model's (:func:`fit_tip_stiffness`). Stresses follow the
+section forces, not the constrained deformation (:func:`stress_recovery`).
+"""
+from dataclasses import dataclass, replace
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.linalg import eigh
+
+from fea.errors import InputError
+from fea.hex8 import deformation_gradient, element_geometry
+from fea.material import NeoHookean, von_mises
+from fea.mesh import SEMI_AXIS_MINOR, Mesh
+from fea.model import Model, cantilever_model, face_node_weights
+from fea.static import tangent_stiffness
+from rom.craig_bampton import craig_bampton
+
+
+@dataclass(frozen=True)
+class FingerChain:
+    """Reduced finger: n segments between n + 1 stations (station 0 is the root).
+
+    station_z_m (n+1,) [m] distance from the root; mass_kg (n+1,); inertia_kg_m2 (n+1,)
+    rotary inertia about the section's x axis; natural_stiffness (n, 3, 3) [N/m, N,
+    N m] acting on e = [elongation m, end rotations rad]; half_thickness_m: the
+    contact points sit at +-half_thickness_m across each station; stress_zones: the
+    :class:`StressZone` s of :func:`finger_chain`; stiffness_scale: the fitted bending
+    factor kappa (1 before fitting).
+    """
+
+    station_z_m: np.ndarray
+    mass_kg: np.ndarray
+    inertia_kg_m2: np.ndarray
+    natural_stiffness: np.ndarray
+    half_thickness_m: float
+    stress_zones: tuple
+    stiffness_scale: float = 1.0
+
+    @property
+    def n_segments(self):
+        return len(self.station_z_m) - 1
+
+    @property
+    def segment_length_m(self):
+        return np.diff(self.station_z_m)
+
+
+def deformation_map(l0):
+    """G (3 x 6): natural deformations e of a segment of length l0 [m] from its planar
+    end DOFs d = [U_a, V_a, theta_a, U_b, V_b, theta_b] (module docstring)."""
+    return np.array([[-1.0, 0.0, 0.0, 1.0, 0.0, 0.0],
+                     [0.0, 1.0 / l0, 1.0, 0.0, -1.0 / l0, 0.0],
+                     [0.0, 1.0 / l0, 0.0, 0.0, -1.0 / l0, 1.0]])
+
+
+def natural_stiffness(K_e, l0):
+    """K_n (3 x 3) with K_e = G^T K_n G for a segment stiffness K_e (6 x 6) that has the
+    three planar rigid motions in its null space. Raises if it has not (relative residual
+    above 1e-6), which would mean the segment is not free or not straight."""
+    G = deformation_map(l0)
+    Gp = np.linalg.pinv(G)
+    K_n = Gp.T @ K_e @ Gp
+    err = np.linalg.norm(G.T @ K_n @ G - K_e) / np.linalg.norm(K_e)
+    if err > 1e-6:
+        raise InputError(f"segment stiffness is not rigid-motion invariant (residual {err:.2e})")
+    return 0.5 * (K_n + K_n.T)
+
+
+def _section_transform(nodes, face_a, face_b, clamp_a):
+    """Sparse map from [d (6), interior DOFs] to all 3 N DOFs of a segment whose end
+    faces are ``face_a`` and ``face_b`` (node ids): face nodes move as rigid sections in
+    the y-z plane (u_z = U - theta y, u_y = V), u_x = 0 on the mid-plane x = 0 (symmetry)
+    and, with ``clamp_a``, on face a (the finger's clamped root face); everything else is
+    interior."""
+    n = len(nodes)
+    tied = np.zeros((n, 3), dtype=bool)
+    tied[np.abs(nodes[:, 0]) < 1e-9 * np.ptp(nodes[:, 0]), 0] = True
+    if clamp_a:
+        tied[face_a, 0] = True
+    rows, cols, vals = [], [], []
+    for k, face in enumerate((face_a, face_b)):
+        for node in face:
+            rows += [3 * node + 2, 3 * node + 2, 3 * node + 1]
+            cols += [3 * k, 3 * k + 2, 3 * k + 1]
+            vals += [1.0, -nodes[node, 1], 1.0]
+            tied[node, 1:] = True
+    interior = np.flatnonzero(~tied.ravel())
+    rows += list(interior)
+    cols += list(6 + np.arange(len(interior)))
+    vals += [1.0] * len(interior)
+    return sp.csr_matrix((vals, (rows, cols)), shape=(3 * n, 6 + len(interior)))
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One reduced segment: stiffness K_e and mass M_e on d (6 x 6), and the recovery
+    ``field`` (3 N x 6) of the segment's nodal displacements from d."""
+
+    K_e: np.ndarray
+    M_e: np.ndarray
+    field: np.ndarray
+    mesh: Mesh
+
+
+def reduce_segment(mesh: Mesh, material: NeoHookean, z_a, z_b, clamp_a=False):
+    """Craig-Bampton (Guyan) reduction of the elements of ``mesh`` between z_a and z_b [m];
+    ``clamp_a``: face a is the clamped root (no u_x either)."""
+    z = mesh.nodes[:, 2]
+    zc = z[mesh.hexes].mean(axis=1)
+    hexes = mesh.hexes[(zc > z_a) & (zc < z_b)]
+    used, local = np.unique(hexes, return_inverse=True)
+    nodes = mesh.nodes[used] - [0.0, 0.0, z_a]
+    sub = Mesh(nodes=nodes, hexes=local.reshape(hexes.shape).astype(np.int64))
+    model = Model(mesh=sub, material=material)
+    tol = 1e-9 * (z_b - z_a)
+    face_a = np.flatnonzero(np.abs(nodes[:, 2]) < tol)
+    face_b = np.flatnonzero(np.abs(nodes[:, 2] - (z_b - z_a)) < tol)
+    T_c = _section_transform(nodes, face_a, face_b, clamp_a)
+    K = (T_c.T @ tangent_stiffness(model) @ T_c).tocsc()
+    M = (T_c.T @ sp.diags(np.repeat(model.mass, 3)) @ T_c).tocsc()
+    cb = craig_bampton(K, M, np.arange(K.shape[0]), np.arange(6), 0)
+    return Segment(K_e=cb.K_r, M_e=cb.M_r, field=T_c @ cb.T, mesh=sub)
+
+
+def _stress_modes(segment: Segment, material: NeoHookean, l0):
+    """Linear Cauchy stress (elements, 3, 3, 3) of each unit natural deformation e_j,
+    realised as d = [0, 0, e2, e1, 0, e3] (any d with the same e differs by a rigid motion)."""
+    d = np.zeros((6, 3))
+    d[3, 0] = d[2, 1] = d[5, 2] = 1.0
+    u = (segment.field @ d).reshape(-1, 3, 3)                 # (nodes, xyz, mode)
+    g = element_geometry(segment.mesh.nodes, segment.mesh.hexes)
+    out = np.empty((segment.mesh.n_elements, 3, 3, 3))
+    for j in range(3):
+        grad = deformation_gradient(u[segment.mesh.hexes, :, j], g)
+        out[:, j] = material.mu * (grad + grad.swapaxes(1, 2)) + material.lam * np.trace(
+            grad, axis1=1, axis2=2)[:, None, None] * np.eye(3)
+    return out
+
+
+def station_planes(mesh: Mesh, n_segments):
+    """n_segments + 1 node planes z [m] of ``mesh`` (root and tip included), as evenly
+    spaced along the finger as its element layers allow."""
+    z = np.unique(mesh.nodes[:, 2])
+    if int(n_segments) != n_segments or not 1 <= n_segments <= len(z) - 1:
+        raise InputError(f"n_segments must be an integer in 1..{len(z) - 1} (element layers), got {n_segments!r}")
+    return z[np.round(np.linspace(0, len(z) - 1, int(n_segments) + 1)).astype(int)]
+
+
+ROOT_ZONE_DEPTHS = 2.0
+"""Length of the root stress zone in section depths (Saint-Venant: the stress at the clamp
+does not feel how the load enters two depths away)."""
+
+
+@dataclass(frozen=True)
+class StressZone:
+    """Stress recovery over stations a..b: Cauchy stress of each unit natural deformation
+    of the zone's chord (elements, 3, 3, 3) [Pa] and the zone model's natural stiffness (3 x 3)."""
+
+    a: int
+    b: int
+    modes: np.ndarray
+    stiffness: np.ndarray
+
+
+def _stress_zone(mesh, material, z, a, b):
+    seg = reduce_segment(mesh, material, z[a], z[b], clamp_a=(a == 0))
+    l0 = z[b] - z[a]
+    return seg, StressZone(a=a, b=b, modes=_stress_modes(seg, material, l0), stiffness=natural_stiffness(seg.K_e, l0))
+
+
+def finger_chain(mesh: Mesh, material: NeoHookean, n_segments=17, half_thickness_m=SEMI_AXIS_MINOR):
+    """Reduce a straight finger ``mesh`` (root at z = 0, clamped) to a chain of
+    ``n_segments`` superelements (unfitted; see :func:`fit_tip_stiffness`).
+
+    Stresses are recovered per zone: the root zone (stations 0..r, at least
+    ``ROOT_ZONE_DEPTHS`` section depths long, its root face clamped like the FE model's)
+    and every segment beyond it, so the clamp's stress does not depend on where the
+    segments are cut."""
+    z = station_planes(mesh, n_segments)
+    mass, inertia = np.zeros(len(z)), np.zeros(len(z))
+    K_n, zones = [], []
+    root_end = int(np.searchsorted(z, ROOT_ZONE_DEPTHS * 2.0 * half_thickness_m))
+    root_end = min(max(root_end, 1), len(z) - 1)
+    zones.append(_stress_zone(mesh, material, z, 0, root_end)[1])
+    for s in range(len(z) - 1):
+        seg, zone = _stress_zone(mesh, material, z, s, s + 1)
+        K_n.append(zone.stiffness)
+        if s >= root_end:
+            zones.append(zone)
+        rigid_u = np.array([1.0, 0.0, 0.0, 1.0, 0.0, 0.0])
+        for end, (u, th) in enumerate(((0, 2), (3, 5))):
+            mass[s + end] += (seg.M_e @ rigid_u)[u]
+            inertia[s + end] += seg.M_e[th, th]
+    return FingerChain(station_z_m=z, mass_kg=mass, inertia_kg_m2=inertia, natural_stiffness=np.array(K_n),
+                       half_thickness_m=float(half_thickness_m), stress_zones=tuple(zones))
+
+
+def linear_matrices(chain: FingerChain):
+    """Assembled linear stiffness K [N/m, N, N m] and lumped mass M of the chain on the
+    planar DOFs [U_i, V_i, theta_i] of stations 1..n (station 0 clamped)."""
+    n = chain.n_segments
+    K = np.zeros((3 * (n + 1), 3 * (n + 1)))
+    for s, l0 in enumerate(chain.segment_length_m):
+        G = deformation_map(l0)
+        K[3 * s:3 * s + 6, 3 * s:3 * s + 6] += G.T @ chain.natural_stiffness[s] @ G
+    m = np.column_stack([chain.mass_kg, chain.mass_kg, chain.inertia_kg_m2]).ravel()
+    return K[3:, 3:], np.diag(m[3:])
+
+
+def chain_tip_stiffness(chain: FingerChain):
+    """Linear tip stiffness [N/m] of the clamped chain under a transverse tip force."""
+    K, _ = linear_matrices(chain)
+    f = np.zeros(len(K))
+    f[-2] = 1.0
+    return 1.0 / np.linalg.solve(K, f)[-2]
+
+
+def chain_frequencies(chain: FingerChain, n_modes=None):
+    """Natural frequencies [rad/s] of the clamped chain, linearised about the straight finger."""
+    K, M = linear_matrices(chain)
+    w2 = eigh(K, M, eigvals_only=True)
+    return np.sqrt(np.clip(w2, 0.0, None))[:n_modes]
+
+
+def fe_tip_stiffness(mesh: Mesh, material: NeoHookean):
+    """Linear tip stiffness [N/m] of the full clamped FE finger under a tip-face load along y."""
+    model = cantilever_model(mesh, material)
+    tip = mesh.node_sets["tip"]
+    w = face_node_weights(mesh, tip)
+    free = np.flatnonzero(~np.isin(np.arange(mesh.n_nodes), mesh.node_sets["root"]).repeat(3))
+    K = tangent_stiffness(model)[free][:, free].tocsc()
+    f = np.zeros(3 * mesh.n_nodes)
+    f[3 * tip + 1] = w
+    u = np.zeros(3 * mesh.n_nodes)
+    u[free] = sp.linalg.spsolve(K, f[free])
+    return 1.0 / float(w @ u[3 * tip + 1])
+
+
+def fit_tip_stiffness(chain: FingerChain, k_tip_target):
+    """The chain with its bending stiffness scaled so that its linear tip stiffness equals
+    ``k_tip_target`` [N/m] (one multiplicative factor kappa on the bending block of K_n)."""
+    kappa = k_tip_target / chain_tip_stiffness(chain)
+    K_n = chain.natural_stiffness.copy()
+    K_n[:, 1:, 1:] *= kappa
+    K_n[:, 1:, 0] *= np.sqrt(kappa)
+    K_n[:, 0, 1:] *= np.sqrt(kappa)
+    return replace(chain, natural_stiffness=K_n, stiffness_scale=kappa * chain.stiffness_scale)
+
+
+def zone_stiffness(chain: FingerChain, a, b):
+    """Natural stiffness (3 x 3) of the chain's segments between stations a and b, the
+    stations in between condensed out."""
+    K = np.zeros((3 * (b - a + 1),) * 2)
+    for s in range(a, b):
+        G = deformation_map(chain.segment_length_m[s])
+        i = 3 * (s - a)
+        K[i:i + 6, i:i + 6] += G.T @ chain.natural_stiffness[s] @ G
+    ends = np.r_[0:3, len(K) - 3:len(K)]
+    mid = np.arange(3, len(K) - 3)
+    K6 = K[np.ix_(ends, ends)] - K[np.ix_(ends, mid)] @ np.linalg.solve(K[np.ix_(mid, mid)], K[np.ix_(mid, ends)])
+    return natural_stiffness(K6, chain.station_z_m[b] - chain.station_z_m[a])
+
+
+@dataclass(frozen=True)
+class StressRecovery:
+    """Stress operator of a chain: zone stations (a_0 = 0, b_0 = a_1, ...) and, per element,
+    its zone and the stress [Pa] of each unit natural deformation of the chain over the zone."""
+
+    stations: np.ndarray
+    zone_of_element: np.ndarray
+    modes: np.ndarray
+
+    def max_von_mises(self, e):
+        """Largest von Mises stress [Pa] per time for zone deformations e (times, zones, 3)."""
+        sigma = np.einsum("tej,ejab->teab", e[:, self.zone_of_element], self.modes)
+        return von_mises(sigma).max(axis=1)
+
+
+def stress_recovery(chain: FingerChain):
+    """Stresses follow the section forces: the chain's force over a zone, K_chain e, is
+    applied to the zone's own model, sigma = S K_zone^-1 K_chain e (the identity for an
+    unfitted segment; the bending factor kappa for a fitted one)."""
+    modes, zone_of = [], []
+    for k, z in enumerate(chain.stress_zones):
+        C = np.linalg.solve(z.stiffness, zone_stiffness(chain, z.a, z.b))
+        modes.append(np.einsum("ejab,jm->emab", z.modes, C))
+        zone_of.append(np.full(len(z.modes), k))
+    stations = np.array([chain.stress_zones[0].a] + [z.b for z in chain.stress_zones])
+    return StressRecovery(stations=stations, zone_of_element=np.concatenate(zone_of), modes=np.concatenate(modes))
