@@ -35,3 +35,12 @@ def cantilever_frequencies(E, rho, length_m, area, second_moment, n_modes=1):
         raise InputError(f"n_modes must be in 1..{len(CANTILEVER_BETA_L)}, got {n_modes}")
     root = np.sqrt(E * second_moment / (rho * area * length_m**4))
     return np.array(CANTILEVER_BETA_L[:n_modes])**2 * root
+
+
+def drum_drag_tip_deflection(alpha, rho, area, omega, drum_radius_m, length_m, E, second_moment):
+    """Steady tip deflection [m] of a cantilever standing radially on a drum turning at
+    omega [rad/s] under global mass damping alpha [1/s]: the drag per length
+    q(r) = alpha rho A omega r grows linearly with the radius r = R + s, and
+    Euler-Bernoulli gives delta = alpha rho A omega (R L^4 / 8 + 11 L^5 / 120) / (E I)."""
+    q = alpha * rho * area * omega
+    return q * (drum_radius_m * length_m**4 / 8 + 11 * length_m**5 / 120) / (E * second_moment)

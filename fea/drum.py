@@ -244,6 +244,13 @@ def contact_timing(history):
     return out
 
 
+def _max_or_none(column):
+    """Largest value of a history column, None when it holds no number (e.g. the object
+    stress of a run without it)."""
+    value = column.max()
+    return None if np.isnan(value) else float(value)
+
+
 def contact_summary(setup: DrumSetup, result, model):
     """The summary the CLI writes (keys of issue 4), from a :func:`contact_run`."""
     h = result.history
@@ -253,7 +260,7 @@ def contact_summary(setup: DrumSetup, result, model):
     if summary["contact_start_s"] is not None:
         summary.update({"first_contact_side": object_side(setup, summary["first_contact_point_m"]),
                         "last_contact_side": object_side(setup, summary["last_contact_point_m"]),
-                        "max_object_stress_Pa": float(np.nanmax(h.max_object_von_mises_Pa)),
+                        "max_object_stress_Pa": _max_or_none(h.max_object_von_mises_Pa),
                         "max_penetration_m": float(h.max_penetration_m.max())})
     else:
         summary.update({"max_object_stress_Pa": 0.0, "max_penetration_m": 0.0})

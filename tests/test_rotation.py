@@ -4,7 +4,7 @@ Euler-Bernoulli deflection under the drag load alpha rho A omega r; relative dam
 import numpy as np
 import pytest
 
-from fea.beam_theory import ellipse_section_properties
+from fea.beam_theory import drum_drag_tip_deflection, ellipse_section_properties
 from fea.drum import DrumSetup, finger_on_drum
 from fea.explicit import run
 from fea.material import RUBBER
@@ -24,17 +24,15 @@ def trailing_tip_deflection(damping):
     return -u[1]                    # theta0 = 0: e_theta is +y; lagging behind is -y
 
 
-def test_global_damping_drags_the_finger_back():
+def drag_deflection():
     area, inertia = ellipse_section_properties()
-    R, L = SETUP.drum_radius_m, SETUP.finger_length_m
-    q = ALPHA * RUBBER.rho * area * SETUP.omega_rad_s      # drag per unit length per metre of radius
-    expected = q * (R * L**4 / 8 + 11 * L**5 / 120) / (RUBBER.E * inertia)
-    assert trailing_tip_deflection("global") == pytest.approx(expected, rel=0.06)
+    return drum_drag_tip_deflection(ALPHA, RUBBER.rho, area, SETUP.omega_rad_s, SETUP.drum_radius_m,
+                                    SETUP.finger_length_m, RUBBER.E, inertia)
+
+
+def test_global_damping_drags_the_finger_back():
+    assert trailing_tip_deflection("global") == pytest.approx(drag_deflection(), rel=0.06)
 
 
 def test_relative_damping_leaves_the_finger_straight():
-    area, inertia = ellipse_section_properties()
-    R, L = SETUP.drum_radius_m, SETUP.finger_length_m
-    q = ALPHA * RUBBER.rho * area * SETUP.omega_rad_s
-    drag = q * (R * L**4 / 8 + 11 * L**5 / 120) / (RUBBER.E * inertia)
-    assert abs(trailing_tip_deflection("relative")) < 0.03 * drag
+    assert abs(trailing_tip_deflection("relative")) < 0.03 * drag_deflection()
