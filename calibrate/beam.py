@@ -29,6 +29,8 @@ from fea.errors import InputError, require_finite_positive
 
 N_QUADRATURE = 160
 """Gauss-Legendre points along the finger for the Ritz integrals."""
+N_DRAG_POINTS = 8
+"""Gauss-Legendre points along the finger at which distributed drag is evaluated."""
 
 
 def cantilever_roots(n):
@@ -41,11 +43,14 @@ def cantilever_roots(n):
 @dataclass(frozen=True)
 class Modes:
     """omega_rad_s (n,), tip values b (n,) [1/sqrt(kg)], weight participations p (n,)
-    [sqrt(kg)] of mass-normalised modes (module docstring)."""
+    [sqrt(kg)] of mass-normalised modes (module docstring); their shapes (N_DRAG_POINTS, n)
+    [1/sqrt(kg)] at the drag points and those points' quadrature weights (N_DRAG_POINTS,) [m]."""
 
     omega_rad_s: np.ndarray
     tip: np.ndarray
     weight: np.ndarray
+    shapes: np.ndarray
+    shape_weights: np.ndarray
 
     @property
     def static_sag_per_g(self):
@@ -64,20 +69,22 @@ class CantileverRitz:
         self.second_moment = require_finite_positive("second moment (m^4)", second_moment)
         L = self.length_m
         beta = cantilever_roots(n_basis) / L
-        xg, wg = np.polynomial.legendre.leggauss(N_QUADRATURE)
-        x = 0.5 * L * (xg + 1.0)
-        w = 0.5 * L * wg
+        x, w = _gauss(L, N_QUADRATURE)
         s = (np.cosh(beta * L) + np.cos(beta * L)) / (np.sinh(beta * L) + np.sin(beta * L))
+
+        def basis_at(x):                                        # last column: root rotation
+            bx = np.outer(x, beta)
+            return np.column_stack([np.cosh(bx) - np.cos(bx) - s * (np.sinh(bx) - np.sin(bx)), x / L])
+
+        basis = basis_at(x)
         bx = np.outer(x, beta)
-        phi = np.cosh(bx) - np.cos(bx) - s * (np.sinh(bx) - np.sin(bx))
         d2 = beta**2 * (np.cosh(bx) + np.cos(bx) - s * (np.sinh(bx) + np.sin(bx)))
-        rigid = x / L
-        basis = np.column_stack([phi, rigid])                     # last column: root rotation
+        xd, self._drag_weights = _gauss(L, N_DRAG_POINTS)
+        self._drag_basis = basis_at(xd)
         self._mass = rho_a * (basis * w[:, None]).T @ basis
         self._bending = np.zeros_like(self._mass)
         self._bending[:n_basis, :n_basis] = (d2 * w[:, None]).T @ d2   # times E I
-        bL = beta * L
-        self._tip = np.append(np.cosh(bL) - np.cos(bL) - s * (np.sinh(bL) - np.sin(bL)), 1.0)
+        self._tip = basis_at(np.array([L]))[0]
         self._integral = rho_a * (w @ basis)
         self.n_basis = n_basis
 
@@ -101,4 +108,11 @@ class CantileverRitz:
         sign = np.where(tip < 0.0, -1.0, 1.0)
         vec = vec * sign
         return Modes(omega_rad_s=np.sqrt(lam), tip=tip * sign,
-                     weight=self._integral[keep] @ vec + tip_mass_kg * tip * sign)
+                     weight=self._integral[keep] @ vec + tip_mass_kg * tip * sign,
+                     shapes=self._drag_basis[:, keep] @ vec, shape_weights=self._drag_weights)
+
+
+def _gauss(length, n):
+    """Gauss-Legendre points and weights on [0, length] [m]."""
+    xg, wg = np.polynomial.legendre.leggauss(n)
+    return 0.5 * length * (xg + 1.0), 0.5 * length * wg

@@ -63,7 +63,8 @@ class Effect:
 @dataclass(frozen=True)
 class Scales:
     """Record scales for bounds and starting values: finger mass [kg], tip stiffness [N/m],
-    EI / L [N m/rad], first and second frequency [rad/s], amplitude [m], record length [s]."""
+    EI / L [N m/rad], first and second frequency [rad/s], amplitude [m], record length [s],
+    finger length [m]."""
 
     mass_kg: float
     stiffness_N_m: float
@@ -72,6 +73,7 @@ class Scales:
     omega2: float
     amplitude_m: float
     duration_s: float
+    length_m: float
 
 
 def _catalogue():
@@ -83,10 +85,10 @@ def _catalogue():
         Effect("viscoelastic", "standard linear solid: stiffness w^2 (q - g v), v' = (q - v)/tau",
                "slow creep/recovery tail and frequency-dependent damping",
                lambda s: [(P("prony_g", 1e-4, 0.9), 0.05), (P("prony_tau_s", 0.05 / s.omega2, s.duration_s), 1.0 / s.omega1)]),
-        Effect("quadratic_damping", "tip drag -c_q |u'| u' [c_q in N s^2/m^2]",
+        Effect("quadratic_damping", "air drag -c_q |w'| w' per unit length along the finger [c_q in N s^2/m^3]",
                "decay per cycle grows with amplitude",
-               lambda s: [(P("drag_N_s2_m2", 1e-6 * s.mass_kg / s.amplitude_m, 10.0 * s.mass_kg / s.amplitude_m),
-                           0.01 * s.mass_kg / s.amplitude_m)]),
+               lambda s: [(P("drag_N_s2_m3", 1e-6 * s.mass_kg / (s.amplitude_m * s.length_m),
+                             10.0 * s.mass_kg / (s.amplitude_m * s.length_m)), 0.03 * s.mass_kg / (s.amplitude_m * s.length_m))]),
         Effect("coulomb_friction", "tip friction -F_c tanh(u'/1 mm/s)",
                "envelope decays linearly; residual correlates with sign(velocity)",
                lambda s: [(P("friction_N", 1e-7 * s.stiffness_N_m * s.amplitude_m, 0.5 * s.stiffness_N_m * s.amplitude_m),
@@ -121,7 +123,7 @@ def _catalogue():
 
 CATALOGUE = _catalogue()
 """Candidate effects by name (the issue's list)."""
-NONLINEAR = {"prony_g", "drag_N_s2_m2", "friction_N", "cubic_N_m3"}
+NONLINEAR = {"prony_g", "drag_N_s2_m3", "friction_N", "cubic_N_m3"}
 
 
 def baseline_parameters(exp: Experiment, s: Scales):
@@ -145,7 +147,8 @@ class FingerModel:
         self.scales = Scales(mass_kg=self.ritz.mass_kg, stiffness_N_m=3.0 * ei / f.length_m**3,
                              ei_over_l=ei / f.length_m, omega1=float(modes.omega_rad_s[0]),
                              omega2=float(modes.omega_rad_s[1]),
-                             amplitude_m=0.5 * float(np.ptp(y)), duration_s=float(exp.time_s[-1] - exp.time_s[0]))
+                             amplitude_m=0.5 * float(np.ptp(y)), duration_s=float(exp.time_s[-1] - exp.time_s[0]),
+                             length_m=f.length_m)
 
     def parameters(self, effects):
         """[(Parameter, start)] of the baseline plus ``effects`` (names in CATALOGUE)."""
@@ -168,9 +171,9 @@ class FingerModel:
         zeta = v["alpha_per_s"] / (2.0 * w) + v.get("beta_s", 0.0) * w / 2.0
         delay = v.get("delay_s", 0.0)
         if NONLINEAR.intersection(v):
-            u = integrate_tip(t, w, zeta, m.tip, exp.force_N, exp.duration_s, exp.start_s,
+            u = integrate_tip(t, m, zeta, exp.force_N, exp.duration_s, exp.start_s,
                               prony_g=v.get("prony_g", 0.0), prony_tau_s=v.get("prony_tau_s", 1.0),
-                              drag=v.get("drag_N_s2_m2", 0.0), friction_N=v.get("friction_N", 0.0),
+                              drag_N_s2_m3=v.get("drag_N_s2_m3", 0.0), friction_N=v.get("friction_N", 0.0),
                               cubic_N_m3=v.get("cubic_N_m3", 0.0))
             if delay:
                 u = np.interp(t - delay, t, u, left=0.0)

@@ -10,7 +10,8 @@ Newmark average-acceleration rule (step ``DT_S``), with the effects built in phy
 
   stiffness_damping       C = alpha M + beta K
   viscoelastic            bending force K (u - g z), z' = (u - z) / tau (one-term Prony)
-  quadratic_damping       distributed drag -c |w'| w' per unit length on every node [N s^2/m^3]
+  quadratic_damping       distributed drag -c |w'| w' per unit length, lumped on the nodes
+                          by the trapezoidal rule [N s^2/m^3]
   coulomb_friction        tip force -F_c tanh(w_L' / 5e-4 m/s)
   tip_mass                point mass at the tip node (also under gravity)
   root_compliance         the root rotation is free, held by a rotational spring k_r
@@ -116,8 +117,9 @@ def beam_response(truth: Truth, length_m, EI, rho_a, t_end_s=RECORD_S):
     C = truth.alpha_per_s * M + beta * K
     g_ve = fx.get("viscoelastic", {}).get("prony_g", 0.0)
     decay = np.exp(-DT_S / fx.get("viscoelastic", {}).get("prony_tau_s", 1.0))
-    drag = fx.get("quadratic_damping", {}).get("drag_N_s2_m3", 0.0) * length_m / N_ELEMENTS
     w_dofs = np.arange(len(keep))[(keep % 2) == 0]             # translational DOFs
+    drag = fx.get("quadratic_damping", {}).get("drag_N_s2_m3", 0.0) * length_m / N_ELEMENTS * np.ones(len(w_dofs))
+    drag[-1] *= 0.5                                            # tip node: half an element
     friction = fx.get("coulomb_friction", {}).get("friction_N", 0.0)
     cubic = fx.get("geometric_nonlinearity", {}).get("cubic_N_m3", 0.0)
     weight = fx.get("gravity", {}).get("gravity_m_s2", 0.0) * (rho_a * f_unit + m_tip * (np.arange(len(keep)) == tip))
