@@ -26,6 +26,10 @@ step (explicit in them, implicit in the linear beam). Records are decimated to
 ``SAMPLE_RATE_HZ`` and white noise of std ``NOISE_FRACTION`` x range is added. The true
 Young's modulus and alpha differ from the declared ones (seeded, within +-8 % and 3-5 1/s).
 
+One more clean control comes from the full 3-D explicit FEA of the 4.5-in SM-A finger
+(:func:`fea.studies.impulse_response`, hexahedral neo-Hookean solid, 1 s): the
+beam-against-solid model-form mismatch the calibration must absorb without adding an effect.
+
 Regenerate: ``.venv/bin/python -m calibrate.synthetic [OUT_DIR]`` (deterministic).
 """
 import sys
@@ -40,6 +44,7 @@ from fea.beam_theory import ellipse_section_properties
 from fea.material import RUBBER
 from fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR
 from fea.outputs import write_csv, write_json
+from fea.studies import impulse_response
 from fea.units import inch_to_m
 
 N_ELEMENTS = 40
@@ -200,10 +205,36 @@ def bundled_set():
     return out
 
 
+SOLID = {"length_in": 4.5, "alpha_per_s": 20.0, "force_N": 0.3, "record_s": 1.0}
+"""The 3-D FEA control: finger length [in], alpha [1/s], tip force [N], record length [s]."""
+
+
+def solid_record(seed):
+    """(CSV frame, sidecar dict) of the clean control from the full 3-D FEA (module docstring)."""
+    fe = impulse_response(length_in=SOLID["length_in"], alpha=SOLID["alpha_per_s"], force_N=SOLID["force_N"],
+                          duration_s=PULSE_S, t_end_s=SOLID["record_s"],
+                          n_outputs=int(round(SOLID["record_s"] * SAMPLE_RATE_HZ)))
+    t = np.concatenate([[0.0], fe.history.time_s.values])
+    y = np.concatenate([[0.0], fe.history.tip_uy_m.values])
+    noise = NOISE_FRACTION * float(np.ptp(y))
+    y = y + noise * np.random.default_rng(seed).standard_normal(len(t))
+    frame = pd.DataFrame({"time_s": np.round(t, 9), "tip_displacement_m": y,
+                          "force_N": np.where(t < PULSE_S, SOLID["force_N"], 0.0)})
+    meta = {"kind": "impulse", "finger": declared_finger() | {"length_in": SOLID["length_in"]},
+            "load": {"force_N": SOLID["force_N"], "duration_s": PULSE_S, "at": "tip"},
+            "sensor": {"noise_std_m": noise}}
+    return frame, meta
+
+
 def write_bundled_set(out_dir):
     """Write every record as NAME.csv + NAME.json and the truths as manifest.json."""
     out_dir = Path(out_dir)
-    manifest = {}
+    frame, meta = solid_record(seed=999)
+    write_csv(out_dir / "control_fea_solid.csv", frame)
+    write_json(out_dir / "control_fea_solid.json", meta)
+    manifest = {"control_fea_solid": {"E_factor": 1.0, "alpha_per_s": SOLID["alpha_per_s"],
+                                      "force_N": SOLID["force_N"], "effects": {},
+                                      "generator": "fea.studies.impulse_response (3-D SM-A solid)"}}
     for i, (name, truth) in enumerate(bundled_set().items()):
         frame, meta = record(truth, seed=1000 + i)
         write_csv(out_dir / f"{name}.csv", frame)

@@ -43,7 +43,7 @@ def test_ritz_modes_match_euler_bernoulli_and_tip_mass_lowers_them():
     modes = ritz.modes(6.1e6, n_modes=3)
     assert modes.omega_rad_s == pytest.approx(cantilever_frequencies(6.1e6, 1000.0, LENGTH, AREA, INERTIA, 3), rel=1e-6)
     assert np.sum(modes.tip**2 / modes.omega_rad_s**2) == pytest.approx(LENGTH**3 / (3 * 6.1e6 * INERTIA), rel=2e-3)
-    assert modes.static_sag_per_g == pytest.approx(1000.0 * AREA * LENGTH**4 / (8 * 6.1e6 * INERTIA), rel=1e-4)
+    assert modes.static_sag_per_g == pytest.approx(1000.0 * AREA * LENGTH**4 / (8 * 6.1e6 * INERTIA), rel=1e-3)
     heavy = ritz.modes(6.1e6, n_modes=3, tip_mass_kg=0.01)
     soft = ritz.modes(6.1e6, n_modes=3, root_stiffness=1.0)
     assert np.all(heavy.omega_rad_s < modes.omega_rad_s) and np.all(soft.omega_rad_s < modes.omega_rad_s)
