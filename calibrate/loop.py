@@ -107,9 +107,11 @@ def calibrate(exp: Experiment, candidates=None, progress=None):
 
 
 def summary(cal: Calibration):
-    """The JSON result: baseline, effects found (with parameters, standard errors, error
-    after, evidence and the candidates' scores per round), final and noise-floor NRMSE."""
+    """The JSON result: baseline, effects found (with parameters and standard errors as
+    fitted in their round and in the final model, error after, evidence and the candidates'
+    scores per round), final and noise-floor NRMSE."""
     found = []
+    fin = cal.final
     for r in cal.rounds:
         if r.added is None:
             continue
@@ -117,6 +119,8 @@ def summary(cal: Calibration):
         new = [p for p in f.values if p not in r.start.values]
         found.append({"name": r.added, "params": {p: f.values[p] for p in new},
                       "stderr": {p: f.stderr[p] for p in new}, "nrmse_after": f.nrmse,
+                      "params_final": {p: fin.values[p] for p in new},
+                      "stderr_final": {p: fin.stderr[p] for p in new},
                       "max_error_after_m": f.max_error_m, "why": r.reason,
                       "suggested_by_residual": dict(r.suggested).get(r.added),
                       "evidence": r.evidence,
@@ -124,7 +128,7 @@ def summary(cal: Calibration):
                                          "nrmse": c.nrmse} for k, c in sorted(r.candidates.items(),
                                                                               key=lambda kv: kv[1].bic)}})
     last = cal.rounds[-1]
-    b, fin = cal.baseline, cal.final
+    b = cal.baseline
     return {"source": cal.experiment.record.source,
             "baseline": {"nrmse": b.nrmse, "max_error_m": b.max_error_m, "params": b.values, "stderr": b.stderr},
             "effects_found": found,
