@@ -4,7 +4,7 @@ Sub-commands:
   table1   the paper's Table 1 for SM-A and SM-B (nodes, elements, time step, stiffness)
   impulse  impulse response of the SM-A finger for several alpha (paper Fig. 7), CSV + plot
   contact, contact-sweep  the finger on the drum over the object (paper 3.3-3.4)
-and the sub-commands of :mod:`rom.cli` (identify, damping-fits).
+and the sub-commands of :mod:`rom.cli` (identify, damping-fits) and :mod:`calibrate.cli` (calibrate).
 """
 import argparse
 import sys
@@ -177,6 +177,8 @@ def build_parser():
     r.set_defaults(func=lambda args: _write_contact_report(_contact_setup(args), Path(args.out)))
     from rom.cli import add_parsers as add_rom_parsers
     add_rom_parsers(sub)
+    from calibrate.cli import add_parsers as add_calibrate_parsers
+    add_calibrate_parsers(sub)
     return p
 
 

@@ -39,3 +39,11 @@ def write_figure(path, fig):
     """Save a matplotlib figure."""
     fmt = Path(path).suffix.lstrip(".") or "png"
     return _atomic_write(path, lambda tmp: fig.savefig(tmp, format=fmt, dpi=120, bbox_inches="tight"))
+
+
+def write_text(path, text):
+    """Write a text file (e.g. a markdown report)."""
+    def write(tmp):
+        with open(tmp, "w") as fh:
+            fh.write(text)
+    return _atomic_write(path, write)

@@ -5,6 +5,7 @@ A measured impulse response is a CSV with a header row and the columns
     time_s               sample time [s], strictly increasing
     tip_displacement_m   tip displacement [m]
     force_N              (optional) applied force [N]
+    reaction_force_N     (optional) reaction force at the clamp or object [N]
 
 Other columns are ignored. Lines starting with ``#`` are comments (for provenance).
 """
@@ -17,17 +18,20 @@ import pandas as pd
 from fea.errors import InputError
 
 REQUIRED_COLUMNS = ("time_s", "tip_displacement_m")
+OPTIONAL_COLUMNS = ("force_N", "reaction_force_N")
 MIN_SAMPLES = 8
 
 
 @dataclass(frozen=True)
 class MeasuredResponse:
-    """time_s [s], tip_displacement_m [m], force_N [N] or None, and where it came from."""
+    """time_s [s], tip_displacement_m [m], force_N [N] or None, where it came from, and
+    reaction_force_N [N] or None."""
 
     time_s: np.ndarray
     tip_displacement_m: np.ndarray
     force_N: np.ndarray | None
     source: str
+    reaction_force_N: np.ndarray | None = None
 
 
 def load_response(path):
@@ -48,7 +52,7 @@ def response_from_frame(frame, source="<frame>"):
     if missing:
         raise InputError(f"{source}: missing column(s) {', '.join(missing)}; "
                          f"need {', '.join(REQUIRED_COLUMNS)} (and optionally force_N), found {list(frame.columns)}")
-    cols = list(REQUIRED_COLUMNS) + (["force_N"] if "force_N" in frame.columns else [])
+    cols = list(REQUIRED_COLUMNS) + [c for c in OPTIONAL_COLUMNS if c in frame.columns]
     data = {}
     for c in cols:
         values = pd.to_numeric(frame[c], errors="coerce").to_numpy(dtype=float)
@@ -64,4 +68,5 @@ def response_from_frame(frame, source="<frame>"):
         i = int(np.argmax(step <= 0.0))
         raise InputError(f"{source}: time_s must be strictly increasing (row {i + 2}: {t[i + 1]} s after {t[i]} s)")
     return MeasuredResponse(time_s=t, tip_displacement_m=data["tip_displacement_m"],
-                            force_N=data.get("force_N"), source=source)
+                            force_N=data.get("force_N"), source=source,
+                            reaction_force_N=data.get("reaction_force_N"))

@@ -90,14 +90,30 @@ class ModalROM:
 
 
 def _step(omega, zeta, t):
-    """Unit step responses s_i(t) (N, len(t)) of q'' + 2 zeta w q' + w^2 q = H(t)."""
+    """Unit step responses s_i(t) (N, len(t)) of q'' + 2 zeta w q' + w^2 q = H(t).
+
+    Written in real arithmetic for each regime so that it stays finite for any damping:
+    with mu = w sqrt(|1 - zeta^2|), e^(-zeta w t) cos(w_d t) is e^(-zeta w t) cos(mu t) below
+    critical damping and (e^(r+ t) + e^(r- t)) / 2 above it, r+- = -zeta w +- mu <= 0;
+    likewise sin(w_d t) / w_d becomes (e^(r+ t) - e^(r- t)) / (2 mu) (-> t e^(-zeta w t) at mu = 0).
+    """
     w = omega[:, None]
     z = zeta[:, None]
     tt = np.clip(t, 0.0, None)[None, :]
-    wd = w * np.sqrt((1.0 - z**2).astype(complex))
-    sin_over_wd = tt * np.sinc(wd * tt / np.pi)                 # sin(wd t) / wd, -> t at wd = 0
-    s = (1.0 - np.exp(-z * w * tt) * (np.cos(wd * tt) + z * w * sin_over_wd)) / w**2
-    return np.where(t[None, :] > 0.0, s.real, 0.0)
+    mu = w * np.sqrt(np.abs(1.0 - z**2))
+    over = (z >= 1.0)[:, 0]
+    cos_part = np.empty((len(omega), len(t)))
+    sin_part = np.empty_like(cos_part)
+    u = ~over
+    decay = np.exp(-z[u] * w[u] * tt)
+    cos_part[u] = decay * np.cos(mu[u] * tt)
+    sin_part[u] = decay * tt * np.sinc(mu[u] * tt / np.pi)          # e^(-zwt) sin(mu t) / mu
+    zw, m = z[over] * w[over], mu[over]
+    fast, slow = np.exp(-(zw + m) * tt), np.exp((m - zw) * tt)
+    cos_part[over] = 0.5 * (slow + fast)
+    sin_part[over] = np.where(m * tt > 1e-8, (slow - fast) / (2.0 * np.maximum(m, 1e-300)), tt * np.exp(-zw * tt))
+    s = (1.0 - (cos_part + z * w * sin_part)) / w**2
+    return np.where(t[None, :] > 0.0, s, 0.0)
 
 
 def modal_rom(model: Model, n_modes, load_nodes, load_weights, direction=1, output_nodes=None,

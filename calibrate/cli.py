@@ -1,0 +1,52 @@
+"""``ccedi calibrate`` (registered by :mod:`fea.cli`): close the loop on a measured record.
+
+  calibrate DATA.csv [--meta DATA.json] --json OUT.json [--report DIR] [--effects NAME ...]
+
+Everything is loaded, validated and computed before the first file is written, and each
+file is written atomically, so bad data leaves no output behind.
+"""
+from fea.errors import InputError
+
+
+def add_parsers(sub):
+    from .model import CATALOGUE
+
+    c = sub.add_parser("calibrate", help="fit the declared finger to a measured record, find the effects its "
+                       "residual points to, report the error before and after")
+    c.add_argument("csv", help="measured record: time_s, tip_displacement_m[, force_N, reaction_force_N]")
+    c.add_argument("--meta", help="JSON sidecar describing the experiment (default: DATA.json beside DATA.csv)")
+    c.add_argument("--json", required=True, help="write the result as JSON to this path")
+    c.add_argument("--report", help="directory for plots, residuals.csv and report.md")
+    c.add_argument("--effects", nargs="+", choices=sorted(CATALOGUE), metavar="EFFECT",
+                   help=f"candidate effects (default: all of {', '.join(CATALOGUE)})")
+    c.set_defaults(func=cmd_calibrate)
+
+
+def cmd_calibrate(args):
+    import time
+
+    from fea.outputs import write_json
+
+    from .experiment import load_experiment
+    from .loop import calibrate, summary
+    from .report import write_report
+
+    t0 = time.perf_counter()
+    exp = load_experiment(args.csv, args.meta)
+    if exp.kind != "impulse":
+        raise InputError(f"{args.csv}: calibrate handles impulse records; this one is kind {exp.kind!r}")
+    cal = calibrate(exp, candidates=args.effects)
+    result = summary(cal) | {"wall_time_s": time.perf_counter() - t0}
+    b = result["baseline"]
+    print(f"baseline: NRMSE {b['nrmse']:.3%}, alpha = {b['params']['alpha_per_s']:.4g} 1/s, "
+          f"E x {b['params']['E_factor']:.4f}")
+    for e in result["effects_found"]:
+        params = ", ".join(f"{k} = {v:.4g} +- {e['stderr'][k]:.2g}" for k, v in e["params"].items())
+        print(f"+ {e['name']} ({params}): NRMSE {e['nrmse_after']:.3%}")
+    print(f"final NRMSE {result['final_nrmse']:.3%}, noise floor {result['noise_floor_nrmse']:.3%}; "
+          f"{result['stop_reason']}")
+    if args.report:
+        for path in write_report(args.report, cal, result):
+            print(f"wrote {path}")
+    write_json(args.json, result)
+    print(f"wrote {args.json}")

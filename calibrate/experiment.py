@@ -1,0 +1,183 @@
+"""A measured experiment: the CSV record (:mod:`rom.measurement`) and its JSON sidecar,
+both validated; every error names the offending field and its allowed range.
+
+Sidecar (``DATA.json`` beside ``DATA.csv``; format in data/README.md)::
+
+    kind          "impulse" or "contact"
+    finger        length_in or length_m; section_semi_axes_m [a, b] (b along the bending
+                  direction); E_Pa; nu; rho_kg_m3
+    load          impulse: force_N, duration_s, at ("tip"), start_s (optional, default 0)
+    alpha_per_s   (optional) mass-proportional damping, the fit's starting value [1/s]
+    sensor        (optional) noise_std_m [m]
+    tolerances    (optional) E_Pa: relative tolerance of E (default 0.2)
+
+Plausibility ("units that cannot be right"): the tip displacement must stay below half
+the finger length, the sample interval must resolve the declared finger's first mode
+(below a quarter of its period at E x (1 + tolerance)), and a force_N column must peak
+within 20 % of load.force_N.
+"""
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from fea.beam_theory import cantilever_frequencies, ellipse_section_properties
+from fea.errors import InputError, require_finite_positive
+from fea.units import inch_to_m
+from rom.measurement import MeasuredResponse, load_response
+
+KINDS = ("impulse", "contact")
+DEFAULT_E_TOLERANCE = 0.2
+MAX_DISPLACEMENT_FRACTION = 0.5
+FORCE_PEAK_TOLERANCE = 0.2
+
+
+@dataclass(frozen=True)
+class Finger:
+    """Declared finger: length [m], section semi-axes (a, b) [m], E [Pa], nu [-], rho [kg/m^3]."""
+
+    length_m: float
+    semi_axes_m: tuple
+    E_Pa: float
+    nu: float
+    rho_kg_m3: float
+
+    @property
+    def area_m2(self):
+        return ellipse_section_properties(*self.semi_axes_m)[0]
+
+    @property
+    def second_moment_m4(self):
+        return ellipse_section_properties(*self.semi_axes_m)[1]
+
+    def omega1_rad_s(self, E_factor=1.0):
+        """Euler-Bernoulli first clamped-free frequency [rad/s] at E x E_factor."""
+        return float(cantilever_frequencies(self.E_Pa * E_factor, self.rho_kg_m3, self.length_m,
+                                            self.area_m2, self.second_moment_m4)[0])
+
+
+@dataclass(frozen=True)
+class Experiment:
+    """A validated record with its sidecar. kind; finger; force_N [N], duration_s [s] and
+    start_s [s] of the tip pulse; alpha_per_s [1/s] or None; noise_std_m [m] or None;
+    E_tolerance [-]; the record (:class:`rom.measurement.MeasuredResponse`)."""
+
+    kind: str
+    finger: Finger
+    force_N: float
+    duration_s: float
+    start_s: float
+    alpha_per_s: float | None
+    noise_std_m: float | None
+    E_tolerance: float
+    record: MeasuredResponse
+
+    @property
+    def time_s(self):
+        return self.record.time_s
+
+    @property
+    def displacement_m(self):
+        return self.record.tip_displacement_m
+
+
+def _section(sidecar, key, source):
+    value = sidecar.get(key)
+    if not isinstance(value, dict):
+        raise InputError(f"{source}: sidecar field '{key}' is missing or not an object")
+    return value
+
+
+def _number(section, key, name, source, allow_zero=False):
+    if key not in section:
+        raise InputError(f"{source}: sidecar field '{name}' is missing")
+    return require_finite_positive(f"{source}: sidecar field '{name}'", section[key], allow_zero)
+
+
+def parse_finger(finger, source):
+    """:class:`Finger` from the sidecar's ``finger`` object."""
+    has_in, has_m = "length_in" in finger, "length_m" in finger
+    if has_in == has_m:
+        raise InputError(f"{source}: sidecar field 'finger.length_in' or 'finger.length_m' is needed (exactly one)")
+    length = (inch_to_m(_number(finger, "length_in", "finger.length_in", source)) if has_in
+              else _number(finger, "length_m", "finger.length_m", source))
+    axes = finger.get("section_semi_axes_m")
+    if not isinstance(axes, (list, tuple)) or len(axes) != 2:
+        raise InputError(f"{source}: sidecar field 'finger.section_semi_axes_m' must be a list [a, b] of two "
+                         f"semi-axes in metres, got {axes!r}")
+    a, b = (require_finite_positive(f"{source}: sidecar field 'finger.section_semi_axes_m'", x) for x in axes)
+    if max(a, b) >= length:
+        raise InputError(f"{source}: sidecar field 'finger.section_semi_axes_m' ({a}, {b} m) must be smaller than "
+                         f"the finger length {length} m (units?)")
+    nu = finger.get("nu")
+    if not isinstance(nu, (int, float)) or not -1.0 < nu < 0.5:
+        raise InputError(f"{source}: sidecar field 'finger.nu' must be a number in (-1, 0.5), got {nu!r}")
+    return Finger(length_m=length, semi_axes_m=(a, b), E_Pa=_number(finger, "E_Pa", "finger.E_Pa", source),
+                  nu=float(nu), rho_kg_m3=_number(finger, "rho_kg_m3", "finger.rho_kg_m3", source))
+
+
+def load_experiment(csv_path, meta_path=None):
+    """Read and validate ``csv_path`` and its sidecar (default: the same name with .json)."""
+    csv_path = Path(csv_path)
+    meta_path = Path(meta_path) if meta_path else csv_path.with_suffix(".json")
+    if not meta_path.is_file():
+        raise InputError(f"sidecar not found: {meta_path} (give --meta, or put DATA.json beside DATA.csv)")
+    try:
+        sidecar = json.loads(meta_path.read_text())
+    except (json.JSONDecodeError, UnicodeDecodeError) as err:
+        raise InputError(f"{meta_path}: not valid JSON ({err})") from None
+    if not isinstance(sidecar, dict):
+        raise InputError(f"{meta_path}: the sidecar must be a JSON object")
+    return experiment_from(load_response(csv_path), sidecar, source=str(meta_path))
+
+
+def experiment_from(record: MeasuredResponse, sidecar, source="<sidecar>"):
+    """Validate ``sidecar`` (a dict) and ``record`` together; see the module docstring."""
+    kind = sidecar.get("kind")
+    if kind not in KINDS:
+        raise InputError(f"{source}: sidecar field 'kind' must be one of {', '.join(KINDS)}, got {kind!r}")
+    finger = parse_finger(_section(sidecar, "finger", source), source)
+    load = _section(sidecar, "load", source) if kind == "impulse" else sidecar.get("load", {})
+    force = duration = start = 0.0
+    if kind == "impulse":
+        if load.get("at") != "tip":
+            raise InputError(f"{source}: sidecar field 'load.at' must be \"tip\" for an impulse, got {load.get('at')!r}")
+        force = _number(load, "force_N", "load.force_N", source)
+        duration = _number(load, "duration_s", "load.duration_s", source)
+        start = float(_number(load, "start_s", "load.start_s", source, allow_zero=True)) if "start_s" in load else 0.0
+    alpha = sidecar.get("alpha_per_s")
+    alpha = None if alpha is None else require_finite_positive(f"{source}: sidecar field 'alpha_per_s'", alpha)
+    sensor = sidecar.get("sensor", {})
+    if not isinstance(sensor, dict):
+        raise InputError(f"{source}: sidecar field 'sensor' must be an object")
+    noise = sensor.get("noise_std_m")
+    noise = None if noise is None else require_finite_positive(f"{source}: sidecar field 'sensor.noise_std_m'", noise)
+    tol = sidecar.get("tolerances", {}).get("E_Pa", DEFAULT_E_TOLERANCE)
+    if not isinstance(tol, (int, float)) or not 0.0 <= tol < 1.0:
+        raise InputError(f"{source}: sidecar field 'tolerances.E_Pa' must be a relative tolerance in [0, 1), got {tol!r}")
+    exp = Experiment(kind=kind, finger=finger, force_N=force, duration_s=duration, start_s=start, alpha_per_s=alpha,
+                     noise_std_m=noise, E_tolerance=float(tol), record=record)
+    check_plausible(exp)
+    return exp
+
+
+def check_plausible(exp: Experiment):
+    """Reject records whose units cannot be right for the declared finger (module docstring)."""
+    src = exp.record.source
+    y = exp.displacement_m
+    limit = MAX_DISPLACEMENT_FRACTION * exp.finger.length_m
+    if np.max(np.abs(y)) > limit:
+        raise InputError(f"{src}: tip_displacement_m reaches {np.max(np.abs(y)):.4g} m, more than half the "
+                         f"{exp.finger.length_m:.4g} m finger ({limit:.4g} m): not metres, or not this finger")
+    dt = float(np.max(np.diff(exp.time_s)))
+    period = 2.0 * np.pi / exp.finger.omega1_rad_s(1.0 + exp.E_tolerance)
+    if dt > period / 4.0:
+        raise InputError(f"{src}: time_s steps up to {dt:.4g} s, more than a quarter of the declared finger's first "
+                         f"period ({period:.4g} s): not seconds, or too coarse to calibrate")
+    f = exp.record.force_N
+    if exp.kind == "impulse" and f is not None:
+        peak = float(np.max(np.abs(f)))
+        if abs(peak - exp.force_N) > FORCE_PEAK_TOLERANCE * exp.force_N:
+            raise InputError(f"{src}: force_N column peaks at {peak:.4g} N but sidecar field 'load.force_N' is "
+                             f"{exp.force_N:.4g} N (allowed: within {FORCE_PEAK_TOLERANCE:.0%})")

@@ -1,0 +1,139 @@
+"""Closing the loop: fit the declared model, read its residual, add the missing effects.
+
+1. Baseline: alpha and E (within tolerance) fitted (:func:`calibrate.fit.fit_baseline`).
+2. Residual analysis (:mod:`calibrate.residual`): signatures and suggested effects.
+3. Every catalogued effect not yet in the model is refitted together with it.
+4. Selection: the candidate with the lowest training BIC wins if it lowers BIC by more
+   than ``BIC_MARGIN`` and lowers the held-out RMS error; it is added, refitted on the
+   whole record, and the search repeats. The search stops when the residual is at the
+   noise level (chi-square test: RMS(r)^2 / sigma^2 <= 1 + ``NOISE_Z`` sqrt(2 / n)), when no
+   candidate wins, or after ``MAX_EFFECTS`` effects.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from .experiment import Experiment
+from .fit import Fit, fit, fit_baseline
+from .model import CATALOGUE, FingerModel
+from .residual import analyse, noise_std, suggest
+
+BIC_MARGIN = 10.0
+"""Minimum BIC decrease to add an effect ("very strong" evidence on Kass & Raftery's scale)."""
+NOISE_Z = 3.0
+MAX_EFFECTS = 3
+
+
+@dataclass(frozen=True)
+class Round:
+    """One selection round: the model it started from, its residual signatures and
+    suggestions, every candidate's fit, and the effect added (None: stop) with why."""
+
+    start: Fit
+    evidence: dict
+    suggested: list
+    candidates: dict
+    added: str | None
+    reason: str
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """Result of :func:`calibrate`: baseline and final fits, rounds, noise std [m]."""
+
+    experiment: Experiment
+    model: FingerModel
+    baseline: Fit
+    final: Fit
+    rounds: list
+    noise_std_m: float
+
+    @property
+    def noise_floor_nrmse(self):
+        return self.noise_std_m / float(np.ptp(self.experiment.displacement_m))
+
+
+def at_noise_level(f: Fit, sigma, n):
+    """True when the residual is explained by noise of std ``sigma`` (module docstring)."""
+    return (f.rms_m / sigma) ** 2 <= 1.0 + NOISE_Z * np.sqrt(2.0 / n)
+
+
+def _candidate_starts(name):
+    """Extra starting values for effects whose fit has several local minima."""
+    if name == "viscoelastic":
+        return ({"prony_tau_s": 0.01}, {"prony_tau_s": 0.3})
+    return ()
+
+
+def calibrate(exp: Experiment, candidates=None, progress=None):
+    """Run the loop on ``exp`` over ``candidates`` (default: the whole catalogue)."""
+    model = FingerModel(exp)
+    names = list(CATALOGUE) if candidates is None else list(candidates)
+    sigma = noise_std(exp)
+    n = len(exp.time_s)
+    current = baseline = fit_baseline(model)
+    rounds = []
+    while True:
+        evidence = analyse(model, current)
+        suggested = suggest(evidence)
+        if at_noise_level(current, sigma, n):
+            rounds.append(Round(current, evidence, suggested, {}, None,
+                                f"residual at the noise level (RMS {evidence['rms_over_noise']:.3f} sigma)"))
+            break
+        if len(current.effects) >= MAX_EFFECTS:
+            rounds.append(Round(current, evidence, suggested, {}, None, f"{MAX_EFFECTS} effects added: stop"))
+            break
+        tried = {}
+        for name in names:
+            if name in current.effects:
+                continue
+            if progress:
+                progress(f"round {len(rounds) + 1}: {'+'.join(current.effects + (name,))}")
+            tried[name] = fit(model, current.effects + (name,), start=current.values,
+                              extra_starts=_candidate_starts(name))
+        better = {k: f for k, f in tried.items() if f.holdout_rms_m < current.holdout_rms_m}
+        best = min(better, key=lambda k: better[k].bic, default=None)
+        if best is None or better[best].bic > current.bic - BIC_MARGIN:
+            gain = "" if best is None else f" (best: {best}, BIC {better[best].bic - current.bic:+.1f})"
+            rounds.append(Round(current, evidence, suggested, tried, None,
+                                f"no candidate lowers BIC by {BIC_MARGIN:g} and the held-out error{gain}"))
+            break
+        rounds.append(Round(current, evidence, suggested, tried, best,
+                            f"BIC {better[best].bic - current.bic:+.1f}, held-out RMS "
+                            f"{current.holdout_rms_m:.3g} -> {better[best].holdout_rms_m:.3g} m"))
+        current = tried[best]
+    return Calibration(experiment=exp, model=model, baseline=baseline, final=current, rounds=rounds,
+                       noise_std_m=sigma)
+
+
+def summary(cal: Calibration):
+    """The JSON result: baseline, effects found (with parameters and standard errors as
+    fitted in their round and in the final model, error after, evidence and the candidates'
+    scores per round), final and noise-floor NRMSE."""
+    found = []
+    fin = cal.final
+    for r in cal.rounds:
+        if r.added is None:
+            continue
+        f = r.candidates[r.added]
+        new = [p for p in f.values if p not in r.start.values]
+        found.append({"name": r.added, "params": {p: f.values[p] for p in new},
+                      "stderr": {p: f.stderr[p] for p in new}, "nrmse_after": f.nrmse,
+                      "params_final": {p: fin.values[p] for p in new},
+                      "stderr_final": {p: fin.stderr[p] for p in new},
+                      "max_error_after_m": f.max_error_m, "why": r.reason,
+                      "suggested_by_residual": dict(r.suggested).get(r.added),
+                      "evidence": r.evidence,
+                      "candidates": {k: {"delta_bic": c.bic - r.start.bic, "holdout_rms_m": c.holdout_rms_m,
+                                         "nrmse": c.nrmse} for k, c in sorted(r.candidates.items(),
+                                                                              key=lambda kv: kv[1].bic)}})
+    last = cal.rounds[-1]
+    b = cal.baseline
+    return {"source": cal.experiment.record.source,
+            "baseline": {"nrmse": b.nrmse, "max_error_m": b.max_error_m, "params": b.values, "stderr": b.stderr},
+            "effects_found": found,
+            "selected_effect": found[0]["name"] if found else None,
+            "final_nrmse": fin.nrmse, "final_max_error_m": fin.max_error_m, "final_params": fin.values,
+            "noise_floor_nrmse": cal.noise_floor_nrmse,
+            "stop_reason": last.reason, "final_evidence": last.evidence,
+            "final_suggestions": [{"effect": k, "reason": why} for k, why in last.suggested]}

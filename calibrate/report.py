@@ -1,0 +1,89 @@
+"""Report of a calibration: figures of the fit and of the residual before and after, the
+residual time series as CSV, and a markdown summary of the evidence.
+
+Files: ``fit.png`` (record, baseline and final model [mm] against time [s]),
+``residual.png`` (residual [mm] against time [s], and its amplitude spectrum [mm] against
+frequency [Hz], before and after), ``residuals.csv`` (time_s, tip_displacement_m,
+baseline_m, final_m) and ``report.md``.
+"""
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from fea.outputs import write_csv, write_figure, write_text
+
+from .loop import Calibration
+
+
+def _figures(cal: Calibration):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    t = cal.experiment.time_s
+    y = cal.experiment.displacement_m
+    base, final = cal.baseline.prediction, cal.final.prediction
+    label = "+".join(cal.final.effects) or "baseline"
+    fit_fig, ax = plt.subplots(figsize=(7.5, 4.0))
+    ax.plot(t, 1e3 * y, ".", ms=2, color="0.6", label="record")
+    ax.plot(t, 1e3 * base, "-", lw=1.0, label=f"baseline (NRMSE {cal.baseline.nrmse:.2%})")
+    ax.plot(t, 1e3 * final, "--", lw=1.0, label=f"{label} (NRMSE {cal.final.nrmse:.2%})")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("tip displacement [mm]")
+    ax.legend(fontsize=8)
+    fit_fig.tight_layout()
+    res_fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.5, 6.0))
+    dt = float(np.median(np.diff(t)))
+    f = np.fft.rfftfreq(len(t), d=dt)
+    for pred, name in ((base, "baseline"), (final, label)):
+        r = y - pred
+        a1.plot(t, 1e3 * r, lw=0.6, label=f"{name}: RMS {1e3 * np.sqrt(np.mean(r**2)):.3g} mm")
+        a2.semilogy(f, 1e3 * 2.0 * np.abs(np.fft.rfft(r)) / len(r), lw=0.6, label=name)
+    a1.axhline(1e3 * cal.noise_std_m, color="k", lw=0.5, ls=":", label="noise std")
+    a1.axhline(-1e3 * cal.noise_std_m, color="k", lw=0.5, ls=":")
+    a1.set_xlabel("time [s]")
+    a1.set_ylabel("residual [mm]")
+    a1.legend(fontsize=8)
+    a2.set_xlabel("frequency [Hz]")
+    a2.set_ylabel("residual amplitude [mm]")
+    a2.set_xlim(0.0, min(f[-1], 100.0))
+    a2.legend(fontsize=8)
+    res_fig.tight_layout()
+    return fit_fig, res_fig
+
+
+def _markdown(summary):
+    b = summary["baseline"]
+    lines = [f"# Calibration of {summary['source']}", "",
+             f"Noise floor NRMSE {summary['noise_floor_nrmse']:.4%}.", "",
+             "| model | NRMSE | max error [m] |", "|---|---|---|",
+             f"| baseline | {b['nrmse']:.4%} | {b['max_error_m']:.4g} |"]
+    for e in summary["effects_found"]:
+        lines.append(f"| + {e['name']} | {e['nrmse_after']:.4%} | {e['max_error_after_m']:.4g} |")
+    lines += ["", "Baseline parameters: " + ", ".join(f"{k} = {v:.5g} +- {b['stderr'][k]:.2g}"
+                                                     for k, v in b["params"].items()), ""]
+    if not summary["effects_found"]:
+        lines += ["No effect added: " + summary["stop_reason"] + ".", ""]
+    for e in summary["effects_found"]:
+        lines += [f"## {e['name']}", "",
+                  ", ".join(f"{k} = {v:.5g} +- {e['stderr'][k]:.2g}" for k, v in e["params"].items()), "",
+                  f"Selected: {e['why']}. Residual signature: {e['suggested_by_residual'] or 'not flagged'}.", "",
+                  "| candidate | delta BIC | held-out RMS [m] | NRMSE |", "|---|---|---|---|"]
+        lines += [f"| {k} | {c['delta_bic']:+.1f} | {c['holdout_rms_m']:.4g} | {c['nrmse']:.4%} |"
+                  for k, c in e["candidates"].items()]
+        lines.append("")
+    lines += [f"Stop: {summary['stop_reason']}.", ""]
+    return "\n".join(lines)
+
+
+def write_report(out_dir, cal: Calibration, summary):
+    """Write the report files (module docstring) into ``out_dir``; returns their paths."""
+    out = Path(out_dir)
+    fit_fig, res_fig = _figures(cal)
+    md = _markdown(summary)
+    frame = pd.DataFrame({"time_s": cal.experiment.time_s, "tip_displacement_m": cal.experiment.displacement_m,
+                          "baseline_m": cal.baseline.prediction, "final_m": cal.final.prediction})
+    paths = [write_figure(out / "fit.png", fit_fig), write_figure(out / "residual.png", res_fig),
+             write_csv(out / "residuals.csv", frame), write_text(out / "report.md", md)]
+    return paths

@@ -1,0 +1,150 @@
+"""``ccedi calibrate``: the sidecar loader's errors, the model against physics, the CLI's
+JSON keys, and bad data leaving no file behind."""
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from calibrate.beam import CantileverRitz
+from calibrate.dynamics import integrate_tip
+from calibrate.experiment import load_experiment
+from calibrate.synthetic import Truth, beam_response, declared_finger
+from fea.beam_theory import cantilever_frequencies, ellipse_section_properties
+from fea.cli import main
+from fea.errors import InputError
+from fea.units import inch_to_m
+from rom.modal import ModalROM, nrmse
+
+DATA = Path(__file__).parents[1] / "data" / "measured"
+RECORD = "time_delay_low"
+AREA, INERTIA = ellipse_section_properties()
+LENGTH = inch_to_m(8.0)
+
+
+@pytest.fixture
+def record(tmp_path):
+    """A copy of one bundled record and its sidecar in tmp_path: (csv path, sidecar dict)."""
+    csv = tmp_path / "rec.csv"
+    shutil.copy(DATA / f"{RECORD}.csv", csv)
+    return csv, json.loads((DATA / f"{RECORD}.json").read_text())
+
+
+def _write(csv, meta, frame=None):
+    csv.with_suffix(".json").write_text(json.dumps(meta))
+    if frame is not None:
+        frame.to_csv(csv, index=False)
+
+
+def test_ritz_modes_match_euler_bernoulli_and_tip_mass_lowers_them():
+    ritz = CantileverRitz(LENGTH, 1000.0 * AREA, INERTIA)
+    modes = ritz.modes(6.1e6, n_modes=3)
+    assert modes.omega_rad_s == pytest.approx(cantilever_frequencies(6.1e6, 1000.0, LENGTH, AREA, INERTIA, 3), rel=1e-6)
+    assert np.sum(modes.tip**2 / modes.omega_rad_s**2) == pytest.approx(LENGTH**3 / (3 * 6.1e6 * INERTIA), rel=2e-3)
+    assert modes.static_sag_per_g == pytest.approx(1000.0 * AREA * LENGTH**4 / (8 * 6.1e6 * INERTIA), rel=1e-3)
+    heavy = ritz.modes(6.1e6, n_modes=3, tip_mass_kg=0.01)
+    soft = ritz.modes(6.1e6, n_modes=3, root_stiffness=1.0)
+    assert np.all(heavy.omega_rad_s < modes.omega_rad_s) and np.all(soft.omega_rad_s < modes.omega_rad_s)
+    # a rigid clamp is the limit of a stiff root spring
+    assert ritz.modes(6.1e6, 3, root_stiffness=1e7).omega_rad_s == pytest.approx(modes.omega_rad_s, rel=1e-5)
+
+
+def test_rk4_matches_the_exact_pulse_response():
+    modes = CantileverRitz(LENGTH, 1000.0 * AREA, INERTIA).modes(6.1e6)
+    t = np.arange(2001) * 1e-3
+    zeta = 4.0 / (2.0 * modes.omega_rad_s)
+    exact = ModalROM(modes.omega_rad_s, modes.tip**2, zeta_fitted=zeta).pulse_response(t, 1.0, 0.01)
+    assert nrmse(integrate_tip(t, modes, zeta, 1.0, 0.01), exact) < 1e-4
+
+
+@pytest.mark.parametrize("effects, kwargs", [({}, {}), ({"tip_mass": {"tip_mass_kg": 0.008}}, {"tip_mass_kg": 0.008}),
+                                             ({"root_compliance": {"root_stiffness_N_m_rad": 2.0}},
+                                              {"root_stiffness": 2.0})])
+def test_generator_and_calibration_model_agree_on_linear_physics(effects, kwargs):
+    """The FE-beam generator and the Ritz model are independent paths to the same beam."""
+    t, w = beam_response(Truth(1.0, 4.0, 1.0, effects), LENGTH, 6.1e6 * INERTIA, 1000.0 * AREA, t_end_s=0.5)
+    modes = CantileverRitz(LENGTH, 1000.0 * AREA, INERTIA).modes(6.1e6, **kwargs)
+    rom = ModalROM(modes.omega_rad_s, modes.tip**2, zeta_fitted=4.0 / (2.0 * modes.omega_rad_s))
+    assert nrmse(rom.pulse_response(t[::40], 1.0, 0.01), w[::40]) < 1e-3
+
+
+@pytest.mark.parametrize("edit, match", [
+    (lambda m: m["finger"].pop("E_Pa"), "finger.E_Pa"),
+    (lambda m: m["finger"].pop("length_in"), "finger.length_in"),
+    (lambda m: m["finger"].update(nu=0.7), "finger.nu"),
+    (lambda m: m["finger"].update(section_semi_axes_m=[0.012]), "finger.section_semi_axes_m"),
+    (lambda m: m.update(kind="pluck"), "'kind'"),
+    (lambda m: m["load"].update(at="root"), "load.at"),
+    (lambda m: m["load"].pop("duration_s"), "load.duration_s"),
+    (lambda m: m["load"].update(force_N=-1.0), "load.force_N"),
+    (lambda m: m["sensor"].update(noise_std_m="small"), "sensor.noise_std_m"),
+    (lambda m: m.update(tolerances={"E_Pa": 1.5}), "tolerances.E_Pa"),
+    (lambda m: m["load"].update(force_N=3.0), "force_N column peaks"),
+])
+def test_sidecar_errors_name_the_field_and_write_nothing(record, edit, match, tmp_path, capsys):
+    csv, meta = record
+    edit(meta)
+    _write(csv, meta)
+    with pytest.raises(InputError, match=match):
+        load_experiment(csv)
+    out = tmp_path / "out.json"
+    assert main(["calibrate", str(csv), "--json", str(out), "--report", str(tmp_path / "rep")]) == 1
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and "error" in err
+    assert not out.exists() and not (tmp_path / "rep").exists()
+
+
+def _bad_frames(frame):
+    nan = frame.copy()
+    nan.loc[100, "tip_displacement_m"] = np.nan
+    back = frame.copy()
+    back.loc[50, "time_s"] = back.loc[40, "time_s"]
+    huge = frame.copy()
+    huge["tip_displacement_m"] *= 250.0                         # a 5 m tip deflection of a 0.2 m finger
+    slow = frame.copy()
+    slow["time_s"] *= 1000.0                                    # milliseconds written as seconds
+    return [(nan, "row 101"), (back, "strictly increasing"), (huge, "half the"), (slow, "quarter")]
+
+
+@pytest.mark.parametrize("case", range(4))
+def test_bad_samples_and_impossible_units_are_refused(record, case, tmp_path):
+    csv, meta = record
+    frame, match = _bad_frames(pd.read_csv(csv))[case]
+    _write(csv, meta, frame)
+    with pytest.raises(InputError, match=match):
+        load_experiment(csv)
+    out = tmp_path / "out.json"
+    assert main(["calibrate", str(csv), "--json", str(out)]) == 1
+    assert not out.exists()
+
+
+def test_missing_sidecar_is_named(record, tmp_path):
+    csv, _ = record
+    with pytest.raises(InputError, match="sidecar not found"):
+        load_experiment(csv)
+
+
+def test_declared_finger_is_what_the_sidecars_say():
+    meta = json.loads((DATA / f"{RECORD}.json").read_text())
+    assert meta["finger"] == declared_finger()
+
+
+def test_cli_writes_the_issue_keys_and_the_report(record, tmp_path):
+    csv, meta = record
+    _write(csv, meta)
+    out = tmp_path / "out.json"
+    rep = tmp_path / "rep"
+    assert main(["calibrate", str(csv), "--meta", str(csv.with_suffix(".json")), "--json", str(out),
+                 "--report", str(rep)]) == 0
+    result = json.loads(out.read_text())
+    assert {"baseline", "effects_found", "selected_effect", "final_nrmse", "noise_floor_nrmse"} <= set(result)
+    assert {"nrmse", "params"} <= set(result["baseline"])
+    for e in result["effects_found"]:
+        assert {"name", "params", "nrmse_after"} <= set(e)
+    assert result["selected_effect"] == "time_delay"
+    assert result["final_nrmse"] <= result["baseline"]["nrmse"]
+    assert sorted(p.name for p in rep.iterdir()) == ["fit.png", "report.md", "residual.png", "residuals.csv"]
+    frame = pd.read_csv(rep / "residuals.csv")
+    assert list(frame.columns) == ["time_s", "tip_displacement_m", "baseline_m", "final_m"]
