@@ -1,6 +1,7 @@
 """Result files written atomically (temporary file, then rename), so an interrupted run
 never leaves a half-written output behind."""
 import json
+import math
 import os
 import tempfile
 from pathlib import Path
@@ -21,11 +22,25 @@ def _atomic_write(path, write):
     return path
 
 
+def _json_safe(value):
+    """``value`` with numpy scalars made plain and NaN/inf replaced by None (null), so the
+    file is valid JSON that any reader accepts."""
+    if isinstance(value, dict):
+        return {k: _json_safe(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_json_safe(v) for v in value]
+    if hasattr(value, "item") and getattr(value, "ndim", 1) == 0:
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
 def write_json(path, data):
-    """Write ``data`` as indented JSON."""
+    """Write ``data`` as indented JSON (non-finite numbers become null)."""
     def write(tmp):
         with open(tmp, "w") as fh:
-            json.dump(data, fh, indent=2, sort_keys=False)
+            json.dump(_json_safe(data), fh, indent=2, sort_keys=False, allow_nan=False)
             fh.write("\n")
     return _atomic_write(path, write)
 

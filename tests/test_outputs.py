@@ -47,3 +47,11 @@ def test_cli_reports_bad_input_in_one_line(capsys):
     assert main(["impulse", "--alpha", "-5", "--t-end-s", "0.001", "--out", "/nonexistent/x"]) == 1
     err = capsys.readouterr().err
     assert "alpha" in err and "Traceback" not in err
+
+
+def test_json_output_is_strict_json(tmp_path):
+    """NaN and infinity become null, numpy scalars plain numbers: any JSON reader accepts the file."""
+    from fea.outputs import write_json
+    path = write_json(tmp_path / "x.json", {"a": float("nan"), "b": [np.float64(2.5), np.inf], "c": np.int64(3)})
+    assert json.loads(path.read_text(), parse_constant=lambda c: pytest.fail(f"non-JSON constant {c}")) == \
+        {"a": None, "b": [2.5, None], "c": 3}
