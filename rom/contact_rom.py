@@ -42,7 +42,7 @@ class ReducedContactModel:
         if fit:
             chain = fit_tip_stiffness(chain, fe_tip_stiffness(mesh, setup.finger_material))
         self.chain = chain
-        self.stress = stress_recovery(chain)
+        self.stress = stress_recovery(chain, setup.finger_material)
         self.omega_max_rad_s = float(chain_frequencies(chain)[-1])
         self.dt_s = stable_step(self.omega_max_rad_s)
         self.contact_stiffness_N_m = contact_point_stiffness(chain.mass_kg, chain.inertia_kg_m2,
@@ -76,6 +76,9 @@ class ReducedContactModel:
         wall = time.perf_counter() - wall0
         if status:
             raise SolverError(f"reduced model diverged (non-finite state) at step {steps + 1}")
+        if np.isnan(stress).any():
+            raise SolverError(f"stress recovery inverts an element at t = {t_out[np.isnan(stress)][0]:.4g} s: "
+                              "the deformation is beyond the reduced model's range")
         phi = s.theta0_rad + s.omega_rad_s * t_out
         tip = P_out[:, -1]
         tip_x = np.cos(phi) * tip[:, 0] - np.sin(phi) * tip[:, 1]
@@ -103,4 +106,4 @@ class ReducedContactModel:
         f, m = np.zeros((len(st), 2)), np.zeros(len(st))
         for k in range(len(P_out)):
             _internal_forces(P_out[k, st], TH_out[k, st], l0, np.zeros((len(l0), 3, 3)), self.nonlinear, f, m, e[k])
-        return self.stress.max_von_mises(e)
+        return self.stress.max_von_mises(e, nonlinear=self.nonlinear)
