@@ -177,8 +177,7 @@ def _nlp(problem: DesignProblem, extra=None):
             lbg.append(0.0)
             ubg.append(np.inf)
     nlp = {"x": u, "f": problem.J(out), "g": ca.vertcat(*g)}
-    opts = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.tol": 1e-10,
-            "ipopt.bound_push": 1e-9, "ipopt.bound_frac": 1e-9,
+    opts = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.tol": 1e-10, "ipopt.mu_init": 1e-5,
             "ipopt.max_iter": 200}
     return ca.nlpsol("design", "ipopt", nlp, opts), lbg, ubg
 
@@ -215,7 +214,7 @@ def solve(problem: DesignProblem, n_starts=8, extra=None, starts=None):
         n_ok += 1
         f = float(sol["f"])
         if best is None or f < best[0]:
-            best = (f, np.array(sol["x"]).ravel(), stats)
+            best = (f, np.clip(np.array(sol["x"]).ravel(), -1.0, 1.0), stats)
     wall = time.perf_counter() - t0
     if best is None:
         if all(s == "Infeasible_Problem_Detected" for s in statuses):

@@ -138,8 +138,10 @@ class Surrogate:
         return self.unit_expressions([v.to_unit(x) for v, x in zip(self.variables, xs)])
 
     def unit_expressions(self, us):
-        """{output: expression} at the unit coordinates ``us`` of the variables."""
-        u = ca.vertcat(*us)
+        """{output: expression} at the unit coordinates ``us`` of the variables (clamped to
+        [-1, 1]: the B-spline is zero outside its knots, and IPOPT may step 1e-8 beyond a
+        bound)."""
+        u = ca.fmin(ca.fmax(ca.vertcat(*us), -1.0), 1.0)
         return {name: f(u) for name, f in self.interpolants.items()}
 
     def evaluate(self, X):
