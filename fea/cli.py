@@ -4,7 +4,8 @@ Sub-commands:
   table1   the paper's Table 1 for SM-A and SM-B (nodes, elements, time step, stiffness)
   impulse  impulse response of the SM-A finger for several alpha (paper Fig. 7), CSV + plot
   contact, contact-sweep  the finger on the drum over the object (paper 3.3-3.4)
-and the sub-commands of :mod:`rom.cli` (identify, damping-fits) and :mod:`calibrate.cli` (calibrate).
+and the sub-commands of :mod:`rom.cli` (identify, damping-fits) and :mod:`calibrate.cli` (calibrate)
+and :mod:`design.cli` (design).
 """
 import argparse
 import sys
@@ -179,6 +180,8 @@ def build_parser():
     add_rom_parsers(sub)
     from calibrate.cli import add_parsers as add_calibrate_parsers
     add_calibrate_parsers(sub)
+    from design.cli import add_parsers as add_design_parsers
+    add_design_parsers(sub)
     return p
 
 

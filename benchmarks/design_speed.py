@@ -1,0 +1,41 @@
+"""Speed of the design optimiser (issue 6, acceptance 3: the whole Pareto front in < 60 s).
+
+Surrogate build: the 15 x 11 ROM grid over alpha in [1, 600] 1/s and L in [3, 8] in,
+run afresh (no cache), plus the B-spline fit. Optimisation: the weighted optimum
+(weights 1,1,1, 8 IPOPT starts) and the 24-point epsilon-constraint Pareto front on
+that surrogate.
+
+Run: ``.venv/bin/python benchmarks/design_speed.py``; writes benchmarks/design_speed.json.
+"""
+import time
+from pathlib import Path
+
+from design.optimise import DesignProblem, solve
+from design.pareto import pareto_front
+from design.surrogate import Surrogate, design_space, grid_points, run_rom
+from fea.drum import DrumSetup
+
+from _output import report  # benchmarks/ is on sys.path when run as a script
+
+OUT = Path(__file__).with_suffix(".json")
+
+
+def main():
+    space = design_space()
+    t0 = time.perf_counter()
+    grid = run_rom(DrumSetup(), grid_points(space, (15, 11)))
+    t1 = time.perf_counter()
+    surrogate = Surrogate.fit(space, grid)
+    t2 = time.perf_counter()
+    problem = DesignProblem(surrogate, weights=(1.0, 1.0, 1.0))
+    solve(problem)
+    front = pareto_front(problem, n_points=24)
+    t3 = time.perf_counter()
+    report({"rom_grid_runs": len(grid), "rom_grid_wall_time_s": round(t1 - t0, 2),
+            "surrogate_fit_wall_time_s": round(t2 - t1, 3),
+            "optimum_and_pareto_wall_time_s": round(t3 - t2, 3), "pareto_points": len(front),
+            "whole_front_incl_grid_s": round(t3 - t0, 2), "target_s": 60.0}, OUT)
+
+
+if __name__ == "__main__":
+    main()

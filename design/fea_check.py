@@ -1,0 +1,44 @@
+"""Re-check of recommended designs with a full model run (by default the explicit FEA,
+:class:`fea.drum.FullContactModel`): the same design outputs
+(:func:`design.objectives.design_outputs`) from the full model beside the surrogate's,
+with relative errors (surrogate - full) / full."""
+import time
+
+from fea.drum import DrumSetup, FullContactModel, ObjectStress
+from fea.units import m_to_inch
+
+from .objectives import OUTPUT_STEP_S, design_outputs, run_time_s, setup_for_length
+
+BREAKAWAY_MARGIN_S = 0.05
+"""Extra simulated time beyond the surrogate's predicted breakaway [s], in case the full
+model lets go later."""
+
+
+def _full_fea(setup):
+    return FullContactModel(setup, object_stress=False)
+
+
+def fea_check(setup: DrumSetup, designs, objective_outputs, model_factory=_full_fea, progress=print):
+    """For each :class:`design.optimise.Design`: run ``model_factory(setup at its length)``
+    at its alpha up to the predicted breakaway + margin + 0.5 s and compare. Returns a
+    list of dicts (``alpha_per_s``, ``length_in``, ``surrogate``, ``fea``,
+    ``relative_error`` per objective, ``wall_time_s``)."""
+    stress = ObjectStress(setup)
+    rows = []
+    for d in designs:
+        s = setup_for_length(setup, d.length_m)
+        end = d.outputs["contact_start_s"] + d.outputs["contact_duration_s"] + BREAKAWAY_MARGIN_S
+        t_end = run_time_s(end)
+        t0 = time.perf_counter()
+        res = model_factory(s).run(d.alpha_per_s, t_end_s=t_end, n_outputs=int(round(t_end / OUTPUT_STEP_S)))
+        full = design_outputs(s, res.history, stress)
+        wall = time.perf_counter() - t0
+        keys = tuple(objective_outputs) + ("contact_start_s", "max_finger_stress_Pa")
+        rel = {k: (None if full[k] in (None, 0.0) else (d.outputs[k] - full[k]) / abs(full[k])) for k in keys}
+        rows.append({"alpha_per_s": d.alpha_per_s, "length_in": m_to_inch(d.length_m),
+                     "surrogate": {k: d.outputs[k] for k in keys}, "fea": {k: full[k] for k in keys},
+                     "relative_error": rel, "wall_time_s": wall})
+        if progress:
+            progress(f"FEA check alpha = {d.alpha_per_s:.4g} 1/s, L = {m_to_inch(d.length_m):.3g} in ({wall:.0f} s): "
+                     + ", ".join(f"{k} {v:+.1%}" for k, v in rel.items() if v is not None))
+    return rows

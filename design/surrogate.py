@@ -1,0 +1,215 @@
+"""A smooth surrogate of the contact ROM's design outputs over the design variables.
+
+The ROM (:class:`rom.contact_rom.ReducedContactModel`) is run on a tensor grid of the
+design variables (:class:`Variable`: alpha log-spaced, length linear); each output of
+:data:`design.objectives.OUTPUTS` is then interpolated by a tensor-product cubic
+B-spline (casadi ``interpolant``, "bspline") in the unit coordinates
+
+    u = 2 (z - z_lo) / (z_hi - z_lo) - 1 in [-1, 1],  z = ln(alpha) or L,
+
+which passes through the grid values and is C2, so IPOPT gets exact first and second
+derivatives. (A least-squares polynomial was tried first: it smeared the ROM's sharp
+rise of the peak force of under-damped 4.5-5.5-in fingers over the whole alpha range
+and predicted 10 N where the ROM gives 14.5 N.) A further set of ROM runs off the grid
+measures the interpolation error (:func:`validation_errors`).
+
+More variables (cross-section, drum speed) only need another :class:`Variable` and a
+way to set them on the :class:`fea.drum.DrumSetup` (:func:`run_rom`).
+"""
+import itertools
+import json
+import time
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+import pandas as pd
+
+from fea.drum import DrumSetup, ObjectStress
+from fea.errors import InputError
+from fea.outputs import write_csv, write_json
+from fea.units import inch_to_m
+from rom.contact_rom import ReducedContactModel
+
+from .objectives import (FORCE_WINDOW_S, OUTPUTS, OUTPUT_STEP_S, RESIDUAL_WINDOW_S, design_outputs, rom_segments,
+                         setup_for_length)
+
+GRID_T_END_S = 1.9
+"""Simulated time of the grid runs [s]: the latest breakaway in the default space
+(8-in finger, alpha = 7.5 1/s) is at ~1.26 s, plus the 0.5 s residual window."""
+
+
+def _is_symbolic(x):
+    return isinstance(x, (ca.SX, ca.MX))
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One design variable: ``name`` (with its unit), bounds [lo, hi] in SI, and whether
+    the surrogate works in its logarithm."""
+
+    name: str
+    lo: float
+    hi: float
+    log: bool = False
+
+    def to_unit(self, x):
+        """u in [-1, 1] for the value(s) ``x`` (numpy or casadi)."""
+        f = (ca.log if _is_symbolic(x) else np.log) if self.log else (lambda v: v)
+        return 2.0 * (f(x) - f(self.lo)) / (f(self.hi) - f(self.lo)) - 1.0
+
+    def from_unit(self, u):
+        """The value for unit coordinate(s) ``u`` (inverse of :meth:`to_unit`; numpy or casadi)."""
+        u = u if _is_symbolic(u) else np.asarray(u, dtype=float)
+        if self.log:
+            exp = ca.exp if _is_symbolic(u) else np.exp
+            return exp(np.log(self.lo) + 0.5 * (u + 1.0) * (np.log(self.hi) - np.log(self.lo)))
+        return self.lo + 0.5 * (u + 1.0) * (self.hi - self.lo)
+
+    def grid(self, n):
+        """``n`` values from lo to hi, evenly spaced in the surrogate's coordinate."""
+        return self.from_unit(np.linspace(-1.0, 1.0, n))
+
+
+def design_space(alpha_bounds_per_s=(1.0, 600.0), length_bounds_in=(3.0, 8.0)):
+    """The (alpha [1/s], L [m]) variables of issue 6 (lengths given in inches)."""
+    (a_lo, a_hi), (l_lo, l_hi) = alpha_bounds_per_s, length_bounds_in
+    if not 0.0 < a_lo < a_hi:
+        raise InputError(f"alpha bounds must satisfy 0 < lo < hi [1/s], got {alpha_bounds_per_s}")
+    if not 0.0 < l_lo < l_hi:
+        raise InputError(f"length bounds must satisfy 0 < lo < hi [in], got {length_bounds_in}")
+    return (Variable("alpha_per_s", a_lo, a_hi, log=True),
+            Variable("length_m", inch_to_m(l_lo), inch_to_m(l_hi)))
+
+
+def _fill_undefined(V, U):
+    """``V`` (grid values, NaN where undefined) with each NaN replaced by the value at
+    the nearest defined grid point (distance in unit coordinates); all-NaN -> zeros."""
+    ok = np.isfinite(V)
+    if not ok.any():
+        return np.zeros_like(V)
+    if ok.all():
+        return V
+    pts = np.stack([u.ravel() for u in U], axis=1)
+    d = ((pts[~ok.ravel(), None, :] - pts[None, ok.ravel(), :]) ** 2).sum(-1)
+    out = V.ravel().copy()
+    out[~ok.ravel()] = V.ravel()[ok.ravel()][np.argmin(d, axis=1)]
+    return out.reshape(V.shape)
+
+
+class Surrogate:
+    """Cubic B-spline interpolants (casadi ``interpolant``, 'bspline') of the design
+    outputs through the ROM grid, in the unit coordinates of ``variables``.
+
+    ``axes``: the grid's unit coordinates per variable; ``values[name]``: the grid values
+    (shape of the grid; undefined entries, e.g. the contact start of a run without
+    contact, filled from the nearest defined grid point). :meth:`expressions` gives casadi
+    expressions (exact first and second derivatives), :meth:`evaluate` numpy values."""
+
+    def __init__(self, variables, axes, values):
+        self.variables = tuple(variables)
+        self.axes = [np.asarray(a, dtype=float) for a in axes]
+        self.values = dict(values)
+        self.outputs = tuple(self.values)
+        self.interpolants = {name: ca.interpolant(name, "bspline", self.axes, V.ravel(order="F"))
+                             for name, V in self.values.items()}
+        x = ca.SX.sym("x", len(self.variables))
+        y = self.expressions([x[i] for i in range(len(self.variables))])
+        self.function = ca.Function("surrogate", [x], [ca.vertcat(*y.values())], ["x"], ["y"])
+
+    @classmethod
+    def fit(cls, variables, grid: pd.DataFrame):
+        """Interpolants of every output of :data:`OUTPUTS` through ``grid``, which must be
+        a full tensor grid of the variables (as :func:`grid_points` makes)."""
+        levels = [np.unique(grid[v.name].to_numpy()) for v in variables]
+        shape = tuple(len(lv) for lv in levels)
+        if np.prod(shape) != len(grid) or min(shape) < 4:
+            raise InputError(f"the ROM grid must be a full tensor grid with >= 4 values per variable, got {shape} "
+                             f"for {len(grid)} runs")
+        order = np.lexsort([grid[v.name].to_numpy() for v in reversed(variables)])
+        axes = [v.to_unit(lv) for v, lv in zip(variables, levels)]
+        U = np.meshgrid(*axes, indexing="ij")
+        values = {name: _fill_undefined(grid[name].to_numpy(dtype=float)[order].reshape(shape), U)
+                  for name in OUTPUTS}
+        return cls(variables, axes, values)
+
+    def expressions(self, xs):
+        """{output: expression} at the variable values ``xs`` (casadi or numpy scalars)."""
+        return self.unit_expressions([v.to_unit(x) for v, x in zip(self.variables, xs)])
+
+    def unit_expressions(self, us):
+        """{output: expression} at the unit coordinates ``us`` of the variables (clamped to
+        [-1, 1]: the B-spline is zero outside its knots, and IPOPT may step 1e-8 beyond a
+        bound)."""
+        u = ca.fmin(ca.fmax(ca.vertcat(*us), -1.0), 1.0)
+        return {name: f(u) for name, f in self.interpolants.items()}
+
+    def evaluate(self, X):
+        """{output: values} at the points ``X`` (m, n_variables), SI units."""
+        X = np.atleast_2d(np.asarray(X, dtype=float))
+        Y = np.array(self.function.map(len(X))(X.T)).reshape(len(self.outputs), len(X))
+        return dict(zip(self.outputs, Y))
+
+
+def run_rom(setup: DrumSetup, points, progress=None):
+    """ROM design outputs at ``points`` [(alpha [1/s], L [m]), ...] as a DataFrame (one
+    row per point, columns alpha_per_s, length_m, :data:`OUTPUTS`, wall_time_s); one
+    ROM build per distinct length."""
+    stress = ObjectStress(setup)
+    rows, models = [], {}
+    for alpha, L in points:
+        if L not in models:
+            s = setup_for_length(setup, L)
+            models[L] = (s, ReducedContactModel(s, n_segments=rom_segments(L)))
+        s, rom = models[L]
+        t0 = time.perf_counter()
+        res = rom.run(alpha, t_end_s=GRID_T_END_S, n_outputs=int(round(GRID_T_END_S / OUTPUT_STEP_S)))
+        row = {"alpha_per_s": float(alpha), "length_m": float(L)}
+        row.update(design_outputs(s, res.history, stress))
+        row["wall_time_s"] = time.perf_counter() - t0
+        rows.append(row)
+        if progress:
+            progress(len(rows), len(points))
+    return pd.DataFrame(rows).astype(float)
+
+
+def grid_points(variables, shape):
+    """Tensor grid of the variables, ``shape[i]`` values each (list of tuples)."""
+    return list(itertools.product(*(v.grid(n) for v, n in zip(variables, shape))))
+
+
+def validation_points(variables, n, seed=6):
+    """``n`` points off the grid: uniform random in the unit coordinates (seeded)."""
+    u = np.random.default_rng(seed).uniform(-0.95, 0.95, size=(n, len(variables)))
+    return [tuple(float(v.from_unit(u[i, j])) for j, v in enumerate(variables)) for i in range(n)]
+
+
+def cached_rom_runs(setup: DrumSetup, points, path, progress=None):
+    """:func:`run_rom` results, read from the CSV ``path`` when its sidecar JSON records the
+    same set-up and points, otherwise run and written there (with the sidecar)."""
+    meta = {"setup": repr(setup), "points": [list(map(float, p)) for p in points],
+            "t_end_s": GRID_T_END_S, "output_step_s": OUTPUT_STEP_S, "outputs": list(OUTPUTS),
+            "force_window_s": FORCE_WINDOW_S, "residual_window_s": RESIDUAL_WINDOW_S}
+    sidecar = path.with_suffix(".json")
+    if path.exists() and sidecar.exists() and json.loads(sidecar.read_text()) == meta:
+        return pd.read_csv(path), True
+    frame = run_rom(setup, points, progress)
+    write_csv(path, frame)
+    write_json(sidecar, meta)
+    return frame, False
+
+
+def validation_errors(surrogate: Surrogate, runs: pd.DataFrame):
+    """Surrogate against ROM runs off the grid, per output: max and RMS of the error
+    relative to the output's value, |s - r| / |r| (runs with r undefined or zero left out)."""
+    X = runs[[v.name for v in surrogate.variables]].to_numpy()
+    pred = surrogate.evaluate(X)
+    out = {}
+    for name in surrogate.outputs:
+        r = runs[name].to_numpy(dtype=float)
+        ok = np.isfinite(r) & (np.abs(r) > 0)
+        rel = np.abs(pred[name][ok] - r[ok]) / np.abs(r[ok])
+        out[name] = {"max_relative_error": float(rel.max()) if ok.any() else None,
+                     "rms_relative_error": float(np.sqrt(np.mean(rel**2))) if ok.any() else None,
+                     "n_runs": int(ok.sum())}
+    return out
