@@ -108,13 +108,22 @@ def averaged_contact_force(history):
             _window_mean(t, history.contact_force_y_N.to_numpy()))
 
 
+OBJECT_STRESS_SAMPLES = 12
+"""Outputs at which :func:`max_object_stress_Pa` solves the object (each is a static FE solve)."""
+
+
 def max_object_stress_Pa(object_stress: ObjectStress, history, fx, fy):
     """Largest object von Mises stress [Pa] under the averaged contact force (fx, fy) [N]
-    at the outputs with contact where its magnitude is at least half its peak (force-weighted contact point (x, y, 0))."""
+    at the force-weighted contact point (x, y, 0), over the outputs with contact where the
+    force is at least half its peak: the peak-force output and up to
+    ``OBJECT_STRESS_SAMPLES`` outputs evenly spread over the others."""
     f = np.hypot(fx, fy)
     px, py = history.contact_point_x_m.to_numpy(), history.contact_point_y_m.to_numpy()
     on = history.contact_nodes.to_numpy() > 0
     rows = np.flatnonzero((f >= 0.5 * f.max()) & on & np.isfinite(px) & np.isfinite(py) & (f > 0))
+    if len(rows) > OBJECT_STRESS_SAMPLES:
+        rows = np.union1d(rows[np.linspace(0, len(rows) - 1, OBJECT_STRESS_SAMPLES).astype(int)],
+                          [int(np.argmax(np.where(on, f, 0.0)))])
     return max((object_stress.max_von_mises(np.array([[px[k], py[k], 0.0]]), np.array([[fx[k], fy[k], 0.0]]))
                 for k in rows), default=0.0)
 
