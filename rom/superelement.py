@@ -177,9 +177,15 @@ def station_planes(mesh: Mesh, n_segments):
     return z[np.round(np.linspace(0, len(z) - 1, int(n_segments) + 1)).astype(int)]
 
 
-ROOT_ZONE_DEPTHS = 2.0
-"""Length of the root stress zone in section depths (Saint-Venant: the stress at the clamp
-does not feel how the load enters two depths away)."""
+ROOT_ZONE_DEPTHS = 1.0
+"""Length of the root stress zone in section depths (2 x the half thickness). The zone
+must be long enough that the clamp's stress does not feel how the load enters at its far
+end (Saint-Venant), and short enough that its chord frame follows the bending: the
+recovered field is linear in the chord frame. On the 8-in SM-A finger, one depth (the
+zone then ends at the first station past it, 24 mm) gives the FE clamp stress under a
+static tip load within 1.6 % (36 mm: 0.3 %, 12 mm: +4.4 %); in the contact case the
+36 mm zone's ends turn by +-0.7 rad against its chord and its stress came out 7-11 %
+above the full FEA's, the 24 mm zone's within 1.1 %."""
 
 
 @dataclass(frozen=True)
