@@ -1,0 +1,65 @@
+"""Independent runs (alpha sweeps, alpha_cr over lengths) mapped over a Dask cluster.
+
+``scheduler`` everywhere in ccedi is one of:
+
+* ``"serial"``: in this process, one after the other (no Dask needed);
+* ``"local"``: a ``dask.distributed.LocalCluster`` of ``n_workers`` single-threaded
+  worker processes, started for the call and shut down after it;
+* an address such as ``tcp://10.0.0.5:8786``: an existing Dask scheduler (its workers
+  must have ccedi installed).
+
+Each run is a pure function of its item, computed by the same code in whichever
+process runs it, so the results are identical to the serial ones; they come back in
+input order. A progress bar (tqdm) counts finished runs.
+"""
+from contextlib import ExitStack
+
+from .errors import InputError
+
+SERIAL, LOCAL = "serial", "local"
+CONNECT_TIMEOUT = "10s"
+"""How long to wait for a remote scheduler."""
+LOCAL_WORKERS = 2
+"""Worker processes of the default local cluster (this machine has 2 cores)."""
+
+
+def _client(stack, scheduler, n_workers):
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError:
+        raise InputError("--scheduler needs dask.distributed: pip install 'dask[distributed]' "
+                         "(or use --scheduler serial)") from None
+    if scheduler == LOCAL:
+        cluster = stack.enter_context(LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
+                                                   dashboard_address=None))
+        return stack.enter_context(Client(cluster))
+    try:
+        return stack.enter_context(Client(scheduler, timeout=CONNECT_TIMEOUT))
+    except OSError as err:
+        raise InputError(f"--scheduler {scheduler}: cannot connect ({err})") from None
+
+
+def map_runs(function, items, scheduler=SERIAL, n_workers=LOCAL_WORKERS, label="runs"):
+    """``[function(item) for item in items]``, computed according to ``scheduler`` (see the
+    module docstring). ``function`` must be importable (a module-level function or a
+    ``functools.partial`` of one)."""
+    from tqdm import tqdm
+
+    items = list(items)
+    if scheduler == SERIAL or not items:
+        return [function(item) for item in tqdm(items, desc=label, unit="run", leave=False)]
+    from dask.distributed import as_completed
+
+    with ExitStack() as stack:
+        client = _client(stack, scheduler, n_workers)
+        futures = client.map(function, items, pure=False)
+        for _ in tqdm(as_completed(futures), total=len(futures), desc=label, unit="run", leave=False):
+            pass
+        return client.gather(futures)
+
+
+def add_scheduler_argument(p, default="serial"):
+    """``--scheduler serial|local|ADDRESS`` (see :mod:`fea.distributed`)."""
+    p.add_argument("--scheduler", default=default, metavar="serial|local|ADDRESS",
+                   help="where independent runs go: serial (this process), local (a 2-worker Dask local "
+                        f"cluster) or a Dask scheduler address such as tcp://host:8786 (default {default})")
