@@ -5,7 +5,7 @@ Sub-commands:
   impulse  impulse response of the SM-A finger for several alpha (paper Fig. 7), CSV + plot
   contact, contact-sweep  the finger on the drum over the object (paper 3.3-3.4)
 and the sub-commands of :mod:`rom.cli` (identify, damping-fits) and :mod:`calibrate.cli` (calibrate)
-and :mod:`design.cli` (design).
+and :mod:`design.cli` (design) and :mod:`study.cli` (study, init, export).
 """
 import argparse
 import sys
@@ -185,6 +185,8 @@ def build_parser():
     add_calibrate_parsers(sub)
     from design.cli import add_parsers as add_design_parsers
     add_design_parsers(sub)
+    from study.cli import add_parsers as add_study_parsers
+    add_study_parsers(sub)
     return p
 
 

@@ -62,3 +62,38 @@ def write_text(path, text):
         with open(tmp, "w") as fh:
             fh.write(text)
     return _atomic_write(path, write)
+
+
+def write_parquet(path, frame):
+    """Write a pandas DataFrame as Parquet (needs pyarrow: ``pip install 'ccedi[parquet]'``)."""
+    from .errors import InputError
+
+    try:
+        import pyarrow  # noqa: F401  (pandas' Parquet engine)
+    except ImportError:
+        raise InputError("Parquet output needs pyarrow: pip install pyarrow (or write CSV instead)") from None
+    return _atomic_write(path, lambda tmp: frame.to_parquet(tmp, index=False))
+
+
+def write_table(path, frame):
+    """Write a DataFrame as CSV or Parquet, chosen by the suffix of ``path``."""
+    return (write_parquet if Path(path).suffix == ".parquet" else write_csv)(path, frame)
+
+
+def write_pdf_figures(path, images):
+    """A PDF with one A4 page per (PNG path, caption) in ``images``."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.backends.backend_pdf import PdfPages
+
+    def write(tmp):
+        with PdfPages(tmp) as pdf:
+            for src, caption in images:
+                fig, ax = plt.subplots(figsize=(8.27, 11.69))
+                ax.imshow(plt.imread(src))
+                ax.set_axis_off()
+                ax.set_title(caption, fontsize=9, wrap=True)
+                pdf.savefig(fig)
+                plt.close(fig)
+    return _atomic_write(path, write)
