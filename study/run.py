@@ -66,7 +66,7 @@ def steps(cfg, out, scheduler):
              "--out", out / "contact", "--scheduler", scheduler])),
         ("design", "design optimisation and FEA re-check", lambda: _cli(
             ["design", "--weights", ",".join(f"{w:g}" for w in s["design_weights"]), "--json",
-             out / "design" / "design.json", "--out", out / "design",
+             out / "design" / "design.json", "--out", out / "design", "--scheduler", scheduler,
              *([] if s["design_fea_check"] else ["--no-fea-check"])])),
         ("calibrate", "close the loop on measured records", lambda: [_cli(
             ["calibrate", r, "--json", out / "calibrate" / f"{r.stem}.json", "--report", out / "calibrate" / r.stem])
