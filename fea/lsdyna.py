@@ -2,10 +2,11 @@
 can run the same model, and read back the cards ccedi writes (round-trip check).
 
 Format: LS-DYNA's standard fixed-width fields, 10 characters per field except *NODE
-(node id 8, coordinates 16 each) and *ELEMENT_SOLID / *SET_NODE_LIST (8 each). Numbers
-are written in the shortest form that round-trips exactly and fits the field; a value
-that cannot fit is written with fewer digits (coordinates keep 10 significant digits,
-about 1e-11 m on a finger). Ids are 1-based in the deck, 0-based in ccedi. The reader
+(node id 8, coordinates 16 each), *ELEMENT_SOLID / *ELEMENT_SHELL (8 each) and the
+*DEFINE_CURVE points (20 each). A real number is written in the shortest form that
+round-trips exactly and fits the field less one character (so fields stay separated by
+a blank); one that cannot fit keeps as many significant digits as fit (node coordinates
+to about 1e-13 m on a finger). Ids are 1-based in the deck, 0-based in ccedi. The reader
 also accepts comma-separated (free format) lines.
 
 Cards written (SI units: m, kg, s, N, Pa):
@@ -54,13 +55,13 @@ def _num(value, width=10):
 
 def _card(values, width=10):
     return "".join(v.rjust(width) if isinstance(v, str) else
-                   (str(v).rjust(width) if isinstance(v, (int, np.integer)) else _num(v, width).rjust(width))
+                   (str(v).rjust(width) if isinstance(v, (int, np.integer)) else _num(v, width - 1).rjust(width))
                    for v in values)
 
 
 def _node_line(i, xyz):
     """*NODE card of 0-based node ``i``: id in 8 characters, coordinates [m] in 16."""
-    return f"{i + 1:8d}" + "".join(_num(c, 16).rjust(16) for c in xyz)
+    return f"{i + 1:8d}" + "".join(_num(c, 15).rjust(16) for c in xyz)
 
 
 def _node_set(sid, nodes):
