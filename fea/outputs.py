@@ -64,14 +64,19 @@ def write_text(path, text):
     return _atomic_write(path, write)
 
 
-def write_parquet(path, frame):
-    """Write a pandas DataFrame as Parquet (needs pyarrow: ``pip install 'ccedi[parquet]'``)."""
+def require_parquet():
+    """Raise a one-line InputError unless pandas' Parquet engine (pyarrow) is installed."""
     from .errors import InputError
 
     try:
-        import pyarrow  # noqa: F401  (pandas' Parquet engine)
+        import pyarrow  # noqa: F401
     except ImportError:
         raise InputError("Parquet output needs pyarrow: pip install pyarrow (or write CSV instead)") from None
+
+
+def write_parquet(path, frame):
+    """Write a pandas DataFrame as Parquet (needs pyarrow: ``pip install 'ccedi[parquet]'``)."""
+    require_parquet()
     return _atomic_write(path, lambda tmp: frame.to_parquet(tmp, index=False))
 
 

@@ -15,7 +15,7 @@ def add_parsers(sub):
                        "FEA re-check, calibration -> OUT/index.html")
     s.add_argument("--config", help="study TOML (default: built-in defaults; see ccedi init)")
     s.add_argument("--out", default="reports", help="output directory (default reports)")
-    add_scheduler_argument(s, default="the config's scheduler, local")
+    add_scheduler_argument(s, default=None)
     s.add_argument("--quick", action="store_true", help="a few-minute smoke run of every step (short runs, "
                    "one length, one contact alpha, no FEA re-check)")
     s.add_argument("--only", nargs="+", metavar="STEP", help="run only these steps (table1 steel_rod impulse mesh "
@@ -45,8 +45,7 @@ def cmd_study(args):
     unknown = sorted(set(args.only or ()) - set(STEP_NAMES))
     if unknown:
         raise InputError(f"--only: unknown step {unknown[0]!r} (steps: {' '.join(STEP_NAMES)})")
-    scheduler = None if args.scheduler.startswith("the config") else args.scheduler
-    index = run_study(cfg, args.out, scheduler=scheduler, quick=args.quick, only=args.only)
+    index = run_study(cfg, args.out, scheduler=args.scheduler, quick=args.quick, only=args.only)
     print(f"wrote {index}")
 
 
@@ -79,9 +78,11 @@ def _case(args, t_end_s):
 
 def cmd_export(args):
     from fea.lsdyna import write_keyword
-    from fea.outputs import write_table
+    from fea.outputs import require_parquet, write_table
     from fea.vtu import write_series
 
+    if args.format == "parquet":
+        require_parquet()
     t_end_s = args.t_end_s if args.t_end_s is not None else {"impulse": 0.2, "contact": 1.5}[args.case]
     model, simulate = _case(args, t_end_s)
     if args.format == "lsdyna":

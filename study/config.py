@@ -41,7 +41,7 @@ SCHEMA = {
         "mesh_comparison_t_end_s": Key(float, "s", 1e-3, 2.0, 0.1,
                                        "simulated time of the SM-A / SM-B comparison (Fig. 6)"),
         "mesh_comparison_alpha_per_s": Key(float, "1/s", 0.0, 1e4, 180.0, "alpha of the Fig. 6 comparison"),
-        "identification_lengths_in": Key(float, "in", 1.0, 12.0, [3.0, 4.5, 6.0, 8.0],
+        "identification_lengths_in": Key(float, "in", 1.0, 12.0, [3.0, 4.5, 6.0],
                                          "finger lengths whose alpha_cr is found by CCEDI (Fig. 8)", True),
         "contact_alphas_per_s": Key(float, "1/s", 0.0, 1e4, [7.5, 180.0, 600.0],
                                     "alphas of the drum contact sweep (Figs. 10, 13, 14)", True),

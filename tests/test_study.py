@@ -36,3 +36,22 @@ def test_index_reports_the_numbers_of_the_run_and_marks_missing_steps(tmp_path):
     page = write_index(tmp_path).read_text()
     assert "4.411" in page and "74.35" in page and "tip stiffness [N/m]" in page
     assert page.count("did not run") == 7
+
+
+def test_export_csv_vtu_and_parquet(tmp_path, capsys):
+    import importlib.util
+
+    import pandas as pd
+
+    args = ["export", "--case", "impulse", "--length-in", "3", "--t-end-s", "0.004"]
+    assert main(args + ["--format", "csv", "--out", str(tmp_path / "h.csv")]) == 0
+    h = pd.read_csv(tmp_path / "h.csv")
+    assert {"time_s", "tip_uy_m"} <= set(h.columns) and h.time_s.iloc[-1] >= 0.004
+    assert main(args + ["--format", "vtu", "--out", str(tmp_path / "vtu")]) == 0
+    assert (tmp_path / "vtu" / "impulse.pvd").exists() and list((tmp_path / "vtu").glob("impulse_*.vtu"))
+    rc = main(args + ["--format", "parquet", "--out", str(tmp_path / "h.parquet")])
+    if importlib.util.find_spec("pyarrow") is None:
+        assert rc == 1 and "pyarrow" in capsys.readouterr().err
+        assert not list(tmp_path.glob("*.parquet*"))
+    else:
+        assert rc == 0 and pd.read_parquet(tmp_path / "h.parquet").equals(h)
