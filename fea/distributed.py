@@ -12,6 +12,7 @@ Each run is a pure function of its item, computed by the same code in whichever
 process runs it, so the results are identical to the serial ones; they come back in
 input order. A progress bar (tqdm) counts finished runs.
 """
+import logging
 from contextlib import ExitStack
 
 from .errors import InputError
@@ -31,7 +32,7 @@ def _client(stack, scheduler, n_workers):
                          "(or use --scheduler serial)") from None
     if scheduler == LOCAL:
         cluster = stack.enter_context(LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                                                   dashboard_address=None))
+                                                   dashboard_address=None, silence_logs=logging.CRITICAL))
         return stack.enter_context(Client(cluster))
     try:
         return stack.enter_context(Client(scheduler, timeout=CONNECT_TIMEOUT))

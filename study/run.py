@@ -17,6 +17,7 @@ Every output is written atomically, so an interrupted study (Ctrl-C) leaves the
 finished steps' files and no partial ones; ``study.json`` records each finished step's
 wall time [s].
 """
+import json
 import time
 from pathlib import Path
 
@@ -88,6 +89,8 @@ def run_study(cfg, out, scheduler=None, quick=False, only=None):
     scheduler = scheduler or cfg["study"]["scheduler"]
     todo = [st for st in steps(cfg, out, scheduler) if only is None or st[0] in only]
     record = {"config": cfg, "quick": quick, "scheduler": scheduler, "wall_time_s": {}}
+    if only is not None and (out / "study.json").exists():     # keep the other steps' timings
+        record["wall_time_s"] = json.loads((out / "study.json").read_text())["wall_time_s"]
     bar = tqdm(todo, desc="ccedi study", unit="step")
     for name, description, thunk in bar:
         bar.set_postfix_str(description)
