@@ -102,3 +102,12 @@ def write_pdf_figures(path, images):
                 pdf.savefig(fig)
                 plt.close(fig)
     return _atomic_write(path, write)
+
+
+def remove_temporaries(directory):
+    """Delete the temporary files an interrupted writer left under ``directory`` (those of
+    a process killed before its own clean-up could run); returns how many."""
+    leftovers = [p for p in Path(directory).rglob(".*.tmp") if p.is_file()]
+    for p in leftovers:
+        p.unlink(missing_ok=True)
+    return len(leftovers)

@@ -76,12 +76,44 @@ def steps(cfg, out, scheduler):
 
 
 STEP_NAMES = ("table1", "steel_rod", "impulse", "mesh", "damping_fits", "contact", "design", "calibrate")
+LONGEST_FIRST = ("design", "contact", "damping_fits", "steel_rod", "mesh", "table1", "impulse", "calibrate")
+"""Submission order on a cluster: the longest steps (measured) first."""
+
+
+def _run_step(name, cfg, out, scheduler):
+    """Run the study step ``name`` (on a Dask worker or in this process); its wall time [s]."""
+    thunk = next(t for n, _, t in steps(cfg, out, scheduler) if n == name)
+    t0 = time.perf_counter()
+    thunk()
+    return time.perf_counter() - t0
+
+
+def _distributed(todo, cfg, out, scheduler):
+    """Yield (name, wall time [s]) as the steps finish, each step a task on the cluster
+    (its own sweeps go to the same cluster first, so the workers stay busy)."""
+    from contextlib import ExitStack
+
+    from dask.distributed import as_completed
+
+    from fea.distributed import client
+
+    with ExitStack() as stack:
+        dask = client(stack, scheduler)
+        futures = {dask.submit(_run_step, name, cfg, out, scheduler, key=f"ccedi-study-{name}", pure=False): name
+                   for name, _, _ in todo}
+        for future in as_completed(futures):
+            yield futures[future], future.result()
 
 
 def run_study(cfg, out, scheduler=None, quick=False, only=None):
     """Run the study steps (all, or the names in ``only``) and write ``out/index.html``.
-    Returns the index path."""
+    Serial: one step after another in this process. Otherwise every step is a task on the
+    Dask cluster, longest first, and its runs are mapped over the same cluster. Returns
+    the index path."""
     from tqdm import tqdm
+
+    from fea.distributed import SERIAL
+    from fea.outputs import remove_temporaries
 
     if quick:
         cfg = {sec: {**keys, **QUICK.get(sec, {})} for sec, keys in cfg.items()}
@@ -91,11 +123,16 @@ def run_study(cfg, out, scheduler=None, quick=False, only=None):
     record = {"config": cfg, "quick": quick, "scheduler": scheduler, "wall_time_s": {}}
     if only is not None and (out / "study.json").exists():     # keep the other steps' timings
         record["wall_time_s"] = json.loads((out / "study.json").read_text())["wall_time_s"]
-    bar = tqdm(todo, desc="ccedi study", unit="step")
-    for name, description, thunk in bar:
-        bar.set_postfix_str(description)
-        t0 = time.perf_counter()
-        thunk()
-        record["wall_time_s"][name] = time.perf_counter() - t0
-        write_json(out / "study.json", record)
+    t0 = time.perf_counter()
+    finished = ((name, _run_step(name, cfg, out, scheduler)) for name, _, _ in todo) if scheduler == SERIAL \
+        else _distributed(sorted(todo, key=lambda st: LONGEST_FIRST.index(st[0])), cfg, out, scheduler)
+    try:
+        for name, wall in tqdm(finished, total=len(todo), desc="ccedi study", unit="step"):
+            print(f"ccedi study: {name} done in {wall:.0f} s", flush=True)
+            record["wall_time_s"][name] = wall
+            record["elapsed_s"] = time.perf_counter() - t0
+            write_json(out / "study.json", record)
+    except KeyboardInterrupt:
+        remove_temporaries(out)
+        raise
     return write_index(out)
