@@ -24,6 +24,7 @@ class Key:
     default: object
     help: str
     is_list: bool = False
+    min_items: int = 1
 
 
 SCHEMA = {
@@ -42,7 +43,7 @@ SCHEMA = {
                                        "simulated time of the SM-A / SM-B comparison (Fig. 6)"),
         "mesh_comparison_alpha_per_s": Key(float, "1/s", 0.0, 1e4, 180.0, "alpha of the Fig. 6 comparison"),
         "identification_lengths_in": Key(float, "in", 1.0, 12.0, [3.0, 4.5, 6.0],
-                                         "finger lengths whose alpha_cr is found by CCEDI (Fig. 8)", True),
+                                         "finger lengths whose alpha_cr is found by CCEDI (Fig. 8)", True, 2),
         "contact_alphas_per_s": Key(float, "1/s", 0.0, 1e4, [7.5, 180.0, 600.0],
                                     "alphas of the drum contact sweep (Figs. 10, 13, 14)", True),
         "contact_t_end_s": Key(float, "s", 0.1, 5.0, 1.5, "simulated time of each contact run"),
@@ -67,9 +68,9 @@ def _hint(section, key):
 def _check(section, key, spec, value):
     where = f"[{section}] {key} = {value!r}"
     if spec.is_list:
-        if not isinstance(value, list) or not value:
+        if not isinstance(value, list) or len(value) < spec.min_items:
             unit = f" ({spec.unit})" if spec.unit != "-" else ""
-            raise InputError(f"{where}: must be a non-empty list of {spec.kind.__name__}{unit}")
+            raise InputError(f"{where}: must be a list of at least {spec.min_items} {spec.kind.__name__}{unit}")
         return [_check(section, key, Key(spec.kind, spec.unit, spec.lo, spec.hi, None, spec.help), v)
                 for v in value]
     if spec.kind is float and isinstance(value, int) and not isinstance(value, bool):

@@ -29,6 +29,8 @@ def test_init_writes_an_example_that_loads_back_to_the_defaults(tmp_path, capsys
     ("[study]\ncontact_alphas_per_s = [7.5, -1]\n", "[study] contact_alphas_per_s = -1: must be in 0..10000 (1/s)"),
     ("[study]\ndesign_fea_check = 1\n", "[study] design_fea_check = 1: must be bool"),
     ("[study]\nimpulse_t_end_s = \"long\"\n", "[study] impulse_t_end_s = 'long': must be float (s)"),
+    ("[study]\nidentification_lengths_in = [4.5]\n",
+     "[study] identification_lengths_in = [4.5]: must be a list of at least 2 float (in)"),
     ("[material]\nE_Pa = 6e6\n", "unknown section [material]"),
     ("[finger\n", "not valid TOML"),
 ])
