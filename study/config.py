@@ -29,8 +29,6 @@ class Key:
 
 SCHEMA = {
     "finger": {
-        "contact_length_in": Key(float, "in", 3.0, 12.0, 8.0, "finger length in the drum contact study"),
-        "section_elements": Key(int, "-", 1, 15, 5, "hexahedra across the elliptical section (SM-A: 5)"),
         "impulse_length_in": Key(float, "in", 1.0, 12.0, 4.5, "finger length of the impulse studies (Figs. 6, 7)"),
     },
     "study": {

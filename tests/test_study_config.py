@@ -25,7 +25,7 @@ def test_init_writes_an_example_that_loads_back_to_the_defaults(tmp_path, capsys
 @pytest.mark.parametrize("text, message", [
     ("[finger]\nlength_mm = 100\n", "[finger] length_mm: unknown key"),
     ("[finger]\nimpulse_length_mm = 100\n", "did you mean impulse_length_in"),
-    ("[finger]\ncontact_length_in = 20\n", "[finger] contact_length_in = 20: must be in 3..12 (in)"),
+    ("[finger]\nimpulse_length_in = 20\n", "[finger] impulse_length_in = 20: must be in 1..12 (in)"),
     ("[study]\ncontact_alphas_per_s = [7.5, -1]\n", "[study] contact_alphas_per_s = -1: must be in 0..10000 (1/s)"),
     ("[study]\ndesign_fea_check = 1\n", "[study] design_fea_check = 1: must be bool"),
     ("[study]\nimpulse_t_end_s = \"long\"\n", "[study] impulse_t_end_s = 'long': must be float (s)"),
