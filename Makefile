@@ -13,8 +13,7 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 demo: $(STAMP)
-	$(BIN)/ccedi table1 --json reports/table1.json
-	$(BIN)/ccedi impulse --out reports/impulse
+	$(BIN)/ccedi study --out reports
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q

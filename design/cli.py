@@ -2,6 +2,7 @@
 import time
 from pathlib import Path
 
+from fea.distributed import add_scheduler_argument
 from fea.errors import InputError
 
 
@@ -26,6 +27,7 @@ def add_parsers(sub):
     d.add_argument("--validation-runs", type=int, default=20, help="off-grid ROM runs measuring the surrogate error")
     d.add_argument("--pareto-points", type=int, default=24, help="epsilon-constraint points of the front")
     d.add_argument("--starts", type=int, default=8, help="IPOPT starts")
+    add_scheduler_argument(d, default="local")
     d.add_argument("--no-fea-check", action="store_true", help="skip the full-FEA re-check (minutes per design)")
     d.add_argument("--json", required=True, help="result JSON path")
     d.add_argument("--out", default="reports/design", help="directory for the ROM cache, CSV and the Pareto plot")
@@ -88,7 +90,8 @@ def cmd_design(args):
     pareto_s = time.perf_counter() - t1
     grid_best = brute_force(problem)
     picks = recommended(front, optimum)
-    checks = [] if args.no_fea_check else fea_check(setup, picks, problem.objective_outputs)
+    checks = [] if args.no_fea_check else fea_check(setup, picks, problem.objective_outputs,
+                                                    scheduler=args.scheduler)
     write_figure(out / "pareto.png", plot_front(problem, front, optimum, picks))
     write_csv(out / "pareto.csv", pd.DataFrame([d.as_dict(problem) for d in front]))
     keys = problem.objective_outputs

@@ -5,12 +5,13 @@ Sub-commands:
   impulse  impulse response of the SM-A finger for several alpha (paper Fig. 7), CSV + plot
   contact, contact-sweep  the finger on the drum over the object (paper 3.3-3.4)
 and the sub-commands of :mod:`rom.cli` (identify, damping-fits) and :mod:`calibrate.cli` (calibrate)
-and :mod:`design.cli` (design).
+and :mod:`design.cli` (design) and :mod:`study.cli` (study, init, export).
 """
 import argparse
 import sys
 from pathlib import Path
 
+from .distributed import add_scheduler_argument
 from .errors import InputError, SolverError
 
 
@@ -40,7 +41,7 @@ def _cmd_impulse(args):
 
     out = Path(args.out)
     history, summaries = impulse_study(alphas=args.alpha, length_in=args.length_in, force_N=args.force_N,
-                                       duration_s=args.duration_s, t_end_s=args.t_end_s)
+                                       duration_s=args.duration_s, t_end_s=args.t_end_s, scheduler=args.scheduler)
     write_csv(out / "impulse_response.csv", history)
     write_figure(out / "impulse_response.png", plot_impulse_study(history))
     peaks = {}
@@ -101,7 +102,7 @@ def _cmd_contact_sweep(args):
     setup = _contact_setup(args)
     out = Path(args.out)
     history, table, shapes = sweep(setup, args.alphas, damping=args.damping, t_end_s=args.t_end_s,
-                                   n_outputs=args.n_outputs, progress=True)
+                                   n_outputs=args.n_outputs, progress=True, scheduler=args.scheduler)
     write_csv(out / f"contact_histories_{args.damping}.csv", history)
     write_csv(out / f"contact_summary_{args.damping}.csv", table)
     write_figure(out / f"fig10_reaction_force_{args.damping}.png", plot_reaction_force(history))
@@ -159,6 +160,7 @@ def build_parser():
     i.add_argument("--duration-s", type=float, default=0.01, help="pulse duration [s]")
     i.add_argument("--t-end-s", type=float, default=0.2, help="simulated time [s]")
     i.add_argument("--out", default="reports/impulse", help="output directory")
+    add_scheduler_argument(i)
     i.set_defaults(func=_cmd_impulse)
     c = sub.add_parser("contact", help="finger on the rotating drum over the elliptical object (paper 3.3-3.4)")
     c.add_argument("--alpha", type=float, required=True, help="mass-proportional damping [1/s]")
@@ -170,6 +172,7 @@ def build_parser():
     w = sub.add_parser("contact-sweep", help="the contact run for several alpha; paper Figs. 10, 13, 14 analogues")
     w.add_argument("--alphas", type=float, nargs="+", default=[1.0, 7.5, 20.0, 50.0, 180.0, 600.0])
     w.add_argument("--out", default="reports/contact", help="output directory")
+    add_scheduler_argument(w, default="local")
     _contact_arguments(w)
     w.set_defaults(func=_cmd_contact_sweep)
     r = sub.add_parser("contact-report", help="contact_report.md from the CSVs a contact-sweep wrote")
@@ -182,6 +185,8 @@ def build_parser():
     add_calibrate_parsers(sub)
     from design.cli import add_parsers as add_design_parsers
     add_design_parsers(sub)
+    from study.cli import add_parsers as add_study_parsers
+    add_study_parsers(sub)
     return p
 
 

@@ -15,24 +15,37 @@ HISTORY_COLUMNS = ["time_s", "reaction_force_N", "contact_force_x_N", "contact_f
                    "internal_energy_J", "damping_energy_J"]
 
 
-def sweep(setup: DrumSetup, alphas=PAPER_ALPHAS, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
-    """Run every alpha. Returns (long history DataFrame with an alpha_per_s column,
-    summaries DataFrame, {alpha: (first-contact positions, last-contact positions)})."""
-    frames, rows, shapes = [], [], {}
-    for a in alphas:
-        res, model = contact_run(setup, float(a), damping=damping, t_end_s=t_end_s, n_outputs=n_outputs,
-                                 progress=progress, snapshot_every=1)
-        s = contact_summary(setup, res, model)
-        rows.append(s)
-        h = res.history[HISTORY_COLUMNS].copy()
-        h.insert(0, "alpha_per_s", float(a))
-        frames.append(h)
-        if s["contact_start_s"] is not None:
-            times = np.array([t for t, _ in res.snapshots])
-            pick = [int(np.argmin(abs(times - s[k]))) for k in ("contact_start_s", "contact_end_s")]
-            shapes[float(a)] = tuple(res.snapshots[i][1] for i in pick)
-    table = pd.DataFrame([{k: (str(v) if isinstance(v, list) else v) for k, v in r.items()} for r in rows])
-    return pd.concat(frames, ignore_index=True), table, shapes
+def _contact_case(alpha, setup, damping, t_end_s, n_outputs, progress):
+    """One run of :func:`sweep`: (summary dict, history DataFrame, (first, last) contact
+    positions or None)."""
+    res, model = contact_run(setup, float(alpha), damping=damping, t_end_s=t_end_s, n_outputs=n_outputs,
+                             progress=progress, snapshot_every=1)
+    s = contact_summary(setup, res, model)
+    h = res.history[HISTORY_COLUMNS].copy()
+    h.insert(0, "alpha_per_s", float(alpha))
+    shape = None
+    if s["contact_start_s"] is not None:
+        times = np.array([t for t, _ in res.snapshots])
+        pick = [int(np.argmin(abs(times - s[k]))) for k in ("contact_start_s", "contact_end_s")]
+        shape = tuple(res.snapshots[i][1] for i in pick)
+    return s, h, shape
+
+
+def sweep(setup: DrumSetup, alphas=PAPER_ALPHAS, damping="global", t_end_s=1.5, n_outputs=300, progress=False,
+          scheduler="serial"):
+    """Run every alpha, mapped through :func:`fea.distributed.map_runs` (``scheduler``).
+    Returns (long history DataFrame with an alpha_per_s column, summaries DataFrame,
+    {alpha: (first-contact positions, last-contact positions)})."""
+    from functools import partial
+
+    from .distributed import map_runs
+
+    case = partial(_contact_case, setup=setup, damping=damping, t_end_s=t_end_s, n_outputs=n_outputs,
+                   progress=progress and scheduler == "serial")
+    runs = map_runs(case, alphas, scheduler, label="contact runs")
+    shapes = {float(a): shape for a, (_, _, shape) in zip(alphas, runs) if shape is not None}
+    table = pd.DataFrame([{k: (str(v) if isinstance(v, list) else v) for k, v in r.items()} for r, _, _ in runs])
+    return pd.concat([h for _, h, _ in runs], ignore_index=True), table, shapes
 
 
 def _axes(nrows=1, figsize=(7.5, 4.5)):

@@ -12,6 +12,9 @@ def _atomic_write(path, write):
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     os.close(fd)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)       # mkstemp makes 0600; give the file the usual permissions
     try:
         write(tmp)
         os.replace(tmp, path)
@@ -62,3 +65,52 @@ def write_text(path, text):
         with open(tmp, "w") as fh:
             fh.write(text)
     return _atomic_write(path, write)
+
+
+def require_parquet():
+    """Raise a one-line InputError unless pandas' Parquet engine (pyarrow) is installed."""
+    from .errors import InputError
+
+    try:
+        import pyarrow  # noqa: F401
+    except ImportError:
+        raise InputError("Parquet output needs pyarrow: pip install pyarrow (or write CSV instead)") from None
+
+
+def write_parquet(path, frame):
+    """Write a pandas DataFrame as Parquet (needs pyarrow: ``pip install 'ccedi[parquet]'``)."""
+    require_parquet()
+    return _atomic_write(path, lambda tmp: frame.to_parquet(tmp, index=False))
+
+
+def write_table(path, frame):
+    """Write a DataFrame as CSV or Parquet, chosen by the suffix of ``path``."""
+    return (write_parquet if Path(path).suffix == ".parquet" else write_csv)(path, frame)
+
+
+def write_pdf_figures(path, images):
+    """A PDF with one A4 page per (PNG path, caption) in ``images``."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.backends.backend_pdf import PdfPages
+
+    def write(tmp):
+        with PdfPages(tmp) as pdf:
+            for src, caption in images:
+                fig, ax = plt.subplots(figsize=(8.27, 11.69))
+                ax.imshow(plt.imread(src))
+                ax.set_axis_off()
+                ax.set_title(caption, fontsize=9, wrap=True)
+                pdf.savefig(fig)
+                plt.close(fig)
+    return _atomic_write(path, write)
+
+
+def remove_temporaries(directory):
+    """Delete the temporary files an interrupted writer left under ``directory`` (those of
+    a process killed before its own clean-up could run); returns how many."""
+    leftovers = [p for p in Path(directory).rglob(".*.tmp") if p.is_file()]
+    for p in leftovers:
+        p.unlink(missing_ok=True)
+    return len(leftovers)

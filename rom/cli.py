@@ -6,6 +6,7 @@
 """
 import numpy as np
 
+from fea.distributed import add_scheduler_argument
 from fea.errors import InputError
 
 
@@ -30,6 +31,7 @@ def add_parsers(sub):
                        "Eq. (7) and (8) refitted from them (slow: ~30 FE runs)")
     f.add_argument("--lengths-in", type=float, nargs="+", default=[3.0, 4.5, 6.0, 8.0])
     f.add_argument("--out", default="reports/damping_fits", help="output directory")
+    add_scheduler_argument(f, default="local")
     f.set_defaults(func=cmd_damping_fits)
     r = sub.add_parser("rom-check", help="reduced models against the full FEA: modal ROM on the 4.5-in impulse, "
                        "superelement chain (co-rotational and linear) on the 8-in contact case (~7 min)")
@@ -121,7 +123,7 @@ def cmd_damping_fits(args):
     from rom.finger_identification import alpha_cr_table
 
     out = Path(args.out)
-    rows = alpha_cr_table(args.lengths_in)
+    rows = alpha_cr_table(args.lengths_in, scheduler=args.scheduler)
     for r in rows:
         print(f"{r['length_in']:g} in: alpha_cr = {r['alpha_cr_per_s']:.4g} 1/s, 2 omega_1 = "
               f"{r['two_omega1_per_s']:.4g} 1/s, paper Eq. (8) {r['paper_eq8_per_s']:.4g} 1/s ({r['n_runs']} runs)")

@@ -50,15 +50,19 @@ def rod_alpha_cr(omega1_guess=16.33, rtol=0.01):
     return critical_alpha(rod_simulator(omega1_guess=omega1_guess), 2.0 * omega1_guess, rtol=rtol)
 
 
-def alpha_cr_table(lengths_in=(3.0, 4.5, 6.0, 8.0), rtol=0.01):
-    """alpha_cr, 2 omega_1 and the paper's Eq. (8) for each finger length; a list of dicts."""
-    rows = []
-    for x in lengths_in:
-        crit, omega1 = finger_alpha_cr(x, rtol=rtol)
-        rows.append({"length_in": float(x), "alpha_cr_per_s": crit.alpha_cr_per_s,
-                     "bracket_per_s": list(crit.bracket_per_s), "n_runs": crit.n_runs,
-                     "omega1_rad_s": omega1, "two_omega1_per_s": 2.0 * omega1,
-                     "paper_eq8_per_s": float(paper_alpha_cr(x))})
-    return rows
+def _alpha_cr_row(length_in, rtol):
+    crit, omega1 = finger_alpha_cr(length_in, rtol=rtol)
+    return {"length_in": float(length_in), "alpha_cr_per_s": crit.alpha_cr_per_s,
+            "bracket_per_s": list(crit.bracket_per_s), "n_runs": crit.n_runs,
+            "omega1_rad_s": omega1, "two_omega1_per_s": 2.0 * omega1,
+            "paper_eq8_per_s": float(paper_alpha_cr(length_in))}
 
 
+def alpha_cr_table(lengths_in=(3.0, 4.5, 6.0, 8.0), rtol=0.01, scheduler="serial"):
+    """alpha_cr, 2 omega_1 and the paper's Eq. (8) for each finger length, one length per
+    run of :func:`fea.distributed.map_runs` (``scheduler``); a list of dicts."""
+    from functools import partial
+
+    from fea.distributed import map_runs
+
+    return map_runs(partial(_alpha_cr_row, rtol=rtol), lengths_in, scheduler, label="alpha_cr")

@@ -1,0 +1,88 @@
+"""Independent runs (alpha sweeps, alpha_cr over lengths) mapped over a Dask cluster.
+
+``scheduler`` everywhere in ccedi is one of:
+
+* ``"serial"``: in this process, one after the other (no Dask needed);
+* ``"local"``: a ``dask.distributed.LocalCluster`` of ``n_workers`` single-threaded
+  worker processes, started for the call and shut down after it;
+* an address such as ``tcp://10.0.0.5:8786``: an existing Dask scheduler (its workers
+  must have ccedi installed).
+
+A function mapped over a cluster may itself map runs (a study step sweeping alpha): the
+inner runs go to the same cluster. Each run is a pure function of its item, computed by the same code in whichever
+process runs it, so the results are identical to the serial ones; they come back in
+input order. A progress bar (tqdm) counts finished runs.
+"""
+import logging
+from contextlib import ExitStack
+
+from .errors import InputError
+
+SERIAL, LOCAL = "serial", "local"
+CONNECT_TIMEOUT = "10s"
+"""How long to wait for a remote scheduler."""
+LOCAL_WORKERS = 2
+"""Worker processes of the default local cluster (this machine has 2 cores)."""
+
+
+RUN_PRIORITY = 10
+"""Dask priority of mapped runs: above queued study steps, so a step's sweep runs before
+the next step starts."""
+
+
+def client(stack, scheduler, n_workers=LOCAL_WORKERS):
+    """A ``dask.distributed.Client`` for ``scheduler`` ("local" or an address), closed
+    (with its local cluster) when ``stack`` closes."""
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError:
+        raise InputError("--scheduler needs dask.distributed: pip install 'dask[distributed]' "
+                         "(or use --scheduler serial)") from None
+    if scheduler == LOCAL:
+        cluster = stack.enter_context(LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
+                                                   dashboard_address=None, silence_logs=logging.CRITICAL))
+        return stack.enter_context(Client(cluster))
+    try:
+        return stack.enter_context(Client(scheduler, timeout=CONNECT_TIMEOUT))
+    except OSError as err:
+        raise InputError(f"--scheduler {scheduler}: cannot connect ({err})") from None
+
+
+def _in_worker():
+    """True inside a task running on a Dask worker."""
+    try:
+        from distributed import get_worker
+        get_worker()
+        return True
+    except (ImportError, ValueError):
+        return False
+
+
+def map_runs(function, items, scheduler=SERIAL, n_workers=LOCAL_WORKERS, label="runs"):
+    """``[function(item) for item in items]``, computed according to ``scheduler`` (see the
+    module docstring). ``function`` must be importable (a module-level function or a
+    ``functools.partial`` of one). Called from a task already running on a Dask worker
+    (a study step), the runs go to that task's cluster (``worker_client``: the waiting task
+    gives its worker slot to the runs)."""
+    from tqdm import tqdm
+
+    items = list(items)
+    if scheduler == SERIAL or not items:
+        return [function(item) for item in tqdm(items, desc=label, unit="run", leave=False)]
+    from dask.distributed import as_completed, worker_client
+
+    with ExitStack() as stack:
+        dask = stack.enter_context(worker_client()) if _in_worker() else client(stack, scheduler, n_workers)
+        futures = dask.map(function, items, pure=False, priority=RUN_PRIORITY)
+        for _ in tqdm(as_completed(futures), total=len(futures), desc=label, unit="run", leave=False):
+            pass
+        return dask.gather(futures)
+
+
+def add_scheduler_argument(p, default=SERIAL):
+    """``--scheduler serial|local|ADDRESS`` on parser ``p``; ``default=None`` leaves the
+    choice to the command (e.g. a config file)."""
+    said = f"default {default}" if default is not None else "default: the config's scheduler"
+    p.add_argument("--scheduler", default=default, metavar="serial|local|ADDRESS",
+                   help="where independent runs go: serial (this process), local (a 2-worker Dask local "
+                        f"cluster) or a Dask scheduler address such as tcp://host:8786 ({said})")

@@ -1,0 +1,133 @@
+"""Study inputs as TOML, validated against a schema.
+
+Every key carries its unit in its name (``length_in``, ``alpha_per_s``, ``t_end_s``);
+a key whose unit suffix is not the schema's (``length_mm``) is unknown, and the error
+names the key the schema expects. Any problem gives one :class:`fea.errors.InputError`
+line naming the section and key, e.g. ``[finger] length_in = 20: must be in 1..12 (in)``.
+"""
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+from fea.errors import InputError
+
+
+@dataclass(frozen=True)
+class Key:
+    """One input: type (float, int, bool, str, or list of float), unit, allowed range,
+    default, one-line help."""
+
+    kind: type
+    unit: str
+    lo: float | None
+    hi: float | None
+    default: object
+    help: str
+    is_list: bool = False
+    min_items: int = 1
+
+
+SCHEMA = {
+    "finger": {
+        "impulse_length_in": Key(float, "in", 1.0, 12.0, 4.5, "finger length of the impulse studies (Figs. 6, 7)"),
+    },
+    "study": {
+        "impulse_alphas_per_s": Key(float, "1/s", 0.0, 1e4, [70.0, 120.0, 160.0, 180.0, 200.0],
+                                    "alphas of the impulse study (Fig. 7)", True),
+        "impulse_force_N": Key(float, "N", 1e-4, 100.0, 1.0, "tip impulse force"),
+        "impulse_duration_s": Key(float, "s", 1e-4, 1.0, 0.01, "tip impulse duration"),
+        "impulse_t_end_s": Key(float, "s", 1e-3, 2.0, 0.2, "simulated time of the impulse runs"),
+        "mesh_comparison_t_end_s": Key(float, "s", 1e-3, 2.0, 0.1,
+                                       "simulated time of the SM-A / SM-B comparison (Fig. 6)"),
+        "mesh_comparison_alpha_per_s": Key(float, "1/s", 0.0, 1e4, 180.0, "alpha of the Fig. 6 comparison"),
+        "identification_lengths_in": Key(float, "in", 1.0, 12.0, [3.0, 4.5, 6.0],
+                                         "finger lengths whose alpha_cr is found by CCEDI (Fig. 8)", True, 2),
+        "contact_alphas_per_s": Key(float, "1/s", 0.0, 1e4, [7.5, 180.0, 600.0],
+                                    "alphas of the drum contact sweep (Figs. 10, 13, 14)", True),
+        "contact_t_end_s": Key(float, "s", 0.1, 5.0, 1.5, "simulated time of each contact run"),
+        "design_weights": Key(float, "-", 0.0, 1e3, [1.0, 1.0, 1.0],
+                              "design weights: peak force, contact duration, residual oscillation", True),
+        "design_fea_check": Key(bool, "-", None, None, True, "re-check the recommended designs with the full FEA"),
+        "measured_records": Key(str, "-", None, None, ["data/measured/tip_mass+quadratic_damping_high.csv",
+                                                       "data/measured/control_fea_solid.csv"],
+                                "measured impulse records to close the loop on (CSV with a JSON sidecar)", True),
+        "scheduler": Key(str, "-", None, None, "local",
+                         "serial, local (2-worker Dask cluster) or a Dask scheduler address"),
+    },
+}
+
+
+def _hint(section, key):
+    stem = key.split("_")[0]
+    near = [k for k in SCHEMA[section] if k.split("_")[0] == stem]
+    return f" (did you mean {near[0]}? units are part of the key)" if near else ""
+
+
+def _check(section, key, spec, value):
+    where = f"[{section}] {key} = {value!r}"
+    if spec.is_list:
+        if not isinstance(value, list) or len(value) < spec.min_items:
+            unit = f" ({spec.unit})" if spec.unit != "-" else ""
+            raise InputError(f"{where}: must be a list of at least {spec.min_items} {spec.kind.__name__}{unit}")
+        return [_check(section, key, Key(spec.kind, spec.unit, spec.lo, spec.hi, None, spec.help), v)
+                for v in value]
+    if spec.kind is float and isinstance(value, int) and not isinstance(value, bool):
+        value = float(value)
+    if not isinstance(value, spec.kind) or (spec.kind is int and isinstance(value, bool)):
+        raise InputError(f"{where}: must be {spec.kind.__name__}" + (f" ({spec.unit})" if spec.unit != "-" else ""))
+    if spec.lo is not None and not spec.lo <= value <= spec.hi:
+        unit = f" ({spec.unit})" if spec.unit != "-" else ""
+        raise InputError(f"{where}: must be in {spec.lo:g}..{spec.hi:g}{unit}")
+    return value
+
+
+def validate(data, source="config"):
+    """Check the parsed TOML ``data`` against :data:`SCHEMA`; returns {section: {key: value}}
+    with every default filled in."""
+    out = {section: {k: spec.default for k, spec in keys.items()} for section, keys in SCHEMA.items()}
+    for section, entries in data.items():
+        if section not in SCHEMA:
+            raise InputError(f"{source}: unknown section [{section}] (known: {', '.join(SCHEMA)})")
+        if not isinstance(entries, dict):
+            raise InputError(f"{source}: [{section}] must be a table of keys")
+        for key, value in entries.items():
+            if key not in SCHEMA[section]:
+                raise InputError(f"[{section}] {key}: unknown key{_hint(section, key)}")
+            out[section][key] = _check(section, key, SCHEMA[section][key], value)
+    return out
+
+
+def load(path):
+    """Read and validate a study TOML file (``None``: all defaults)."""
+    if path is None:
+        return validate({})
+    try:
+        data = tomllib.loads(Path(path).read_text())
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file") from None
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(f"{path}: not valid TOML ({err})") from None
+    return validate(data, str(path))
+
+
+def _toml_value(value):
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return f'"{value}"'
+    if isinstance(value, list):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    return repr(value)
+
+
+def example():
+    """A commented TOML file holding every key at its default."""
+    lines = ["# ccedi study inputs. Units are part of every key name (SI unless the key says in).",
+             "# Run: ccedi study --config THIS_FILE. Unknown keys and out-of-range values are errors."]
+    for section, keys in SCHEMA.items():
+        lines += ["", f"[{section}]"]
+        for key, spec in keys.items():
+            rng = f", {spec.lo:g}..{spec.hi:g}" if spec.lo is not None else ""
+            unit = f" [{spec.unit}{rng}]" if spec.unit != "-" or rng else ""
+            lines += [f"# {spec.help}{unit}", f"{key} = {_toml_value(spec.default)}"]
+    return "\n".join(lines) + "\n"

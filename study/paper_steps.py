@@ -1,0 +1,112 @@
+"""Study steps that no other sub-command covers: the steel rod of the paper's section 2.2
+(Figs. 3 and 4 analogues) and the SM-A / SM-B mesh comparison (Fig. 6 analogue)."""
+from functools import partial
+
+import numpy as np
+import pandas as pd
+
+from fea.outputs import write_csv, write_figure, write_json
+
+
+FREE_PERIODS = 6
+"""Free-vibration periods simulated after the steel rod's load for Fig. 4 [-]."""
+
+
+def _axes(nrows=1, figsize=(7, 4.5)):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt.subplots(nrows, 1, figsize=figsize, sharex=True)
+
+
+def steel_rod(out):
+    """CCEDI on the steel rod: alpha_cr by bisection from 2 omega_1, responses at the guess,
+    at alpha_cr and, for contrast, at alpha_cr / 4 (Fig. 3), and at alpha = zeta alpha_cr against the published decay
+    (Fig. 4). Writes steel_rod.json, steel_rod_responses.csv, fig3/fig4 PNGs in ``out``."""
+    from fea.steel_rod import PAPER_ROD, STEEL_ROD
+    from rom.damping import log_decrement
+    from rom.finger_identification import rod_alpha_cr, rod_simulator
+
+    crit = rod_alpha_cr()
+    guess = 2.0 * PAPER_ROD["omega1_rad_s"]
+    alpha = PAPER_ROD["zeta"] * crit.alpha_cr_per_s
+    simulate = rod_simulator()
+    series = {name: simulate(a) for name, a in (("initial_guess", guess), ("quarter_critical", 0.25 * crit.alpha_cr_per_s),
+                                                ("critical", crit.alpha_cr_per_s))}
+    t = series["critical"][0]
+    write_csv(out / "steel_rod_responses.csv",
+              pd.DataFrame({"time_s": t, **{f"tip_uy_m_{k}": v[1] for k, v in series.items()}}))
+    t_free, u_free = rod_simulator(t_end_s=STEEL_ROD["duration_s"] + FREE_PERIODS * 2 * np.pi
+                                   / PAPER_ROD["omega1_rad_s"])(alpha)
+    write_csv(out / "steel_rod_free_vibration.csv", pd.DataFrame({"time_s": t_free, "tip_uy_m": u_free}))
+    free = t_free > STEEL_ROD["duration_s"]
+    dec = log_decrement(t_free[free], u_free[free], y_final=0.0)
+    result = {"alpha_guess_per_s": guess, "alpha_cr_per_s": crit.alpha_cr_per_s, "n_fe_runs": crit.n_runs,
+              "oscillating_bracket_per_s": crit.bracket_per_s[0],
+              "alpha_per_s": alpha, "paper_alpha_cr_per_s": PAPER_ROD["alpha_cr_per_s"],
+              "paper_alpha_per_s": PAPER_ROD["alpha_per_s"], "published_zeta": PAPER_ROD["zeta"],
+              "published_omega1_rad_s": PAPER_ROD["omega1_rad_s"], "simulated_zeta": dec.zeta,
+              "simulated_omega_d_rad_s": dec.omega_d_rad_s, "log_decrement_cycles": dec.n_cycles}
+    fig, ax = _axes()
+    for name, label in (("initial_guess", f"initial guess 2 omega_1 = {guess:.4g} 1/s"),
+                        ("quarter_critical", f"alpha_cr / 4 = {0.25 * crit.alpha_cr_per_s:.4g} 1/s (under-damped)"),
+                        ("critical", f"alpha_cr = {crit.alpha_cr_per_s:.4g} 1/s (CCEDI, {crit.n_runs} runs)")):
+        ax.plot(t, 1e3 * series[name][1], label=label)
+    ax.axhline(0.0, color="k", lw=0.5)
+    ax.set(xlabel="time [s]", ylabel="tip displacement [mm]",
+           title="steel rod, 0.003 N for 0.2 s (paper Fig. 3 analogue)")
+    ax.legend()
+    write_figure(out / "fig3_steel_rod_alpha_cr.png", fig)
+    fig, ax = _axes()
+    ax.plot(t_free, 1e3 * u_free, label=f"FEA, alpha = zeta alpha_cr = {alpha:.4g} 1/s")
+    t0 = dec.peak_times_s[0]
+    after = t_free >= t0
+    env = dec.peak_amplitudes[0] * np.exp(-PAPER_ROD["zeta"] * PAPER_ROD["omega1_rad_s"] * (t_free[after] - t0))
+    for sign in (1, -1):
+        ax.plot(t_free[after], sign * 1e3 * env, "k--", lw=0.8,
+                label="published decay, zeta = 0.0055 at 16.33 rad/s" if sign > 0 else None)
+    ax.set(xlabel="time [s]", ylabel="tip displacement [mm]",
+           title=f"steel rod free vibration (paper Fig. 4 analogue): log-decrement zeta = {dec.zeta:.4g}")
+    ax.legend(loc="lower right")
+    write_figure(out / "fig4_steel_rod_decay.png", fig)
+    write_json(out / "steel_rod.json", result)
+    return result
+
+
+def _mesh_run(name, length_in, alpha, force_N, duration_s, t_end_s):
+    from fea.mesh import sm_a, sm_b
+    from fea.studies import impulse_response
+
+    mesh = {"SM-A": sm_a, "SM-B": sm_b}[name](length_in=length_in)
+    res = impulse_response(alpha=alpha, force_N=force_N, duration_s=duration_s, t_end_s=t_end_s, mesh=mesh)
+    h = res.history[["time_s", "tip_uy_m", "max_von_mises_Pa"]].copy()
+    h.insert(0, "model", name)
+    return h, res.summary
+
+
+def mesh_comparison(out, length_in, alpha, force_N, duration_s, t_end_s, scheduler):
+    """Fig. 6 analogue: tip response and max von Mises stress of SM-A and SM-B under the
+    same impulse at one alpha. Writes mesh_comparison.csv/.json and the figure."""
+    from fea.distributed import map_runs
+
+    run = partial(_mesh_run, length_in=length_in, alpha=alpha, force_N=force_N, duration_s=duration_s,
+                  t_end_s=t_end_s)
+    runs = map_runs(run, ["SM-A", "SM-B"], scheduler, label="SM-A/SM-B")
+    history = pd.concat([h for h, _ in runs], ignore_index=True)
+    write_csv(out / "mesh_comparison.csv", history)
+    fig, (a1, a2) = _axes(2, figsize=(7, 7))
+    summary = {"length_in": length_in, "alpha_per_s": alpha, "force_N": force_N, "duration_s": duration_s,
+               "t_end_s": t_end_s, "models": {}}
+    for (h, s), name in zip(runs, ("SM-A", "SM-B")):
+        a1.plot(h.time_s, 1e3 * h.tip_uy_m, label=name)
+        a2.plot(h.time_s, 1e-3 * h.max_von_mises_Pa, label=name)
+        summary["models"][name] = {"peak_tip_uy_m": float(h.tip_uy_m.max()),
+                                   "peak_von_mises_Pa": float(h.max_von_mises_Pa.max()),
+                                   "wall_time_s": s["wall_time_s"], "steps": s["steps"]}
+    a1.set(ylabel="tip displacement y [mm]",
+           title=f"{length_in:g}-in finger, alpha = {alpha:g} 1/s (paper Fig. 6 analogue)")
+    a2.set(xlabel="time [s]", ylabel="max von Mises stress [kPa]")
+    a1.legend()
+    write_figure(out / "fig6_mesh_comparison.png", fig)
+    write_json(out / "mesh_comparison.json", summary)
+    return summary

@@ -1,0 +1,238 @@
+"""``index.html`` (and ``index.pdf``) of a study directory, built only from the files the
+study's steps wrote there: every number on the page is read from this run's JSON/CSV
+outputs, and every figure is a PNG of this run. A step that did not run is listed as such.
+"""
+import html
+import json
+from datetime import datetime, timezone
+from pathlib import Path
+
+import pandas as pd
+
+from fea.outputs import write_pdf_figures, write_text
+
+UNITS = (("_per_s", "1/s"), ("_rad_s", "rad/s"), ("_m_s", "m/s"), ("_N_per_m", "N/m"), ("_us", "us"),
+         ("_Pa", "Pa"), ("_N", "N"), ("_in", "in"), ("_s", "s"), ("_m", "m"), ("_J", "J"))
+"""Column/key suffix -> unit, longest match first."""
+
+FIGURES = [
+    ("steel_rod/fig3_steel_rod_alpha_cr.png", "Fig. 3 analogue: steel rod, initial guess and critical alpha"),
+    ("steel_rod/fig4_steel_rod_decay.png", "Fig. 4 analogue: steel rod at alpha = zeta alpha_cr against the "
+     "published decay (zeta 0.0055, 16.33 rad/s)"),
+    ("mesh/fig6_mesh_comparison.png", "Fig. 6 analogue: SM-A and SM-B under the same impulse"),
+    ("impulse/impulse_response.png", "Fig. 7 analogue: tip impulse response for several alpha"),
+    ("damping_fits/alpha_cr_fit.png", "Fig. 8 analogue: alpha_cr and alpha against finger length, Eq. (7)/(8)"),
+    ("contact/fig10_reaction_force_global.png", "Fig. 10 analogue: reaction force on the object"),
+    ("contact/fig13_contact_shapes_global.png", "Fig. 13 analogue: finger at first and last contact"),
+    ("contact/fig14_stresses_global.png", "Fig. 14 analogue: finger and object stresses, reaction force"),
+    ("design/pareto.png", "Design: Pareto front of the contact objectives against residual oscillation"),
+]
+
+
+def unit_of(key):
+    """The unit a ccedi key or column name carries in its suffix ('-' if none)."""
+    return next((u for suffix, u in UNITS if key.endswith(suffix)), "-")
+
+
+def _fmt(v):
+    if v is None or (isinstance(v, float) and v != v):
+        return "n/a"
+    if isinstance(v, bool) or isinstance(v, str):
+        return html.escape(str(v))
+    if isinstance(v, int):
+        return f"{v:d}"
+    if isinstance(v, float):
+        return f"{v:.4g}"
+    return html.escape(str(v))
+
+
+def _table(rows, columns):
+    """HTML table; ``columns`` are (header with unit, key or callable)."""
+    head = "".join(f"<th>{html.escape(h)}</th>" for h, _ in columns)
+    body = "".join("<tr>" + "".join(f"<td>{_fmt(k(r) if callable(k) else r.get(k))}</td>" for _, k in columns)
+                   + "</tr>" for r in rows)
+    return f"<table><tr>{head}</tr>{body}</table>"
+
+
+def _col(key, label=None):
+    unit = unit_of(key)
+    return (f"{label or key} [{unit}]" if unit != "-" else (label or key), key)
+
+
+def _load(out, name):
+    path = out / name
+    if not path.exists():
+        return None
+    return json.loads(path.read_text()) if path.suffix == ".json" else pd.read_csv(path)
+
+
+def _missing(step):
+    return f"<p class='missing'>Not in this run (study step <code>{step}</code> did not run).</p>"
+
+
+def _table1(out):
+    from fea.studies import PAPER_TABLE1
+
+    t = _load(out, "table1.json")
+    if t is None:
+        return _missing("table1")
+    rows = [{"model": f"{name} {src}", **vals} for name in t for src, vals in
+            (("paper", PAPER_TABLE1.get(name, {})), ("ccedi", t[name]))]
+    cols = [("model", "model"), ("nodes", "nodes"), ("elements", "elements"), _col("dt_us", "stable step"),
+            ("steps to 0.2 s", "steps_to_0p2s"), ("step ratio", "step_ratio"),
+            _col("stiffness_N_per_m", "tip stiffness")]
+    return _table(rows, cols) + "<p>Paper rows are the paper's Table 1 (4.5-in finger).</p>"
+
+
+def _steel_rod(out):
+    r = _load(out, "steel_rod/steel_rod.json")
+    if r is None:
+        return _missing("steel_rod")
+    keys = ["alpha_guess_per_s", "alpha_cr_per_s", "paper_alpha_cr_per_s", "n_fe_runs", "alpha_per_s",
+            "paper_alpha_per_s", "simulated_zeta", "published_zeta", "simulated_omega_d_rad_s",
+            "published_omega1_rad_s"]
+    return _table([{"quantity": k, "value": r[k], "unit": unit_of(k)} for k in keys],
+                  [("quantity", "quantity"), ("value", "value"), ("unit", "unit")])
+
+
+def _impulse(out):
+    s = _load(out, "impulse/impulse_summary.json")
+    if s is None:
+        return _missing("impulse")
+    rows = [{"alpha_per_s": float(a), **p} for a, p in s["peaks"].items()]
+    keys = ["alpha_per_s", "peak_tip_uy_m", "time_of_peak_s", "min_tip_uy_after_peak_m", "peak_von_mises_Pa"]
+    return (f"<p>{s['length_in']:g}-in SM-A finger, {s['force_N']:g} N for {s['duration_s']:g} s at the tip.</p>"
+            + _table(rows, [_col(k) for k in keys]))
+
+
+def _mesh(out):
+    s = _load(out, "mesh/mesh_comparison.json")
+    if s is None:
+        return _missing("mesh")
+    rows = [{"model": m, **v} for m, v in s["models"].items()]
+    return (f"<p>alpha = {s['alpha_per_s']:g} 1/s, {s['t_end_s']:g} s simulated.</p>"
+            + _table(rows, [("model", "model")] + [_col(k) for k in
+                                                   ("peak_tip_uy_m", "peak_von_mises_Pa", "wall_time_s")]
+                     + [("steps", "steps")]))
+
+
+def _damping_fits(out):
+    s = _load(out, "damping_fits/alpha_cr_fit.json")
+    if s is None:
+        return _missing("damping_fits")
+    keys = ["length_in", "alpha_cr_per_s", "two_omega1_per_s", "paper_eq8_per_s", "n_runs"]
+    p = s["power_law"]
+    return (_table(s["alpha_cr"], [_col(k) for k in keys])
+            + f"<p>Power-law fit alpha_cr = {p['coefficient']:.4g} x^{p['exponent']:.4g} [1/s], x in inches "
+              f"(paper Eq. (8): {s['paper_eq8']['coefficient']:g} x^{s['paper_eq8']['exponent']:g}).</p>")
+
+
+def _contact(out):
+    t = _load(out, "contact/contact_summary_global.csv")
+    if t is None:
+        return _missing("contact")
+    keys = ["alpha_per_s", "contact_start_s", "contact_end_s", "contact_duration_s", "first_contact_side",
+            "peak_reaction_force_N", "max_finger_stress_Pa", "max_object_stress_Pa", "wall_time_s"]
+    return _table(t.to_dict("records"), [_col(k) for k in keys if k in t.columns])
+
+
+def _design(out):
+    d = _load(out, "design/design.json")
+    if d is None:
+        return _missing("design")
+    objectives = d["problem"]["objectives"]
+    keys = ["alpha_per_s", "length_in", *objectives, "contact_start_s", "max_finger_stress_Pa"]
+    parts = ["<h3>Optimum (surrogate)</h3>", _table([d["optimum"]], [_col(k) for k in keys]),
+             f"<p>weights (normalised) {', '.join(f'{w:.3g}' for w in d['problem']['weights_normalised'])}; "
+             f"surrogate built in {d['surrogate']['build_wall_time_s']:.4g} s "
+             f"(grid from cache: {d['surrogate']['grid_from_cache']}).</p>"]
+    err = d["surrogate"]["off_grid_error"]
+    if isinstance(err, dict):
+        parts.append("<h3>Surrogate error on off-grid ROM runs</h3>" + _table(
+            [{"output": k, **(v if isinstance(v, dict) else {"value": v})} for k, v in err.items()],
+            [("output", "output")] + [(f"{c} [-]", c) for c in
+                                      sorted({c for v in err.values() if isinstance(v, dict) for c in v})]))
+    if d["fea_check"]:
+        checked = [*objectives, "max_finger_stress_Pa"]
+        rows = [{"alpha_per_s": c["alpha_per_s"], "length_in": c["length_in"], "wall_time_s": c["wall_time_s"],
+                 **{f"{k} error": c["relative_error"][k] for k in checked}} for c in d["fea_check"]]
+        parts.append("<h3>Full-FEA re-check (relative error of the surrogate against the FEA)</h3>" + _table(
+            rows, [_col("alpha_per_s"), _col("length_in")] + [(f"{k} error [-]", f"{k} error") for k in checked]
+            + [_col("wall_time_s", "FEA wall time")]))
+    else:
+        parts.append("<p>FEA re-check skipped in this run.</p>")
+    return "".join(parts)
+
+
+def _calibrate(out):
+    results = sorted((out / "calibrate").glob("*.json")) if (out / "calibrate").exists() else []
+    if not results:
+        return _missing("calibrate")
+    rows, figs = [], []
+    for path in results:
+        r = json.loads(path.read_text())
+        rows.append({"record": path.stem, "baseline NRMSE": r["baseline"]["nrmse"],
+                     "alpha_per_s": r["baseline"]["params"].get("alpha_per_s"),
+                     "E factor": r["baseline"]["params"].get("E_factor"),
+                     "effects found": ", ".join(e["name"] for e in r["effects_found"]) or "none",
+                     "final NRMSE": r["final_nrmse"], "noise floor NRMSE": r["noise_floor_nrmse"],
+                     "wall_time_s": r.get("wall_time_s")})
+        if (out / "calibrate" / path.stem / "fit.png").exists():
+            figs.append(_figure(f"calibrate/{path.stem}/fit.png", f"Calibrated model against {path.stem}"))
+    cols = [("record", "record"), ("baseline NRMSE [-]", "baseline NRMSE"), _col("alpha_per_s", "baseline alpha"),
+            ("E factor [-]", "E factor"), ("effects found", "effects found"), ("final NRMSE [-]", "final NRMSE"),
+            ("noise floor NRMSE [-]", "noise floor NRMSE"), _col("wall_time_s")]
+    return _table(rows, cols) + "".join(figs)
+
+
+def _figure(src, caption):
+    return (f"<figure><a href='{src}'><img src='{src}' alt='{html.escape(caption)}'></a>"
+            f"<figcaption>{html.escape(caption)}</figcaption></figure>")
+
+
+SECTIONS = [("Table 1: meshes, stable time step, tip stiffness", _table1, []),
+            ("Damping identification of the steel rod (Figs. 3, 4)", _steel_rod, FIGURES[0:2]),
+            ("Effect of the FE model (Fig. 6)", _mesh, FIGURES[2:3]),
+            ("Effect of alpha on the tip response (Fig. 7)", _impulse, FIGURES[3:4]),
+            ("CCEDI over finger lengths (Fig. 8)", _damping_fits, FIGURES[4:5]),
+            ("Finger on the drum: contact (Figs. 10, 13, 14)", _contact, FIGURES[5:8]),
+            ("Design optimisation and FEA re-check", _design, FIGURES[8:9]),
+            ("Closing the loop on measured data (calibration)", _calibrate, [])]
+
+STYLE = ("body{font-family:sans-serif;max-width:1100px;margin:auto;padding:1em}table{border-collapse:collapse;"
+         "margin:.5em 0}td,th{border:1px solid #bbb;padding:2px 8px;text-align:right}th{background:#eee}"
+         "img{max-width:100%}figure{margin:1em 0}.missing{color:#a00}")
+
+
+def _timings(out):
+    s = _load(out, "study.json")
+    if s is None:
+        return ""
+    rows = [{"step": k, "wall_time_s": v} for k, v in s["wall_time_s"].items()]
+    if "elapsed_s" in s:
+        rows.append({"step": "whole study (steps overlap on a cluster)", "wall_time_s": s["elapsed_s"]})
+    return (f"<p>Scheduler: <code>{html.escape(str(s['scheduler']))}</code>; quick: {s['quick']}. A step's "
+            "wall time runs from its start to its end, including waits for cluster workers.</p>"
+            + _table(rows, [("step", "step"), _col("wall_time_s", "wall time")]))
+
+
+def write_index(out):
+    """Write ``out/index.html`` (and ``out/index.pdf`` of the figures) from the study's outputs."""
+    out = Path(out)
+    stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    body = [f"<h1>ccedi design study</h1><p>Generated {stamp} from the files in this directory. Units: SI "
+            "unless a header says otherwise; every number below was computed by this run.</p>",
+            "<h2>Run</h2>", _timings(out)]
+    for title, section, figures in SECTIONS:
+        body += [f"<h2>{html.escape(title)}</h2>", section(out)]
+        body += [_figure(src, cap) for src, cap in figures if (out / src).exists()]
+    page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>ccedi design study</title>"
+            f"<style>{STYLE}</style></head><body>{''.join(body)}</body></html>\n")
+    _write_pdf(out)
+    return write_text(out / "index.html", page)
+
+
+def _write_pdf(out):
+    """index.pdf: one page per figure of this run, with its caption."""
+    present = [(out / src, cap) for src, cap in FIGURES if (out / src).exists()]
+    return write_pdf_figures(out / "index.pdf", present) if present else None

@@ -1,0 +1,138 @@
+"""``ccedi study``: the whole design study on the bundled data, one step after another,
+each writing its sub-report under the output directory, then ``index.html``.
+
+Steps (each an existing sub-command or a function of :mod:`study.paper_steps`):
+
+  table1        paper Table 1 (SM-A, SM-B)                        -> table1.json
+  steel_rod     CCEDI on the steel rod (Figs. 3, 4)                -> steel_rod/
+  impulse       impulse responses for several alpha (Fig. 7)       -> impulse/
+  mesh          SM-A against SM-B at one alpha (Fig. 6)            -> mesh/
+  damping_fits  alpha_cr over finger lengths, Eq. (7)/(8) (Fig. 8) -> damping_fits/
+  contact       the drum contact sweep (Figs. 10, 13, 14)          -> contact/
+  design        ROM surrogate, optimum, Pareto front, FEA re-check -> design/
+  calibrate     close the loop on the bundled measured records     -> calibrate/<record>/
+  report        index.html (and index.pdf) from the files above
+
+Every output is written atomically, so an interrupted study (Ctrl-C) leaves the
+finished steps' files and no partial ones; ``study.json`` records each finished step's
+wall time [s].
+"""
+import json
+import time
+from pathlib import Path
+
+from fea.outputs import write_json
+
+from . import paper_steps
+from .report import write_index
+
+QUICK = {"study": {"impulse_t_end_s": 0.05, "mesh_comparison_t_end_s": 0.03, "identification_lengths_in": [3.0, 4.5],
+                   "contact_alphas_per_s": [600.0], "contact_t_end_s": 1.0, "design_fea_check": False}}
+"""Settings ``--quick`` overrides: a few-minute smoke run of every step."""
+
+
+def _cli(argv):
+    """Run a ccedi sub-command in this process (the same code path as the command line)."""
+    from fea.cli import build_parser
+
+    args = build_parser().parse_args([str(a) for a in argv])
+    args.func(args)
+
+
+def _numbers(flag, values):
+    return [flag, *values]
+
+
+def steps(cfg, out, scheduler):
+    """[(name, description, thunk)] of the study with settings ``cfg`` writing under ``out``."""
+    f, s = cfg["finger"], cfg["study"]
+    impulse = ["--length-in", f["impulse_length_in"], "--force-N", s["impulse_force_N"],
+               "--duration-s", s["impulse_duration_s"]]
+    records = [Path(r) for r in s["measured_records"]]
+    return [
+        ("table1", "paper Table 1", lambda: _cli(["table1", "--length-in", f["impulse_length_in"],
+                                                   "--json", out / "table1.json"])),
+        ("steel_rod", "steel rod alpha_cr (Figs. 3, 4)", lambda: paper_steps.steel_rod(out / "steel_rod")),
+        ("impulse", "impulse study (Fig. 7)", lambda: _cli(
+            ["impulse", *_numbers("--alpha", s["impulse_alphas_per_s"]), *impulse, "--t-end-s", s["impulse_t_end_s"],
+             "--out", out / "impulse", "--scheduler", scheduler])),
+        ("mesh", "SM-A vs SM-B (Fig. 6)", lambda: paper_steps.mesh_comparison(
+            out / "mesh", f["impulse_length_in"], s["mesh_comparison_alpha_per_s"], s["impulse_force_N"],
+            s["impulse_duration_s"], s["mesh_comparison_t_end_s"], scheduler)),
+        ("damping_fits", "alpha_cr over lengths (Fig. 8)", lambda: _cli(
+            ["damping-fits", *_numbers("--lengths-in", s["identification_lengths_in"]),
+             "--out", out / "damping_fits", "--scheduler", scheduler])),
+        ("contact", "drum contact sweep (Figs. 10, 13, 14)", lambda: _cli(
+            ["contact-sweep", *_numbers("--alphas", s["contact_alphas_per_s"]), "--t-end-s", s["contact_t_end_s"],
+             "--out", out / "contact", "--scheduler", scheduler])),
+        ("design", "design optimisation and FEA re-check", lambda: _cli(
+            ["design", "--weights", ",".join(f"{w:g}" for w in s["design_weights"]), "--json",
+             out / "design" / "design.json", "--out", out / "design", "--scheduler", scheduler,
+             *([] if s["design_fea_check"] else ["--no-fea-check"])])),
+        ("calibrate", "close the loop on measured records", lambda: [_cli(
+            ["calibrate", r, "--json", out / "calibrate" / f"{r.stem}.json", "--report", out / "calibrate" / r.stem])
+            for r in records]),
+    ]
+
+
+STEP_NAMES = ("table1", "steel_rod", "impulse", "mesh", "damping_fits", "contact", "design", "calibrate")
+LONGEST_FIRST = ("design", "contact", "damping_fits", "steel_rod", "mesh", "table1", "impulse", "calibrate")
+"""Submission order on a cluster: the longest steps (measured) first."""
+
+
+def _run_step(name, cfg, out, scheduler):
+    """Run the study step ``name`` (on a Dask worker or in this process); its wall time [s]."""
+    thunk = next(t for n, _, t in steps(cfg, out, scheduler) if n == name)
+    t0 = time.perf_counter()
+    thunk()
+    return time.perf_counter() - t0
+
+
+def _distributed(todo, cfg, out, scheduler):
+    """Yield (name, wall time [s]) as the steps finish, each step a task on the cluster
+    (its own sweeps go to the same cluster first, so the workers stay busy)."""
+    from contextlib import ExitStack
+
+    from dask.distributed import as_completed
+
+    from fea.distributed import client
+
+    with ExitStack() as stack:
+        dask = client(stack, scheduler)
+        futures = {dask.submit(_run_step, name, cfg, out, scheduler, key=f"ccedi-study-{name}", pure=False): name
+                   for name, _, _ in todo}
+        for future in as_completed(futures):
+            yield futures[future], future.result()
+
+
+def run_study(cfg, out, scheduler=None, quick=False, only=None):
+    """Run the study steps (all, or the names in ``only``) and write ``out/index.html``.
+    Serial: one step after another in this process. Otherwise every step is a task on the
+    Dask cluster, longest first, and its runs are mapped over the same cluster. Returns
+    the index path."""
+    from tqdm import tqdm
+
+    from fea.distributed import SERIAL
+    from fea.outputs import remove_temporaries
+
+    if quick:
+        cfg = {sec: {**keys, **QUICK.get(sec, {})} for sec, keys in cfg.items()}
+    out = Path(out)
+    scheduler = scheduler or cfg["study"]["scheduler"]
+    todo = [st for st in steps(cfg, out, scheduler) if only is None or st[0] in only]
+    record = {"config": cfg, "quick": quick, "scheduler": scheduler, "wall_time_s": {}}
+    if only is not None and (out / "study.json").exists():     # keep the other steps' timings
+        record["wall_time_s"] = json.loads((out / "study.json").read_text())["wall_time_s"]
+    t0 = time.perf_counter()
+    finished = ((name, _run_step(name, cfg, out, scheduler)) for name, _, _ in todo) if scheduler == SERIAL \
+        else _distributed(sorted(todo, key=lambda st: LONGEST_FIRST.index(st[0])), cfg, out, scheduler)
+    try:
+        for name, wall in tqdm(finished, total=len(todo), desc="ccedi study", unit="step"):
+            print(f"ccedi study: {name} done in {wall:.0f} s", flush=True)
+            record["wall_time_s"][name] = wall
+            record["elapsed_s"] = time.perf_counter() - t0
+            write_json(out / "study.json", record)
+    except KeyboardInterrupt:
+        remove_temporaries(out)
+        raise
+    return write_index(out)

@@ -1,0 +1,22 @@
+"""An alpha sweep through a 2-worker Dask local cluster equals the serial run."""
+import pandas as pd
+import pytest
+
+from fea.distributed import map_runs
+from fea.errors import InputError
+from fea.studies import impulse_study
+
+
+def test_alpha_sweep_local_cluster_equals_serial():
+    kwargs = dict(alphas=(70.0, 180.0, 400.0), length_in=3.0, t_end_s=0.02, n_outputs=40)
+    serial, _ = impulse_study(scheduler="serial", **kwargs)
+    local, summaries = impulse_study(scheduler="local", **kwargs)
+    assert len(summaries) == 3
+    assert list(local.alpha_per_s.unique()) == [70.0, 180.0, 400.0]
+    pd.testing.assert_frame_equal(local, serial, check_exact=True)
+
+
+def test_unreachable_scheduler_is_one_clear_error(monkeypatch):
+    monkeypatch.setattr("fea.distributed.CONNECT_TIMEOUT", "1s")
+    with pytest.raises(InputError, match="cannot connect"):
+        map_runs(abs, [1.0], scheduler="tcp://127.0.0.1:1")

@@ -1,0 +1,57 @@
+"""ccedi study orchestration: Ctrl-C keeps finished steps and no partial files; the
+report is built only from the run's files."""
+import json
+
+from fea.cli import main
+from fea.outputs import write_json
+from study import run as study_run
+from study.report import write_index
+
+
+def test_interrupt_leaves_finished_steps_and_no_temporary_files(tmp_path, monkeypatch, capsys):
+    def first():
+        write_json(tmp_path / "first" / "result.json", {"x_m": 1.0})
+
+    def second():
+        def interrupted(tmp):
+            open(tmp, "w").write("half")
+            raise KeyboardInterrupt
+        from fea.outputs import _atomic_write
+        _atomic_write(tmp_path / "second" / "result.json", interrupted)
+
+    monkeypatch.setattr(study_run, "steps", lambda cfg, out, scheduler: [("table1", "one", first),
+                                                                       ("impulse", "two", second)])
+    assert main(["study", "--out", str(tmp_path), "--scheduler", "serial"]) == 130
+    assert "interrupted" in capsys.readouterr().err
+    assert json.loads((tmp_path / "first" / "result.json").read_text()) == {"x_m": 1.0}
+    assert list(json.loads((tmp_path / "study.json").read_text())["wall_time_s"]) == ["table1"]
+    assert not list(tmp_path.rglob("*.tmp")) and not (tmp_path / "second" / "result.json").exists()
+    assert not (tmp_path / "index.html").exists()
+
+
+def test_index_reports_the_numbers_of_the_run_and_marks_missing_steps(tmp_path):
+    write_json(tmp_path / "table1.json", {"SM-A": {"nodes": 1080, "elements": 725, "dt_us": 4.411,
+                                                   "steps_to_0p2s": 45340, "step_ratio": 1.0,
+                                                   "stiffness_N_per_m": 74.35}})
+    page = write_index(tmp_path).read_text()
+    assert "4.411" in page and "74.35" in page and "tip stiffness [N/m]" in page
+    assert page.count("did not run") == 7
+
+
+def test_export_csv_vtu_and_parquet(tmp_path, capsys):
+    import importlib.util
+
+    import pandas as pd
+
+    args = ["export", "--case", "impulse", "--length-in", "3", "--t-end-s", "0.004"]
+    assert main(args + ["--format", "csv", "--out", str(tmp_path / "h.csv")]) == 0
+    h = pd.read_csv(tmp_path / "h.csv")
+    assert {"time_s", "tip_uy_m"} <= set(h.columns) and h.time_s.iloc[-1] >= 0.004
+    assert main(args + ["--format", "vtu", "--out", str(tmp_path / "vtu")]) == 0
+    assert (tmp_path / "vtu" / "impulse.pvd").exists() and list((tmp_path / "vtu").glob("impulse_*.vtu"))
+    rc = main(args + ["--format", "parquet", "--out", str(tmp_path / "h.parquet")])
+    if importlib.util.find_spec("pyarrow") is None:
+        assert rc == 1 and "pyarrow" in capsys.readouterr().err
+        assert not list(tmp_path.glob("*.parquet*"))
+    else:
+        assert rc == 0 and pd.read_parquet(tmp_path / "h.parquet").equals(h)

@@ -1,0 +1,45 @@
+"""Study TOML: the example loads back, and every bad input is one line naming the key."""
+import pytest
+
+from fea.cli import main
+from fea.errors import InputError
+from study.config import SCHEMA, load
+
+
+def _write(tmp_path, text):
+    p = tmp_path / "study.toml"
+    p.write_text(text)
+    return p
+
+
+def test_init_writes_an_example_that_loads_back_to_the_defaults(tmp_path, capsys):
+    path = tmp_path / "study.toml"
+    assert main(["init", str(path)]) == 0
+    text = path.read_text()
+    assert text.count("\n# ") >= sum(len(k) for k in SCHEMA.values())   # every key commented
+    assert load(path) == load(None)
+    assert main(["init", str(path)]) == 1                              # no silent overwrite
+    assert "exists" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("text, message", [
+    ("[finger]\nlength_mm = 100\n", "[finger] length_mm: unknown key"),
+    ("[finger]\nimpulse_length_mm = 100\n", "did you mean impulse_length_in"),
+    ("[finger]\nimpulse_length_in = 20\n", "[finger] impulse_length_in = 20: must be in 1..12 (in)"),
+    ("[study]\ncontact_alphas_per_s = [7.5, -1]\n", "[study] contact_alphas_per_s = -1: must be in 0..10000 (1/s)"),
+    ("[study]\ndesign_fea_check = 1\n", "[study] design_fea_check = 1: must be bool"),
+    ("[study]\nimpulse_t_end_s = \"long\"\n", "[study] impulse_t_end_s = 'long': must be float (s)"),
+    ("[study]\nidentification_lengths_in = [4.5]\n",
+     "[study] identification_lengths_in = [4.5]: must be a list of at least 2 float (in)"),
+    ("[material]\nE_Pa = 6e6\n", "unknown section [material]"),
+    ("[finger\n", "not valid TOML"),
+])
+def test_bad_input_is_one_line_naming_the_key(tmp_path, capsys, text, message):
+    path = _write(tmp_path, text)
+    with pytest.raises(InputError) as err:
+        load(path)
+    assert message in str(err.value) and "\n" not in str(err.value)
+    assert main(["study", "--config", str(path), "--out", str(tmp_path / "r")]) == 1
+    err_lines = capsys.readouterr().err.strip().splitlines()
+    assert len(err_lines) == 1 and message in err_lines[0]
+    assert not (tmp_path / "r").exists()
