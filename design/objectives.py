@@ -31,7 +31,7 @@ from dataclasses import replace
 import casadi as ca
 import numpy as np
 
-from fea.contact_study import tip_lag_series_m
+from fea.contact_study import tip_lag_series_m, window_mean
 from fea.drum import DrumSetup, ObjectStress, contact_timing
 from fea.errors import InputError
 from fea.mesh import sm_a_elements_along
@@ -93,19 +93,11 @@ def residual_oscillation_m_s(setup: DrumSetup, history, contact_end_s):
     return float(np.sqrt(np.mean(v[window] ** 2)))
 
 
-def _window_mean(t, values):
-    """Centred moving average of ``values`` over :data:`FORCE_WINDOW_S` (outputs equally
-    spaced at the step of ``t``; the ends are averaged over the part inside)."""
-    n = max(1, int(round(FORCE_WINDOW_S / float(np.median(np.diff(t))))))
-    kernel = np.ones(n)
-    return np.convolve(values, kernel, mode="same") / np.convolve(np.ones_like(values), kernel, mode="same")
-
-
 def averaged_contact_force(history):
     """25 ms-averaged contact force (fx, fy) [N] per output."""
     t = history.time_s.to_numpy()
-    return (_window_mean(t, history.contact_force_x_N.to_numpy()),
-            _window_mean(t, history.contact_force_y_N.to_numpy()))
+    return (window_mean(t, history.contact_force_x_N.to_numpy(), FORCE_WINDOW_S),
+            window_mean(t, history.contact_force_y_N.to_numpy(), FORCE_WINDOW_S))
 
 
 OBJECT_STRESS_SAMPLES = 12

@@ -125,6 +125,14 @@ def tip_lag_series_m(setup: DrumSetup, history):
     return (r_tip * np.cos(th) - ax) * -np.sin(th) + (r_tip * np.sin(th) - ay) * np.cos(th)
 
 
+def window_mean(t, values, window_s):
+    """Centred moving average of ``values`` over ``window_s`` [s] (outputs equally spaced at
+    the step of ``t``; near the ends, the mean of the part of the window inside the record)."""
+    n = max(1, int(round(window_s / float(np.median(np.diff(t))))))
+    kernel = np.ones(n)
+    return np.convolve(values, kernel, mode="same") / np.convolve(np.ones_like(values), kernel, mode="same")
+
+
 def tip_lag_m(setup: DrumSetup, history, t_s):
     """:func:`tip_lag_series_m` at the output nearest ``t_s`` [s]."""
     k = int(np.argmin(np.abs(history.time_s.to_numpy() - t_s)))

@@ -23,7 +23,7 @@ import time
 
 import numpy as np
 
-from fea.contact_study import tip_lag_series_m
+from fea.contact_study import tip_lag_series_m, window_mean
 from fea.drum import DrumSetup, FullContactModel
 from fea.studies import impulse_model, impulse_response
 from rom.contact_rom import ReducedContactModel
@@ -31,11 +31,6 @@ from rom.modal import fit_to_response, nrmse, tip_modal_rom
 
 SMOOTHING_S = 0.025
 """Moving-average window [s] for ``smoothed_peak_force_error``."""
-
-
-def _moving_average(t, y, window_s):
-    n = max(1, int(round(window_s / (t[1] - t[0]))))
-    return np.convolve(y, np.ones(n) / n, mode="same")
 
 
 def compare_contact(setup: DrumSetup, fea, rom):
@@ -46,8 +41,8 @@ def compare_contact(setup: DrumSetup, fea, rom):
         raise ValueError("the two responses must have the same output times")
     sf, sr = fea.summary, rom.summary
     t = hf.time_s.to_numpy()
-    smooth_f = _moving_average(t, hf.reaction_force_N.to_numpy(), SMOOTHING_S).max()
-    smooth_r = _moving_average(t, hr.reaction_force_N.to_numpy(), SMOOTHING_S).max()
+    smooth_f = window_mean(t, hf.reaction_force_N.to_numpy(), SMOOTHING_S).max()
+    smooth_r = window_mean(t, hr.reaction_force_N.to_numpy(), SMOOTHING_S).max()
 
     def diff(key):
         return None if sf[key] is None or sr[key] is None else sr[key] - sf[key]

@@ -72,10 +72,10 @@ class ReducedContactModel:
                                    ch.natural_stiffness, ch.half_thickness_m, self.nonlinear, damping == "relative",
                                    float(alpha), s.omega_rad_s, s.theta0_rad, self.contact_stiffness_N_m,
                                    float(obj.mu), obj_params, self.dt_s, t_out, P_out, TH_out, C_out)
-        stress = self._max_von_mises(P_out, TH_out)
-        wall = time.perf_counter() - wall0
         if status:
             raise SolverError(f"reduced model diverged (non-finite state) at step {steps + 1}")
+        stress = self._max_von_mises(P_out, TH_out)
+        wall = time.perf_counter() - wall0
         if np.isnan(stress).any():
             raise SolverError(f"stress recovery inverts an element at t = {t_out[np.isnan(stress)][0]:.4g} s: "
                               "the deformation is beyond the reduced model's range")

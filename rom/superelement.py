@@ -46,8 +46,8 @@ from fea.hex8 import deformation_gradient, element_geometry
 from fea.kernels import FASTMATH
 from fea.material import NeoHookean, cauchy_stress, von_mises
 from fea.mesh import SEMI_AXIS_MINOR, Mesh
-from fea.model import Model, cantilever_model, face_node_weights
-from fea.static import tangent_stiffness
+from fea.model import Model, cantilever_model
+from fea.static import tangent_stiffness, tip_deflection
 from rom.craig_bampton import craig_bampton
 
 
@@ -262,16 +262,7 @@ def chain_frequencies(chain: FingerChain, n_modes=None):
 
 def fe_tip_stiffness(mesh: Mesh, material: NeoHookean):
     """Linear tip stiffness [N/m] of the full clamped FE finger under a tip-face load along y."""
-    model = cantilever_model(mesh, material)
-    tip = mesh.node_sets["tip"]
-    w = face_node_weights(mesh, tip)
-    free = np.flatnonzero(~np.isin(np.arange(mesh.n_nodes), mesh.node_sets["root"]).repeat(3))
-    K = tangent_stiffness(model)[free][:, free].tocsc()
-    f = np.zeros(3 * mesh.n_nodes)
-    f[3 * tip + 1] = w
-    u = np.zeros(3 * mesh.n_nodes)
-    u[free] = sp.linalg.spsolve(K, f[free])
-    return 1.0 / float(w @ u[3 * tip + 1])
+    return 1.0 / tip_deflection(cantilever_model(mesh, material), 1.0, linear=True)
 
 
 def fit_tip_stiffness(chain: FingerChain, k_tip_target):
