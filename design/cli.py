@@ -4,6 +4,7 @@ from pathlib import Path
 
 from fea.distributed import add_scheduler_argument
 from fea.errors import InputError
+from study.config import add_config_argument, drum_setup, from_args
 
 
 def add_parsers(sub):
@@ -31,6 +32,7 @@ def add_parsers(sub):
     d.add_argument("--no-fea-check", action="store_true", help="skip the full-FEA re-check (minutes per design)")
     d.add_argument("--json", required=True, help="result JSON path")
     d.add_argument("--out", default="reports/design", help="directory for the ROM cache, CSV and the Pareto plot")
+    add_config_argument(d)
     d.set_defaults(func=cmd_design)
 
 
@@ -53,7 +55,6 @@ def _int_at_least(name, value, lo):
 def cmd_design(args):
     import pandas as pd
 
-    from fea.drum import DrumSetup
     from fea.outputs import write_csv, write_figure, write_json
 
     from .fea_check import fea_check
@@ -66,7 +67,7 @@ def cmd_design(args):
                             ("--pareto-points", args.pareto_points, 20), ("--starts", args.starts, 1)):
         _int_at_least(name, value, lo)
     out = Path(args.out)
-    setup = DrumSetup()
+    setup = drum_setup(from_args(args))
     space = design_space(tuple(args.alpha_bounds), tuple(args.length_bounds_in))
 
     def tick(k, n):

@@ -11,6 +11,8 @@ import argparse
 import sys
 from pathlib import Path
 
+from study.config import add_config_argument
+
 from .distributed import add_scheduler_argument
 from .errors import InputError, SolverError
 
@@ -19,13 +21,25 @@ def _fmt(value):
     return f"{value:d}" if isinstance(value, int) else f"{value:.4g}"
 
 
+def _finger(args):
+    """(material, section semi-axes [m]) from ``--config``."""
+    from study.config import finger_inputs, from_args
+
+    return finger_inputs(from_args(args))
+
+
 def _cmd_table1(args):
+    from .material import RUBBER
+    from .mesh import SEMI_AXES
     from .outputs import write_json
     from .studies import PAPER_TABLE1, table1
 
-    result = table1(length_in=args.length_in, stiffness=not args.no_stiffness)
+    material, semi_axes = _finger(args)
+    result = table1(length_in=args.length_in, material=material, stiffness=not args.no_stiffness,
+                    semi_axes_m=semi_axes)
+    paper_finger = args.length_in == 4.5 and material == RUBBER and semi_axes == SEMI_AXES
     for name, row in result.items():
-        paper = PAPER_TABLE1[name] if args.length_in == 4.5 else {}
+        paper = PAPER_TABLE1[name] if paper_finger else {}
         print(f"{name}: " + ", ".join(
             f"{k} = {_fmt(v)}" + (f" (paper {_fmt(paper[k])})" if k in paper else "") for k, v in row.items()))
     if args.json:
@@ -40,8 +54,10 @@ def _cmd_impulse(args):
     from .studies import impulse_study, plot_impulse_study
 
     out = Path(args.out)
+    material, semi_axes = _finger(args)
     history, summaries = impulse_study(alphas=args.alpha, length_in=args.length_in, force_N=args.force_N,
-                                       duration_s=args.duration_s, t_end_s=args.t_end_s, scheduler=args.scheduler)
+                                       duration_s=args.duration_s, t_end_s=args.t_end_s, scheduler=args.scheduler,
+                                       material=material, semi_axes_m=semi_axes)
     write_csv(out / "impulse_response.csv", history)
     write_figure(out / "impulse_response.png", plot_impulse_study(history))
     peaks = {}
@@ -63,9 +79,13 @@ def _cmd_impulse(args):
 def _contact_setup(args):
     from dataclasses import replace
 
-    from .drum import CALIBRATED_THETA0_RAD, DrumSetup, calibrate_initial_angle
+    from study.config import drum_setup, from_args
 
-    setup = DrumSetup(theta0_rad=CALIBRATED_THETA0_RAD if args.theta0_rad is None else args.theta0_rad)
+    from .drum import calibrate_initial_angle
+
+    setup = drum_setup(from_args(args))
+    if args.theta0_rad is not None:
+        setup = replace(setup, theta0_rad=args.theta0_rad)
     if args.calibrate:
         theta0, steps = calibrate_initial_angle(setup)
         for th, t_c in steps:
@@ -136,9 +156,11 @@ def _contact_arguments(p):
                    help="mass damping on the absolute velocity (global, the paper) or relative to the drum")
     p.add_argument("--t-end-s", type=float, default=1.5, help="simulated time [s]")
     p.add_argument("--n-outputs", type=int, default=300, help="number of output times")
-    p.add_argument("--theta0-rad", type=float, help="initial finger angle [rad] (default: the calibrated one)")
+    p.add_argument("--theta0-rad", type=float, help="initial finger angle [rad] (default: [drum] theta0_rad of "
+                   "--config, else the calibrated one)")
     p.add_argument("--calibrate", action="store_true",
                    help="recalibrate theta0 so that alpha = 7.5 1/s first touches at t = 0.32 s")
+    add_config_argument(p)
 
 
 def build_parser():
@@ -150,6 +172,7 @@ def build_parser():
     t.add_argument("--length-in", type=float, default=4.5, help="finger length [in] (default 4.5)")
     t.add_argument("--json", help="write the table as JSON to this path")
     t.add_argument("--no-stiffness", action="store_true", help="skip the static stiffness solves")
+    add_config_argument(t)
     t.set_defaults(func=_cmd_table1)
     i = sub.add_parser("impulse", help="tip impulse response of the SM-A finger for several alpha "
                        "(paper Fig. 7): CSV, plot, JSON")
@@ -161,6 +184,7 @@ def build_parser():
     i.add_argument("--t-end-s", type=float, default=0.2, help="simulated time [s]")
     i.add_argument("--out", default="reports/impulse", help="output directory")
     add_scheduler_argument(i)
+    add_config_argument(i)
     i.set_defaults(func=_cmd_impulse)
     c = sub.add_parser("contact", help="finger on the rotating drum over the elliptical object (paper 3.3-3.4)")
     c.add_argument("--alpha", type=float, required=True, help="mass-proportional damping [1/s]")

@@ -40,7 +40,7 @@ from .errors import InputError, require_finite_positive
 from .explicit import run
 from .hex8 import deformation_gradient
 from .material import RUBBER, NeoHookean, cauchy_stress, von_mises
-from .mesh import SEMI_AXIS_MINOR, Mesh, elliptical_cantilever, sm_a_elements_along
+from .mesh import SEMI_AXES, Mesh, elliptical_cantilever, sm_a_elements_along
 from .model import Model, RotatingNodes
 from .static import free_dofs, tangent_stiffness
 
@@ -73,6 +73,7 @@ class DrumSetup:
     friction: float = 0.6
     theta0_rad: float = CALIBRATED_THETA0_RAD
     finger_material: NeoHookean = RUBBER
+    finger_semi_axes_m: tuple = SEMI_AXES
     object_material: NeoHookean = AL6061
     finger_section_elements: int = 5
     finger_elements_along: int | None = None
@@ -81,8 +82,9 @@ class DrumSetup:
         for name in ("drum_radius_m", "finger_length_m", "omega_rad_s", "object_thickness_m", "sensor_radius_m"):
             require_finite_positive(name, getattr(self, name))
         require_finite_positive("friction (coefficient)", self.friction, allow_zero=True)
-        for s in self.object_semi_axes_m:
-            require_finite_positive("object_semi_axes_m", s)
+        for name in ("object_semi_axes_m", "finger_semi_axes_m"):
+            for s in getattr(self, name):
+                require_finite_positive(name, s)
         for name in ("finger_section_elements", "finger_elements_along"):
             n = getattr(self, name)
             if n is not None and (int(n) != n or n < 1):
@@ -115,7 +117,7 @@ def finger_mesh(setup: DrumSetup):
     ~4 mm along) unless ``finger_section_elements`` / ``finger_elements_along`` say otherwise."""
     L = setup.finger_length_m
     n_along = setup.finger_elements_along or sm_a_elements_along(L)
-    return elliptical_cantilever(L, setup.finger_section_elements, n_along)
+    return elliptical_cantilever(L, setup.finger_section_elements, n_along, *setup.finger_semi_axes_m)
 
 
 def finger_on_drum(setup: DrumSetup, alpha, damping="global"):
@@ -266,7 +268,7 @@ def contact_summary(setup: DrumSetup, result, model):
         summary.update({"max_object_stress_Pa": 0.0, "max_penetration_m": 0.0})
     stored = (h.kinetic_energy_J + h.internal_energy_J + h.hourglass_energy_J + h.damping_energy_J
               + h.bulk_viscosity_energy_J)
-    summary["penetration_to_thickness"] = summary["max_penetration_m"] / (2 * SEMI_AXIS_MINOR)
+    summary["penetration_to_thickness"] = summary["max_penetration_m"] / (2 * setup.finger_semi_axes_m[1])
     summary["energy_balance_error"] = float((h.external_work_J - stored).abs().max()
                                             / max(h.external_work_J.abs().max(), 1e-300))
     summary["friction_work_J"] = float(h.friction_work_J.iloc[-1])

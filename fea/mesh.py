@@ -91,6 +91,8 @@ def elliptical_cantilever(length_m, n_section, n_along, a=SEMI_AXIS_MAJOR, b=SEM
     for name, n in (("n_section", n_section), ("n_along", n_along)):
         if int(n) != n or n < 1:
             raise InputError(f"{name} must be an integer >= 1, got {n!r}")
+    a = require_finite_positive("a (section semi-axis along x, m)", a)
+    b = require_finite_positive("b (section semi-axis along y, m)", b)
     n, nz = int(n_section), int(n_along)
     sec = ellipse_section(a, b, n).reshape(-1, 2)
     z = np.linspace(0.0, length_m, nz + 1)
@@ -118,13 +120,18 @@ def sm_a_elements_along(length_m):
     return max(1, int(round(length_m / SM_A_ELEMENT_LENGTH)))
 
 
-def sm_a(length_in=None, length_m=None):
-    """The paper's simplified model A: 5 x 5 hexahedra in the section, ~4 mm along."""
+SEMI_AXES = (SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR)
+"""The paper's finger section (a along x, b along y) [m]."""
+
+
+def sm_a(length_in=None, length_m=None, semi_axes_m=SEMI_AXES):
+    """The paper's simplified model A: 5 x 5 hexahedra in the section, ~4 mm along;
+    section semi-axes ``semi_axes_m`` = (a along x, b along y, the bending direction) [m]."""
     L = _length_m(length_in, length_m)
-    return elliptical_cantilever(L, 5, sm_a_elements_along(L))
+    return elliptical_cantilever(L, 5, sm_a_elements_along(L), *semi_axes_m)
 
 
-def sm_b(length_in=None, length_m=None):
+def sm_b(length_in=None, length_m=None, semi_axes_m=SEMI_AXES):
     """The paper's refined simplified model B: 9 x 9 in the section, twice SM-A along."""
     L = _length_m(length_in, length_m)
-    return elliptical_cantilever(L, 9, 2 * sm_a_elements_along(L))
+    return elliptical_cantilever(L, 9, 2 * sm_a_elements_along(L), *semi_axes_m)

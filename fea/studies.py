@@ -7,7 +7,7 @@ import pandas as pd
 
 from .explicit import TSSFAC, critical_time_step, run
 from .material import RUBBER
-from .mesh import sm_a, sm_b
+from .mesh import SEMI_AXES, sm_a, sm_b
 from .model import cantilever_model, tip_pulse
 from .static import tip_stiffness
 
@@ -20,12 +20,13 @@ PAPER_TABLE1 = {
 """The paper's Table 1 values for the 4.5-in finger (simplified hexahedral models)."""
 
 
-def table1(length_in=4.5, material=RUBBER, stiffness=True):
+def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES):
     """Nodes, elements, stable step (TSSFAC x min dt_e) [us], steps to 0.2 s, step ratio to
-    SM-A and tip stiffness [N/m] (nonlinear static, mean over 1 N and 2 N) of SM-A and SM-B."""
+    SM-A and tip stiffness [N/m] (nonlinear static, mean over 1 N and 2 N) of SM-A and SM-B
+    with section semi-axes ``semi_axes_m`` [m]."""
     out = {}
     for name, make in (("SM-A", sm_a), ("SM-B", sm_b)):
-        model = cantilever_model(make(length_in=length_in), material)
+        model = cantilever_model(make(length_in=length_in, semi_axes_m=semi_axes_m), material)
         dt = TSSFAC * critical_time_step(model)
         out[name] = {"nodes": model.mesh.n_nodes, "elements": model.mesh.n_elements, "dt_us": dt * 1e6,
                      "steps_to_0p2s": math.ceil(0.2 / dt)}
@@ -37,18 +38,19 @@ def table1(length_in=4.5, material=RUBBER, stiffness=True):
 
 
 def impulse_model(length_in=4.5, alpha=180.0, force_N=1.0, duration_s=0.01, material=RUBBER, beta=0.0,
-                  mesh=None):
-    """A clamped SM-A finger (or ``mesh``) loaded by a tip force ``force_N`` [N] in the soft
-    direction (+y) held for ``duration_s`` [s]: the paper's impulse test."""
-    mesh = sm_a(length_in=length_in) if mesh is None else mesh
+                  mesh=None, semi_axes_m=SEMI_AXES):
+    """A clamped SM-A finger (section semi-axes ``semi_axes_m`` [m]; or ``mesh``) loaded by a
+    tip force ``force_N`` [N] in the soft direction (+y) held for ``duration_s`` [s]: the
+    paper's impulse test."""
+    mesh = sm_a(length_in=length_in, semi_axes_m=semi_axes_m) if mesh is None else mesh
     return cantilever_model(mesh, material, alpha=alpha, beta=beta,
                             pulses=[tip_pulse(mesh, [0.0, force_N, 0.0], duration_s)])
 
 
 def impulse_response(length_in=4.5, alpha=180.0, force_N=1.0, duration_s=0.01, t_end_s=0.2,
-                     n_outputs=400, material=RUBBER, beta=0.0, mesh=None):
+                     n_outputs=400, material=RUBBER, beta=0.0, mesh=None, semi_axes_m=SEMI_AXES):
     """Tip response of :func:`impulse_model`; returns the solver's RunResult."""
-    model = impulse_model(length_in, alpha, force_N, duration_s, material, beta, mesh)
+    model = impulse_model(length_in, alpha, force_N, duration_s, material, beta, mesh, semi_axes_m)
     return run(model, t_end_s, n_outputs=n_outputs)
 
 

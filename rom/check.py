@@ -25,6 +25,8 @@ import numpy as np
 
 from fea.contact_study import tip_lag_series_m, window_mean
 from fea.drum import DrumSetup, FullContactModel
+from fea.material import RUBBER
+from fea.mesh import SEMI_AXES
 from fea.studies import impulse_model, impulse_response
 from rom.contact_rom import ReducedContactModel
 from rom.modal import fit_to_response, nrmse, tip_modal_rom
@@ -81,15 +83,18 @@ def contact_cases(setup: DrumSetup, alphas=(7.5, 180.0, 600.0), damping="global"
     return cases
 
 
-def impulse_cases(alphas=(20.0, 180.0), n_modes=6, force_N=0.1, duration_s=0.01, t_end_s=0.2, n_outputs=400):
-    """Full FEA vs the modal ROM for the 4.5-in finger's tip pulse, per alpha."""
+def impulse_cases(alphas=(20.0, 180.0), n_modes=6, force_N=0.1, duration_s=0.01, t_end_s=0.2, n_outputs=400,
+                  material=RUBBER, semi_axes_m=SEMI_AXES):
+    """Full FEA vs the modal ROM for the 4.5-in finger's tip pulse, per alpha (finger of
+    ``material`` with section semi-axes ``semi_axes_m`` [m])."""
+    finger = {"material": material, "semi_axes_m": semi_axes_m}
     impulse_response(t_end_s=1e-3, n_outputs=1)                       # compile outside the timing
     cases = []
     for alpha in alphas:
         fe = impulse_response(alpha=alpha, force_N=force_N, duration_s=duration_s, t_end_s=t_end_s,
-                              n_outputs=n_outputs)
+                              n_outputs=n_outputs, **finger)
         t, y = fe.history.time_s.to_numpy(), fe.history.tip_uy_m.to_numpy()
-        rom = tip_modal_rom(impulse_model(alpha=alpha, force_N=force_N), n_modes=n_modes)
+        rom = tip_modal_rom(impulse_model(alpha=alpha, force_N=force_N, **finger), n_modes=n_modes)
         fit = fit_to_response(rom, t, y, force_N, duration_s)
         repeats = 200
         t0 = time.perf_counter()

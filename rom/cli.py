@@ -8,6 +8,7 @@ import numpy as np
 
 from fea.distributed import add_scheduler_argument
 from fea.errors import InputError
+from study.config import add_config_argument, drum_setup, finger_inputs, from_args
 
 
 def add_parsers(sub):
@@ -26,12 +27,14 @@ def add_parsers(sub):
                    help="fraction of the peak a measured crossing must exceed to count as oscillation")
     i.add_argument("--rtol", type=float, default=0.01, help="relative width of the final alpha_cr bracket")
     i.add_argument("--json", help="write the result as JSON to this path")
+    add_config_argument(i)
     i.set_defaults(func=cmd_identify)
     f = sub.add_parser("damping-fits", help="alpha_cr of the 3, 4.5, 6 and 8-in SM-A fingers and the paper's "
                        "Eq. (7) and (8) refitted from them (slow: ~30 FE runs)")
     f.add_argument("--lengths-in", type=float, nargs="+", default=[3.0, 4.5, 6.0, 8.0])
     f.add_argument("--out", default="reports/damping_fits", help="output directory")
     add_scheduler_argument(f, default="local")
+    add_config_argument(f)
     f.set_defaults(func=cmd_damping_fits)
     r = sub.add_parser("rom-check", help="reduced models against the full FEA: modal ROM on the 4.5-in impulse, "
                        "superelement chain (co-rotational and linear) on the 8-in contact case (~7 min)")
@@ -43,6 +46,7 @@ def add_parsers(sub):
     r.add_argument("--modes", type=int, default=6, help="modes of the impulse ROM")
     r.add_argument("--damping", choices=("global", "relative"), default="global")
     r.add_argument("--t-end-s", type=float, default=1.5, help="contact run length [s]")
+    add_config_argument(r)
     r.set_defaults(func=cmd_rom_check)
 
 
@@ -70,9 +74,12 @@ def _simulator_and_guess(args, t_end_s):
         raise InputError("--length-in (finger length, in) is required for --model finger")
     force = 1.0 if args.force_N is None else args.force_N
     duration = 0.01 if args.duration_s is None else args.duration_s
-    omega1 = finger_omega1(args.length_in)
+    material, semi_axes = finger_inputs(from_args(args))
+    omega1 = finger_omega1(args.length_in, material, semi_axes)
     t_end = max(t_end_s or 0.0, duration + SETTLE_PERIODS / omega1)
-    return finger_simulator(args.length_in, force_N=force, duration_s=duration, t_end_s=t_end), 2.0 * omega1, omega1
+    simulate = finger_simulator(args.length_in, force_N=force, duration_s=duration, t_end_s=t_end, material=material,
+                                semi_axes_m=semi_axes)
+    return simulate, 2.0 * omega1, omega1
 
 
 def cmd_identify(args):
@@ -123,7 +130,8 @@ def cmd_damping_fits(args):
     from rom.finger_identification import alpha_cr_table
 
     out = Path(args.out)
-    rows = alpha_cr_table(args.lengths_in, scheduler=args.scheduler)
+    material, semi_axes = finger_inputs(from_args(args))
+    rows = alpha_cr_table(args.lengths_in, scheduler=args.scheduler, material=material, semi_axes_m=semi_axes)
     for r in rows:
         print(f"{r['length_in']:g} in: alpha_cr = {r['alpha_cr_per_s']:.4g} 1/s, 2 omega_1 = "
               f"{r['two_omega1_per_s']:.4g} 1/s, paper Eq. (8) {r['paper_eq8_per_s']:.4g} 1/s ({r['n_runs']} runs)")
@@ -173,15 +181,17 @@ def _plot_fits(x, acr, c, p, eq7_fit=None):
 
 
 def cmd_rom_check(args):
-    from fea.drum import DrumSetup
     from fea.outputs import write_json
     from rom.check import contact_cases, impulse_cases
 
     if args.modes < 1:
         raise InputError(f"--modes must be >= 1, got {args.modes}")
-    cases = impulse_cases(args.impulse_alphas, n_modes=args.modes) if args.impulse_alphas else []
+    cfg = from_args(args)
+    material, semi_axes = finger_inputs(cfg)
+    cases = impulse_cases(args.impulse_alphas, n_modes=args.modes, material=material,
+                          semi_axes_m=semi_axes) if args.impulse_alphas else []
     if args.alphas:
-        cases += contact_cases(DrumSetup(), args.alphas, args.damping, t_end_s=args.t_end_s, progress=True)
+        cases += contact_cases(drum_setup(cfg), args.alphas, args.damping, t_end_s=args.t_end_s, progress=True)
     for c in cases:
         timing = ("" if c["contact_start_error_s"] is None else
                   f", start {c['contact_start_error_s']:+.3f} s, end {c['contact_end_error_s']:+.3f} s, "

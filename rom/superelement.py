@@ -45,7 +45,7 @@ from fea.errors import InputError
 from fea.hex8 import deformation_gradient, element_geometry
 from fea.kernels import FASTMATH
 from fea.material import NeoHookean, cauchy_stress, von_mises
-from fea.mesh import SEMI_AXIS_MINOR, Mesh
+from fea.mesh import Mesh
 from fea.model import Model, cantilever_model
 from fea.static import tangent_stiffness, tip_deflection
 from rom.craig_bampton import craig_bampton
@@ -206,15 +206,17 @@ def _stress_zone(mesh, material, z, a, b):
     return seg, StressZone(a=a, b=b, gradients=_gradient_modes(seg), stiffness=natural_stiffness(seg.K_e, l0))
 
 
-def finger_chain(mesh: Mesh, material: NeoHookean, n_segments=17, half_thickness_m=SEMI_AXIS_MINOR):
+def finger_chain(mesh: Mesh, material: NeoHookean, n_segments=17):
     """Reduce a straight finger ``mesh`` (root at z = 0, clamped) to a chain of
-    ``n_segments`` superelements (unfitted; see :func:`fit_tip_stiffness`).
+    ``n_segments`` superelements (unfitted; see :func:`fit_tip_stiffness`). The contact
+    points sit on the mesh's faces, at +-max |y| of its nodes (the section semi-axis b).
 
     Stresses are recovered per zone: the root zone (stations 0..r, at least
     ``ROOT_ZONE_DEPTHS`` section depths long, its root face clamped like the FE model's)
     and every segment beyond it, so the clamp's stress does not depend on where the
     segments are cut."""
     z = station_planes(mesh, n_segments)
+    half_thickness_m = float(np.abs(mesh.nodes[:, 1]).max())
     mass, inertia = np.zeros(len(z)), np.zeros(len(z))
     K_n, zones = [], []
     root_end = int(np.searchsorted(z, ROOT_ZONE_DEPTHS * 2.0 * half_thickness_m))

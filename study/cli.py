@@ -9,6 +9,8 @@ from pathlib import Path
 from fea.distributed import add_scheduler_argument
 from fea.errors import InputError
 
+from .config import add_config_argument
+
 
 def add_parsers(sub):
     s = sub.add_parser("study", help="the whole design study on the bundled data: identification, ROMs, design, "
@@ -28,12 +30,14 @@ def add_parsers(sub):
     e = sub.add_parser("export", help="a model as an LS-DYNA keyword deck, or its run as VTU (ParaView), "
                        "CSV or Parquet time series")
     e.add_argument("--case", choices=("impulse", "contact"), default="impulse",
-                   help="impulse: clamped SM-A finger, tip pulse; contact: the 8-in finger on the drum")
+                   help="impulse: clamped SM-A finger, tip pulse; contact: the finger on the drum "
+                   "([finger] contact_length_in of --config, default 8 in)")
     e.add_argument("--format", choices=("lsdyna", "vtu", "csv", "parquet"), default="lsdyna")
     e.add_argument("--alpha", type=float, default=180.0, help="mass-proportional damping [1/s]")
     e.add_argument("--length-in", type=float, default=4.5, help="finger length of the impulse case [in]")
     e.add_argument("--t-end-s", type=float, help="simulated time [s] (default 0.2 impulse, 1.5 contact)")
     e.add_argument("--out", required=True, help="file (lsdyna: .k; csv/parquet) or directory (vtu)")
+    add_config_argument(e)
     e.set_defaults(func=cmd_export)
 
 
@@ -63,14 +67,18 @@ def cmd_init(args):
 
 def _case(args, t_end_s):
     """(model, simulate) of the export case; simulate(snapshot_every) -> RunResult."""
-    from fea.drum import DrumSetup, contact_run, finger_on_drum
+    from fea.drum import contact_run, finger_on_drum
     from fea.explicit import run
     from fea.studies import impulse_model
 
+    from .config import drum_setup, finger_inputs, from_args
+
+    cfg = from_args(args)
     if args.case == "impulse":
-        model = impulse_model(length_in=args.length_in, alpha=args.alpha)
+        material, semi_axes = finger_inputs(cfg)
+        model = impulse_model(length_in=args.length_in, alpha=args.alpha, material=material, semi_axes_m=semi_axes)
         return model, lambda every: run(model, t_end_s, snapshot_every=every, progress=True)
-    setup = DrumSetup()
+    setup = drum_setup(cfg)
     model = finger_on_drum(setup, args.alpha)[0]
     return model, lambda every: contact_run(setup, args.alpha, t_end_s=t_end_s, snapshot_every=every,
                                             progress=True)[0]

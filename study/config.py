@@ -1,15 +1,26 @@
-"""Study inputs as TOML, validated against a schema.
+"""Study inputs as TOML, validated against a schema: the finger's material and section,
+the drum test, and the study settings.
 
 Every key carries its unit in its name (``length_in``, ``alpha_per_s``, ``t_end_s``);
 a key whose unit suffix is not the schema's (``length_mm``) is unknown, and the error
 names the key the schema expects. Any problem gives one :class:`fea.errors.InputError`
 line naming the section and key, e.g. ``[finger] length_in = 20: must be in 1..12 (in)``.
+
+Every sub-command that builds a finger takes the same file with ``--config``
+(:func:`add_config_argument`, :func:`finger_inputs`, :func:`drum_setup`); ``ccedi study``
+writes the resolved inputs to ``OUT/config.toml`` and passes it to each step.
 """
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 
+from fea.drum import DrumSetup
 from fea.errors import InputError
+from fea.material import RUBBER, NeoHookean
+from fea.mesh import SEMI_AXES
+from fea.units import inch_to_m, m_to_inch
+
+_DRUM = {f.name: f.default for f in fields(DrumSetup)}
 
 
 @dataclass(frozen=True)
@@ -25,11 +36,34 @@ class Key:
     help: str
     is_list: bool = False
     min_items: int = 1
+    max_items: int | None = None
 
 
 SCHEMA = {
+    "material": {
+        "E_Pa": Key(float, "Pa", 1e4, 1e12, RUBBER.E, "finger Young's modulus (paper Table 1: 6.1 MPa rubber)"),
+        "nu": Key(float, "-", 0.0, 0.499, RUBBER.nu, "finger Poisson's ratio (neo-Hookean, compressible)"),
+        "rho_kg_m3": Key(float, "kg/m^3", 1.0, 1e5, RUBBER.rho, "finger density"),
+    },
     "finger": {
         "impulse_length_in": Key(float, "in", 1.0, 12.0, 4.5, "finger length of the impulse studies (Figs. 6, 7)"),
+        "contact_length_in": Key(float, "in", 1.0, 12.0, round(m_to_inch(_DRUM["finger_length_m"]), 6),
+                                 "finger length of the drum contact study (Figs. 10, 13, 14)"),
+        "section_semi_axes_m": Key(float, "m", 1e-4, 0.1, list(SEMI_AXES),
+                                   "elliptical section semi-axes [a along x, b along y, the bending direction]",
+                                   True, 2, 2),
+    },
+    "drum": {
+        "drum_radius_m": Key(float, "m", 1e-3, 1.0, _DRUM["drum_radius_m"], "drum radius (the finger root's radius)"),
+        "omega_rad_s": Key(float, "rad/s", 1e-3, 100.0, _DRUM["omega_rad_s"], "drum speed"),
+        "theta0_rad": Key(float, "rad", -3.2, 3.2, _DRUM["theta0_rad"],
+                          "initial finger angle (default calibrated: alpha = 7.5 1/s first touches at 0.32 s; "
+                          "recalibrate with ccedi contact --calibrate after changing the set-up)"),
+        "object_center_m": Key(float, "m", -1.0, 1.0, list(_DRUM["object_center_m"]),
+                               "elliptical object centre [x, y] in the drum frame", True, 2, 2),
+        "object_semi_axes_m": Key(float, "m", 1e-3, 1.0, list(_DRUM["object_semi_axes_m"]),
+                                  "elliptical object semi-axes [a, b]", True, 2, 2),
+        "friction": Key(float, "-", 0.0, 2.0, _DRUM["friction"], "Coulomb friction coefficient finger-object"),
     },
     "study": {
         "impulse_alphas_per_s": Key(float, "1/s", 0.0, 1e4, [70.0, 120.0, 160.0, 180.0, 200.0],
@@ -66,9 +100,11 @@ def _hint(section, key):
 def _check(section, key, spec, value):
     where = f"[{section}] {key} = {value!r}"
     if spec.is_list:
-        if not isinstance(value, list) or len(value) < spec.min_items:
+        if not isinstance(value, list) or not spec.min_items <= len(value) <= (spec.max_items or len(value)):
             unit = f" ({spec.unit})" if spec.unit != "-" else ""
-            raise InputError(f"{where}: must be a list of at least {spec.min_items} {spec.kind.__name__}{unit}")
+            count = (f"exactly {spec.min_items}" if spec.max_items == spec.min_items
+                     else f"at least {spec.min_items}")
+            raise InputError(f"{where}: must be a list of {count} {spec.kind.__name__}{unit}")
         return [_check(section, key, Key(spec.kind, spec.unit, spec.lo, spec.hi, None, spec.help), v)
                 for v in value]
     if spec.kind is float and isinstance(value, int) and not isinstance(value, bool):
@@ -94,7 +130,39 @@ def validate(data, source="config"):
             if key not in SCHEMA[section]:
                 raise InputError(f"[{section}] {key}: unknown key{_hint(section, key)}")
             out[section][key] = _check(section, key, SCHEMA[section][key], value)
+    drum_setup(out)             # the set-up as a whole: the object must clear the drum, ...
     return out
+
+
+def finger_inputs(cfg):
+    """(material, section semi-axes [m]) of the finger in the validated inputs ``cfg``."""
+    m = cfg["material"]
+    return NeoHookean(E=m["E_Pa"], nu=m["nu"], rho=m["rho_kg_m3"]), tuple(cfg["finger"]["section_semi_axes_m"])
+
+
+def drum_setup(cfg):
+    """The :class:`fea.drum.DrumSetup` of the validated inputs ``cfg`` (contact-length finger);
+    an inconsistent set-up is an InputError naming the [drum] section."""
+    material, semi_axes = finger_inputs(cfg)
+    d = cfg["drum"]
+    try:
+        return DrumSetup(drum_radius_m=d["drum_radius_m"], omega_rad_s=d["omega_rad_s"], theta0_rad=d["theta0_rad"],
+                         object_center_m=tuple(d["object_center_m"]), object_semi_axes_m=tuple(d["object_semi_axes_m"]),
+                         friction=d["friction"], finger_length_m=inch_to_m(cfg["finger"]["contact_length_in"]),
+                         finger_material=material, finger_semi_axes_m=semi_axes)
+    except InputError as err:
+        raise InputError(f"[drum]: {err}") from None
+
+
+def add_config_argument(parser):
+    """``--config TOML``: the finger's material and section and the drum set-up of a sub-command."""
+    parser.add_argument("--config", help="inputs TOML ([material], [finger], [drum]; see ccedi init); "
+                        "default: the paper's rubber finger and drum test")
+
+
+def from_args(args):
+    """The validated inputs of ``--config`` (all defaults when it is not given)."""
+    return load(getattr(args, "config", None))
 
 
 def load(path):
@@ -120,14 +188,21 @@ def _toml_value(value):
     return repr(value)
 
 
-def example():
-    """A commented TOML file holding every key at its default."""
-    lines = ["# ccedi study inputs. Units are part of every key name (SI unless the key says in).",
-             "# Run: ccedi study --config THIS_FILE. Unknown keys and out-of-range values are errors."]
+def to_toml(cfg):
+    """The inputs ``cfg`` ({section: {key: value}}) as a TOML file, every key commented with
+    its help, unit and allowed range."""
+    lines = ["# ccedi inputs. Units are part of every key name (SI unless the key says in).",
+             "# Run: ccedi study --config THIS_FILE (or any sub-command's --config). Unknown keys and",
+             "# out-of-range values are errors."]
     for section, keys in SCHEMA.items():
         lines += ["", f"[{section}]"]
         for key, spec in keys.items():
             rng = f", {spec.lo:g}..{spec.hi:g}" if spec.lo is not None else ""
             unit = f" [{spec.unit}{rng}]" if spec.unit != "-" or rng else ""
-            lines += [f"# {spec.help}{unit}", f"{key} = {_toml_value(spec.default)}"]
+            lines += [f"# {spec.help}{unit}", f"{key} = {_toml_value(cfg[section][key])}"]
     return "\n".join(lines) + "\n"
+
+
+def example():
+    """A commented TOML file holding every key at its default."""
+    return to_toml(validate({}))

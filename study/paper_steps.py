@@ -73,24 +73,26 @@ def steel_rod(out):
     return result
 
 
-def _mesh_run(name, length_in, alpha, force_N, duration_s, t_end_s):
+def _mesh_run(name, length_in, alpha, force_N, duration_s, t_end_s, material, semi_axes_m):
     from fea.mesh import sm_a, sm_b
     from fea.studies import impulse_response
 
-    mesh = {"SM-A": sm_a, "SM-B": sm_b}[name](length_in=length_in)
-    res = impulse_response(alpha=alpha, force_N=force_N, duration_s=duration_s, t_end_s=t_end_s, mesh=mesh)
+    mesh = {"SM-A": sm_a, "SM-B": sm_b}[name](length_in=length_in, semi_axes_m=semi_axes_m)
+    res = impulse_response(alpha=alpha, force_N=force_N, duration_s=duration_s, t_end_s=t_end_s, mesh=mesh,
+                           material=material)
     h = res.history[["time_s", "tip_uy_m", "max_von_mises_Pa"]].copy()
     h.insert(0, "model", name)
     return h, res.summary
 
 
-def mesh_comparison(out, length_in, alpha, force_N, duration_s, t_end_s, scheduler):
-    """Fig. 6 analogue: tip response and max von Mises stress of SM-A and SM-B under the
-    same impulse at one alpha. Writes mesh_comparison.csv/.json and the figure."""
+def mesh_comparison(out, length_in, alpha, force_N, duration_s, t_end_s, scheduler, material, semi_axes_m):
+    """Fig. 6 analogue: tip response and max von Mises stress of SM-A and SM-B (``material``,
+    section semi-axes ``semi_axes_m`` [m]) under the same impulse at one alpha. Writes
+    mesh_comparison.csv/.json and the figure."""
     from fea.distributed import map_runs
 
     run = partial(_mesh_run, length_in=length_in, alpha=alpha, force_N=force_N, duration_s=duration_s,
-                  t_end_s=t_end_s)
+                  t_end_s=t_end_s, material=material, semi_axes_m=semi_axes_m)
     runs = map_runs(run, ["SM-A", "SM-B"], scheduler, label="SM-A/SM-B")
     history = pd.concat([h for h, _ in runs], ignore_index=True)
     write_csv(out / "mesh_comparison.csv", history)

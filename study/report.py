@@ -216,13 +216,31 @@ def _timings(out):
             + _table(rows, [("step", "step"), _col("wall_time_s", "wall time")]))
 
 
+def _inputs(out):
+    """The finger and drum inputs of this run (``config.toml``), each with its unit."""
+    import tomllib
+
+    from .config import SCHEMA
+    from .run import CONFIG_NAME
+
+    path = out / CONFIG_NAME
+    if not path.exists():
+        return ""
+    cfg = tomllib.loads(path.read_text())
+    rows = [{"input": f"[{sec}] {key}", "value": ", ".join(f"{v:g}" for v in val) if isinstance(val, list) else val,
+             "unit": SCHEMA[sec][key].unit} for sec in ("material", "finger", "drum") for key, val in cfg[sec].items()]
+    return (f"<p>Finger and drum inputs (from <code>{CONFIG_NAME}</code>; study settings are in the same file). "
+            "Calibration uses each measured record's own finger (its JSON sidecar).</p>"
+            + _table(rows, [("input", "input"), ("value", "value"), ("unit", "unit")]))
+
+
 def write_index(out):
     """Write ``out/index.html`` (and ``out/index.pdf`` of the figures) from the study's outputs."""
     out = Path(out)
     stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     body = [f"<h1>ccedi design study</h1><p>Generated {stamp} from the files in this directory. Units: SI "
             "unless a header says otherwise; every number below was computed by this run.</p>",
-            "<h2>Run</h2>", _timings(out)]
+            "<h2>Run</h2>", _timings(out), _inputs(out)]
     for title, section, figures in SECTIONS:
         body += [f"<h2>{html.escape(title)}</h2>", section(out)]
         body += [_figure(src, cap) for src, cap in figures if (out / src).exists()]

@@ -13,6 +13,8 @@ Steps (each an existing sub-command or a function of :mod:`study.paper_steps`):
   calibrate     close the loop on the bundled measured records     -> calibrate/<record>/
   report        index.html (and index.pdf) from the files above
 
+The resolved inputs are written to ``config.toml`` first and every sub-command step
+reads the finger's material and section and the drum set-up from it (``--config``).
 Every output is written atomically, so an interrupted study (Ctrl-C) leaves the
 finished steps' files and no partial ones; ``study.json`` records each finished step's
 wall time [s].
@@ -21,9 +23,10 @@ import json
 import time
 from pathlib import Path
 
-from fea.outputs import write_json
+from fea.outputs import write_json, write_text
 
 from . import paper_steps
+from .config import finger_inputs, to_toml
 from .report import write_index
 
 QUICK = {"study": {"impulse_t_end_s": 0.05, "mesh_comparison_t_end_s": 0.03, "identification_lengths_in": [3.0, 4.5],
@@ -46,34 +49,39 @@ def _numbers(flag, values):
 def steps(cfg, out, scheduler):
     """[(name, description, thunk)] of the study with settings ``cfg`` writing under ``out``."""
     f, s = cfg["finger"], cfg["study"]
+    config = ["--config", out / CONFIG_NAME]
     impulse = ["--length-in", f["impulse_length_in"], "--force-N", s["impulse_force_N"],
-               "--duration-s", s["impulse_duration_s"]]
+               "--duration-s", s["impulse_duration_s"], *config]
+    material, semi_axes = finger_inputs(cfg)
     records = [Path(r) for r in s["measured_records"]]
     return [
         ("table1", "paper Table 1", lambda: _cli(["table1", "--length-in", f["impulse_length_in"],
-                                                   "--json", out / "table1.json"])),
+                                                   "--json", out / "table1.json", *config])),
         ("steel_rod", "steel rod alpha_cr (Figs. 3, 4)", lambda: paper_steps.steel_rod(out / "steel_rod")),
         ("impulse", "impulse study (Fig. 7)", lambda: _cli(
             ["impulse", *_numbers("--alpha", s["impulse_alphas_per_s"]), *impulse, "--t-end-s", s["impulse_t_end_s"],
              "--out", out / "impulse", "--scheduler", scheduler])),
         ("mesh", "SM-A vs SM-B (Fig. 6)", lambda: paper_steps.mesh_comparison(
             out / "mesh", f["impulse_length_in"], s["mesh_comparison_alpha_per_s"], s["impulse_force_N"],
-            s["impulse_duration_s"], s["mesh_comparison_t_end_s"], scheduler)),
+            s["impulse_duration_s"], s["mesh_comparison_t_end_s"], scheduler, material, semi_axes)),
         ("damping_fits", "alpha_cr over lengths (Fig. 8)", lambda: _cli(
             ["damping-fits", *_numbers("--lengths-in", s["identification_lengths_in"]),
-             "--out", out / "damping_fits", "--scheduler", scheduler])),
+             "--out", out / "damping_fits", "--scheduler", scheduler, *config])),
         ("contact", "drum contact sweep (Figs. 10, 13, 14)", lambda: _cli(
             ["contact-sweep", *_numbers("--alphas", s["contact_alphas_per_s"]), "--t-end-s", s["contact_t_end_s"],
-             "--out", out / "contact", "--scheduler", scheduler])),
+             "--out", out / "contact", "--scheduler", scheduler, *config])),
         ("design", "design optimisation and FEA re-check", lambda: _cli(
             ["design", "--weights", ",".join(f"{w:g}" for w in s["design_weights"]), "--json",
-             out / "design" / "design.json", "--out", out / "design", "--scheduler", scheduler,
+             out / "design" / "design.json", "--out", out / "design", "--scheduler", scheduler, *config,
              *([] if s["design_fea_check"] else ["--no-fea-check"])])),
         ("calibrate", "close the loop on measured records", lambda: [_cli(
             ["calibrate", r, "--json", out / "calibrate" / f"{r.stem}.json", "--report", out / "calibrate" / r.stem])
             for r in records]),
     ]
 
+
+CONFIG_NAME = "config.toml"
+"""The resolved inputs of a study, written to its output directory before any step."""
 
 STEP_NAMES = ("table1", "steel_rod", "impulse", "mesh", "damping_fits", "contact", "design", "calibrate")
 LONGEST_FIRST = ("design", "contact", "damping_fits", "steel_rod", "mesh", "table1", "impulse", "calibrate")
@@ -120,6 +128,7 @@ def run_study(cfg, out, scheduler=None, quick=False, only=None):
     out = Path(out)
     scheduler = scheduler or cfg["study"]["scheduler"]
     todo = [st for st in steps(cfg, out, scheduler) if only is None or st[0] in only]
+    write_text(out / CONFIG_NAME, to_toml(cfg))
     record = {"config": cfg, "quick": quick, "scheduler": scheduler, "wall_time_s": {}}
     if only is not None and (out / "study.json").exists():     # keep the other steps' timings
         record["wall_time_s"] = json.loads((out / "study.json").read_text())["wall_time_s"]

@@ -31,7 +31,12 @@ def test_init_writes_an_example_that_loads_back_to_the_defaults(tmp_path, capsys
     ("[study]\nimpulse_t_end_s = \"long\"\n", "[study] impulse_t_end_s = 'long': must be float (s)"),
     ("[study]\nidentification_lengths_in = [4.5]\n",
      "[study] identification_lengths_in = [4.5]: must be a list of at least 2 float (in)"),
-    ("[material]\nE_Pa = 6e6\n", "unknown section [material]"),
+    ("[solver]\nsteps = 6\n", "unknown section [solver]"),
+    ("[material]\nE_Pa = 1\n", "[material] E_Pa = 1: must be in 10000..1e+12 (Pa)"),
+    ("[material]\nE_MPa = 6.1\n", "did you mean E_Pa"),
+    ("[material]\nnu = 0.5\n", "[material] nu = 0.5: must be in 0..0.499"),
+    ("[finger]\nsection_semi_axes_m = [0.012]\n", "must be a list of exactly 2 float (m)"),
+    ("[drum]\nobject_center_m = [0.05, 0.05]\n", "[drum]: the object overlaps the drum"),
     ("[finger\n", "not valid TOML"),
 ])
 def test_bad_input_is_one_line_naming_the_key(tmp_path, capsys, text, message):
