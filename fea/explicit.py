@@ -228,7 +228,11 @@ def _advance(forces, rod_forces, contact, t, t_stop, dt_prev, dt_user, tssfac, b
     return t, dt_prev, steps, _OK, 0, dt_seen
 
 
-_advance_numba = nb.njit(cache=True, fastmath=FASTMATH)(_advance)
+_advance_numba = nb.njit(fastmath=FASTMATH)(_advance)
+"""``_advance`` compiled by numba (about 1 s per process). Not cached on disk: its kernel
+arguments are dispatcher objects, whose types make a new cache key in every process, so a
+cache only grew by one entry per process (and could fail to save); the kernels it calls
+are cached."""
 
 
 @dataclass
