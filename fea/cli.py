@@ -29,15 +29,13 @@ def _finger(args):
 
 
 def _cmd_table1(args):
-    from .material import RUBBER
-    from .mesh import SEMI_AXES
     from .outputs import write_json
-    from .studies import PAPER_TABLE1, table1
+    from .studies import PAPER_TABLE1, is_paper_finger, table1
 
     material, semi_axes = _finger(args)
     result = table1(length_in=args.length_in, material=material, stiffness=not args.no_stiffness,
                     semi_axes_m=semi_axes)
-    paper_finger = args.length_in == 4.5 and material == RUBBER and semi_axes == SEMI_AXES
+    paper_finger = is_paper_finger(args.length_in, material, semi_axes)
     for name, row in result.items():
         paper = PAPER_TABLE1[name] if paper_finger else {}
         print(f"{name}: " + ", ".join(

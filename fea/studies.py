@@ -20,6 +20,12 @@ PAPER_TABLE1 = {
 """The paper's Table 1 values for the 4.5-in finger (simplified hexahedral models)."""
 
 
+def is_paper_finger(length_in, material, semi_axes_m):
+    """True when the finger is the one of the paper's Table 1 (4.5 in, its rubber and section),
+    so that Table 1 applies to it."""
+    return length_in == 4.5 and material == RUBBER and tuple(semi_axes_m) == SEMI_AXES
+
+
 def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES):
     """Nodes, elements, stable step (TSSFAC x min dt_e) [us], steps to 0.2 s, step ratio to
     SM-A and tip stiffness [N/m] (nonlinear static, mean over 1 N and 2 N) of SM-A and SM-B

@@ -70,18 +70,35 @@ def _missing(step):
     return f"<p class='missing'>Not in this run (study step <code>{step}</code> did not run).</p>"
 
 
+def _inputs_of(out):
+    """The validated inputs of the run (``config.toml``); the defaults for a run without one."""
+    import tomllib
+
+    from .config import validate
+    from .run import CONFIG_NAME
+
+    path = out / CONFIG_NAME
+    return validate(tomllib.loads(path.read_text()) if path.exists() else {})
+
+
 def _table1(out):
-    from fea.studies import PAPER_TABLE1
+    from fea.studies import PAPER_TABLE1, is_paper_finger
+
+    from .config import finger_inputs
 
     t = _load(out, "table1.json")
     if t is None:
         return _missing("table1")
+    cfg = _inputs_of(out)
+    paper = is_paper_finger(cfg["finger"]["impulse_length_in"], *finger_inputs(cfg))
     rows = [{"model": f"{name} {src}", **vals} for name in t for src, vals in
-            (("paper", PAPER_TABLE1.get(name, {})), ("ccedi", t[name]))]
+            ((("paper", PAPER_TABLE1.get(name, {})),) if paper else ()) + (("ccedi", t[name]),)]
     cols = [("model", "model"), ("nodes", "nodes"), ("elements", "elements"), _col("dt_us", "stable step"),
             ("steps to 0.2 s", "steps_to_0p2s"), ("step ratio", "step_ratio"),
             _col("stiffness_N_per_m", "tip stiffness")]
-    return _table(rows, cols) + "<p>Paper rows are the paper's Table 1 (4.5-in finger).</p>"
+    note = ("Paper rows are the paper's Table 1 (4.5-in finger)." if paper else
+            "This run's finger is not the paper's (see the inputs), so the paper's Table 1 is not shown.")
+    return _table(rows, cols) + f"<p>{note}</p>"
 
 
 def _steel_rod(out):
@@ -218,15 +235,12 @@ def _timings(out):
 
 def _inputs(out):
     """The finger and drum inputs of this run (``config.toml``), each with its unit."""
-    import tomllib
-
     from .config import SCHEMA
     from .run import CONFIG_NAME
 
-    path = out / CONFIG_NAME
-    if not path.exists():
+    if not (out / CONFIG_NAME).exists():
         return ""
-    cfg = tomllib.loads(path.read_text())
+    cfg = _inputs_of(out)
     rows = [{"input": f"[{sec}] {key}", "value": ", ".join(f"{v:g}" for v in val) if isinstance(val, list) else val,
              "unit": SCHEMA[sec][key].unit} for sec in ("material", "finger", "drum") for key, val in cfg[sec].items()]
     return (f"<p>Finger and drum inputs (from <code>{CONFIG_NAME}</code>; study settings are in the same file). "

@@ -55,3 +55,18 @@ def test_export_csv_vtu_and_parquet(tmp_path, capsys):
         assert not list(tmp_path.glob("*.parquet*"))
     else:
         assert rc == 0 and pd.read_parquet(tmp_path / "h.parquet").equals(h)
+
+
+def test_index_shows_the_inputs_and_the_paper_table_only_for_the_paper_finger(tmp_path):
+    from study.config import to_toml, validate
+    from study.run import CONFIG_NAME
+
+    write_json(tmp_path / "table1.json", {"SM-A": {"nodes": 1080, "elements": 725, "dt_us": 3.438,
+                                                   "steps_to_0p2s": 58179, "step_ratio": 1.0,
+                                                   "stiffness_N_per_m": 202.6}})
+    page = write_index(tmp_path).read_text()                # no config.toml: the paper's finger
+    assert "SM-A paper" in page
+    (tmp_path / CONFIG_NAME).write_text(to_toml(validate({"material": {"E_Pa": 12.2e6}})))
+    page = write_index(tmp_path).read_text()
+    assert "SM-A paper" not in page and "not the paper's" in page
+    assert "[material] E_Pa</td><td>1.22e+07</td><td>Pa" in page
