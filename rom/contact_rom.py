@@ -16,14 +16,36 @@ import time
 import numpy as np
 import pandas as pd
 
-from fea.drum import ContactResponse, DrumSetup, contact_timing, finger_mesh
+from fea.drum import ContactResponse, DrumSetup, contact_timing, finger_mesh, finger_on_drum
 from fea.errors import InputError, SolverError, require_finite_positive
-from rom.chain_dynamics import (_FX, _FY, _NPTS, _PEN, _PX, _PY, _chain_run, _internal_forces,
-                                contact_point_stiffness, stable_step)
-from rom.superelement import chain_frequencies, fe_tip_stiffness, finger_chain, fit_tip_stiffness, stress_recovery
+from fea.explicit import TSSFAC, critical_time_step
+from fea.contact import penalty_stiffness
+from rom.chain_dynamics import (_FX, _FY, _NPTS, _PEN, _PX, _PY, _chain_run, _internal_forces, contact_omega,
+                                contact_point_stiffness, face_points, stable_step)
+from rom.superelement import (chain_frequencies, fe_tip_stiffness, finger_chain, fit_tip_stiffness, linear_matrices,
+                              stress_recovery)
 
 DEFAULT_SEGMENTS = 17
 """Superelements along the 8-in finger (three SM-A element layers, ~12 mm, each)."""
+
+
+def fe_face_stiffness_per_length(setup: DrumSetup):
+    """Penalty stiffness per unit length of finger face [N/m^2] of the full FE model
+    (:func:`fea.drum.finger_on_drum`): the FE gives each surface node
+    k = (1/0.81 - 1) m_node (2 / dt_cfl)^2 (:func:`fea.contact.penalty_stiffness`); on the
+    finger's flat-on face only the apex row (x = 0, y = +-b) touches (the next row, 3.3 mm
+    to the side, sits 0.33 mm behind, beyond the 50 um the penetration reaches), so the
+    face's stiffness per length is k of an apex node over the layer spacing dz, taken as
+    the median over the finger's interior planes."""
+    model, _ = finger_on_drum(setup, 0.0)
+    local = finger_mesh(setup).nodes
+    nodes = model.contact.nodes
+    k = penalty_stiffness(model.mass[nodes], critical_time_step(model))
+    x, y, z = local[nodes].T
+    apex = (np.abs(x) < 1e-9) & (y > 0.0) & (z > 0.0) & (z < setup.finger_length_m * (1 - 1e-9))
+    zs = np.unique(local[:, 2])
+    dz = np.median(np.diff(zs))
+    return float(np.median(k[apex]) / dz)
 
 
 class ReducedContactModel:
@@ -31,9 +53,20 @@ class ReducedContactModel:
 
     n_segments : superelements along the finger; nonlinear : co-rotational (True) or
     linear (False) kinematics; fit : scale the bending stiffness to the FE tip stiffness.
+
+    contact : "face" (default): contact points on both faces at every FE node plane,
+    moved with the segment's cubic centre line (:func:`rom.chain_dynamics._face_point`),
+    penalty stiffness per unit length ``k_per_length`` [N/m^2] (default: the full FE
+    model's, :func:`fe_face_stiffness_per_length`) times each point's tributary length;
+    the step is the stable step of the chain with the contact springs engaged,
+    TSSFAC x 2 / omega_c (:func:`rom.chain_dynamics.contact_omega`). "stations": the
+    earlier model, points at the stations only with the penalty rule of :mod:`fea.contact`
+    for the station's effective mass and the chain's own step (12 mm apart and ~20 times
+    softer per length than the FE face).
     """
 
-    def __init__(self, setup: DrumSetup, n_segments=DEFAULT_SEGMENTS, nonlinear=True, fit=True):
+    def __init__(self, setup: DrumSetup, n_segments=DEFAULT_SEGMENTS, nonlinear=True, fit=True, contact="face",
+                 k_per_length=None):
         self.setup = setup
         self.nonlinear = bool(nonlinear)
         self.name = "rom-corotational" if self.nonlinear else "rom-linear"
@@ -44,9 +77,23 @@ class ReducedContactModel:
         self.chain = chain
         self.stress = stress_recovery(chain, setup.finger_material)
         self.omega_max_rad_s = float(chain_frequencies(chain)[-1])
-        self.dt_s = stable_step(self.omega_max_rad_s)
-        self.contact_stiffness_N_m = contact_point_stiffness(chain.mass_kg, chain.inertia_kg_m2,
-                                                             chain.half_thickness_m, self.omega_max_rad_s)
+        if contact not in ("face", "stations"):
+            raise InputError(f"contact must be 'face' or 'stations', got {contact!r}")
+        self.contact = contact
+        if contact == "stations":
+            self.pt_seg, self.pt_xi, _ = face_points(chain.station_z_m, chain.station_z_m, nonlinear=False)
+            self.pt_k = contact_point_stiffness(chain.mass_kg, chain.inertia_kg_m2, chain.half_thickness_m,
+                                                self.omega_max_rad_s)[1:]
+            self.dt_s = stable_step(self.omega_max_rad_s)
+            self.k_per_length = None
+        else:
+            self.k_per_length = fe_face_stiffness_per_length(setup) if k_per_length is None else float(k_per_length)
+            self.pt_seg, self.pt_xi, trib = face_points(chain.station_z_m, np.unique(mesh.nodes[:, 2]), self.nonlinear)
+            self.pt_k = self.k_per_length * trib
+            K, M = linear_matrices(chain)
+            self.omega_contact_rad_s = contact_omega(K, M, self.pt_seg, self.pt_xi, self.pt_k,
+                                                     chain.half_thickness_m, chain.station_z_m, self.nonlinear)
+            self.dt_s = TSSFAC * 2.0 / self.omega_contact_rad_s
 
     def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300):
         """Integrate the chain over the object; returns a :class:`fea.drum.ContactResponse`."""
@@ -70,7 +117,7 @@ class ReducedContactModel:
         wall0 = time.perf_counter()
         status, steps = _chain_run(P, TH, V, W, ch.mass_kg, ch.inertia_kg_m2, ch.segment_length_m,
                                    ch.natural_stiffness, ch.half_thickness_m, self.nonlinear, damping == "relative",
-                                   float(alpha), s.omega_rad_s, s.theta0_rad, self.contact_stiffness_N_m,
+                                   float(alpha), s.omega_rad_s, s.theta0_rad, self.pt_seg, self.pt_xi, self.pt_k,
                                    float(obj.mu), obj_params, self.dt_s, t_out, P_out, TH_out, C_out)
         if status:
             raise SolverError(f"reduced model diverged (non-finite state) at step {steps + 1}")
