@@ -176,6 +176,7 @@ def _chain_run(P, TH, V, W, mass, inertia, l0, Kn, h, nonlinear, relative, alpha
     Mo = np.zeros(n)
     E = np.zeros((l0.shape[0], 3))
     J = np.zeros((2, 6))
+    far = np.zeros(l0.shape[0], dtype=np.bool_)
     npt = 2 * pt_seg.shape[0]
     fn = np.zeros(npt)
     nx_d = np.zeros(npt)
@@ -199,6 +200,18 @@ def _chain_run(P, TH, V, W, mass, inertia, l0, Kn, h, nonlinear, relative, alpha
             phi = theta0 + omega * t
             cp = np.cos(phi)
             sp = np.sin(phi)
+            for a in range(l0.shape[0]):
+                # cull: a segment whose points all lie within r of its chord midpoint cannot
+                # touch the object when the midpoint is outside the ellipse grown by r
+                # (semi-axes a + r, b + r contain the curve parallel to the ellipse at r)
+                mx = 0.5 * (P[a, 0] + P[a + 1, 0])
+                my = 0.5 * (P[a, 1] + P[a + 1, 1])
+                gx = cp * mx - sp * my - cx
+                gy = sp * mx + cp * my - cy
+                u = ca * gx + sa * gy
+                w = -sa * gx + ca * gy
+                r = 0.75 * l0[a] + 2.0 * h
+                far[a] = (u / (oa + r)) ** 2 + (w / (ob + r)) ** 2 >= 1.0
             fx_sum = 0.0
             fy_sum = 0.0
             px_sum = 0.0
@@ -208,9 +221,12 @@ def _chain_run(P, TH, V, W, mass, inertia, l0, Kn, h, nonlinear, relative, alpha
             n_act = 0
             for p in range(pt_seg.shape[0]):
                 a = pt_seg[p]
+                fn[2 * p] = 0.0
+                fn[2 * p + 1] = 0.0
+                if far[a]:
+                    continue
                 for j in range(2):
                     pt = 2 * p + j
-                    fn[pt] = 0.0
                     side = 1.0 if j == 0 else -1.0
                     qx, qy = _face_point(P, TH, a, pt_xi[p], side, h, nonlinear, J)
                     gx = cp * qx - sp * qy - cx

@@ -19,6 +19,8 @@ import pandas as pd
 from fea.drum import ContactResponse, DrumSetup, contact_timing, finger_mesh, finger_on_drum
 from fea.errors import InputError, SolverError, require_finite_positive
 from fea.explicit import TSSFAC, critical_time_step
+from fea.model import cantilever_model
+from fea.static import static_solve
 from fea.contact import penalty_stiffness
 from rom.chain_dynamics import (_FX, _FY, _NPTS, _PEN, _PX, _PY, _chain_run, _internal_forces, contact_omega,
                                 contact_point_stiffness, face_points, stable_step)
@@ -29,23 +31,65 @@ DEFAULT_SEGMENTS = 17
 """Superelements along the 8-in finger (three SM-A element layers, ~12 mm, each)."""
 
 
-def fe_face_stiffness_per_length(setup: DrumSetup):
-    """Penalty stiffness per unit length of finger face [N/m^2] of the full FE model
-    (:func:`fea.drum.finger_on_drum`): the FE gives each surface node
-    k = (1/0.81 - 1) m_node (2 / dt_cfl)^2 (:func:`fea.contact.penalty_stiffness`); on the
-    finger's flat-on face only the apex row (x = 0, y = +-b) touches (the next row, 3.3 mm
-    to the side, sits 0.33 mm behind, beyond the 50 um the penetration reaches), so the
-    face's stiffness per length is k of an apex node over the layer spacing dz, taken as
-    the median over the finger's interior planes."""
+FACE_PATCH_NODES = 1
+"""Loaded FE apex nodes in the flattening solve of :func:`fe_face_stiffness_per_length`:
+1, each ROM point's spring is its own FE node's compliance (the diagonal of the FE face's
+contact compliance). The FE face is not a Winkler foundation: centre flattening per node
+load is 51.5 / 30.6 / 54.7 / 52.2 / 68.6 um/N for 1 / 3 / 5 / 7 / 9 loaded nodes (the
+FE's contact patch is 3 nodes, 8 mm, in the median at alpha = 7.5, 180 and 600 1/s)."""
+
+
+def fe_face_stiffness_per_length(setup: DrumSetup, patch_nodes=FACE_PATCH_NODES):
+    """Contact stiffness per unit length of finger face [N/m^2] of the full FE model, for
+    the ROM's rigid sections (fitted from the FEA).
+
+    The FE face yields to a contact load twice: its nodes penetrate the object by
+    f / k_pen, k_pen = (1/0.81 - 1) m_node (2 / dt_cfl)^2 (:func:`fea.contact.penalty_stiffness`),
+    and the section flattens (the loaded apex moves against the section's mean). The ROM
+    section is rigid, so its springs must carry both::
+
+        1 / k' = dz (1 / k_pen + d_flat)      [m^2 / N],   k' [N/m^2]
+
+    d_flat [m/N]: apex displacement minus the section's mass-weighted mean displacement
+    at the centre of a patch of ``patch_nodes`` apex nodes loaded by 1 N each (linear
+    static FE solve of the clamped finger, load mid-finger); dz the layer spacing. On the
+    finger's flat-on face only the apex row (x = 0, y = +b) touches: the next row, 3.3 mm
+    to the side, sits 0.33 mm behind, beyond the 50 um the FE penetration reaches. On the
+    8-in SM-A finger: k_pen / dz = 5.4e7 N/m^2 alone; with the flattening 4.5e6 (1 node),
+    7.1e6 (3-node patch), 4.2e6 (5), 3.4e6 (9) N/m^2, against the station model's
+    2.8e6 N/m^2."""
     model, _ = finger_on_drum(setup, 0.0)
-    local = finger_mesh(setup).nodes
+    local = finger_mesh(setup)
+    X = local.nodes
     nodes = model.contact.nodes
-    k = penalty_stiffness(model.mass[nodes], critical_time_step(model))
-    x, y, z = local[nodes].T
-    apex = (np.abs(x) < 1e-9) & (y > 0.0) & (z > 0.0) & (z < setup.finger_length_m * (1 - 1e-9))
-    zs = np.unique(local[:, 2])
-    dz = np.median(np.diff(zs))
-    return float(np.median(k[apex]) / dz)
+    zs = np.unique(X[:, 2])
+    dz = float(np.median(np.diff(zs)))
+    k_pen = penalty_stiffness(model.mass[nodes], critical_time_step(model))
+    x, y, z = X[nodes].T
+    top = np.abs(y - y.max()) < 1e-9
+    apex_rows = (np.abs(x) < 1e-9) & top & (z > 0.0) & (z < zs[-1] - 1e-9 * zs[-1])
+    k_node = float(np.median(k_pen[apex_rows]))
+    d_flat = _face_flattening(local, setup.finger_material, int(patch_nodes))
+    return 1.0 / (dz * (1.0 / k_node + d_flat))
+
+
+def _face_flattening(mesh, material, patch_nodes):
+    """Apex flattening [m/N] of the clamped finger ``mesh``: apex nodes (x = 0, y = y_max)
+    of ``patch_nodes`` planes around mid-finger loaded by 1 N each along -y (linear static
+    solve); the centre plane's apex displacement minus its nodes' mass-weighted mean."""
+    X = mesh.nodes
+    model = cantilever_model(mesh, material)
+    zs = np.unique(X[:, 2])
+    apex = np.flatnonzero((np.abs(X[:, 0]) < 1e-9) & (np.abs(X[:, 1] - X[:, 1].max()) < 1e-9))
+    mid = len(zs) // 2
+    f = np.zeros_like(X)
+    for p in range(mid - patch_nodes // 2, mid + patch_nodes // 2 + 1):
+        f[apex[np.abs(X[apex, 2] - zs[p]) < 1e-9], 1] = -1.0
+    u = static_solve(model, f, linear=True) - X
+    plane = np.abs(X[:, 2] - zs[mid]) < 1e-9
+    centre = apex[np.abs(X[apex, 2] - zs[mid]) < 1e-9]
+    mean = (model.mass[plane] * u[plane, 1]).sum() / model.mass[plane].sum()
+    return float(mean - u[centre, 1].mean())
 
 
 class ReducedContactModel:
