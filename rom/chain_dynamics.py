@@ -29,19 +29,28 @@ beam). Large rotations are exact; strains within a segment stay small. Linear
 (``nonlinear=False``): the same with B, l and psi frozen at the straight finger,
 ``psi = (V_b - V_a) / l0``: the Craig-Bampton model of small displacements.
 
-Contact points sit on both faces of every station, at r = R(theta) (0, +-h)
-(linear: r = (0, +-h) + theta J (0, +-h)), h the section's half thickness. Each point
-penetrating the object gets ``f_n = k d`` along the object's outward normal, with
-``k = (1/0.81 - 1) (2/dt_cfl)^2 / (1/m + h^2/I)`` (the rule of :mod:`fea.contact`, for the
-point's effective mass) and the step shrunk by 0.9. Friction is Coulomb, applied as in
-:mod:`fea.explicit`: the force that would stop the point's tangential velocity within
-the step, clipped to mu f_n.
+Contact points sit on both faces of the finger at chosen fractions xi of the segments
+(:func:`face_points`: every FE node plane by default, three per 12 mm segment), on the
+segment's cubic centre line at r = +-h from it (h the section's half thickness;
+:func:`_face_point`); at xi = 0 or 1 a point is the station's own, p + R(theta) (0, +-h)
+(linear model: stations only, r = (0, +-h) + theta J (0, +-h)). Each point penetrating
+the object gets ``f_n = k d`` along the object's outward normal, passed to the two end
+stations as J^T f with J the exact derivative of the point's position (the contact is
+conservative). The step is TSSFAC x 2 / omega_c, omega_c the chain's highest frequency
+with one face's contact springs all engaged (:func:`contact_omega`). The earlier
+station-only model (``contact="stations"`` in :mod:`rom.contact_rom`) takes
+``k = (1/0.81 - 1) (2/dt_cfl)^2 / (1/m + h^2/I)`` per station point (the rule of
+:mod:`fea.contact`, for the point's effective mass) and the step shrunk by 0.9. Friction
+is Coulomb, applied as in :mod:`fea.explicit`: the impulse that would stop the point's
+tangential velocity within the step (through the stations' masses and inertias, the
+point's flexibility t J M^-1 J^T t), clipped to mu f_n.
 
 Central differences: ``v^{n+1/2} = [(1 - alpha dt/2) v^{n-1/2} + dt f / m] / (1 + alpha dt/2)``
 with the damping centred and Coriolis from v^{n-1/2}.
 """
 import numba as nb
 import numpy as np
+from scipy.linalg import eigh
 
 from fea.contact import STEP_SHRINK, _ellipse_gap, penalty_stiffness
 from fea.explicit import TSSFAC
@@ -377,6 +386,5 @@ def contact_omega(K, M, pt_seg, pt_xi, pt_k, half_thickness_m, station_z_m, nonl
         _face_point(P, TH, int(a), float(xi), 1.0, half_thickness_m, nonlinear, J)
         row = J[1]
         Kc[3 * a:3 * a + 6, 3 * a:3 * a + 6] += k * np.outer(row, row)
-    from scipy.linalg import eigh
     w2 = eigh(K + Kc[3:, 3:], M, eigvals_only=True)
     return float(np.sqrt(w2[-1]))
