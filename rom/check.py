@@ -67,10 +67,12 @@ def _key_figures(summary):
 
 
 def contact_cases(setup: DrumSetup, alphas=(7.5, 180.0, 600.0), damping="global", t_end_s=1.5, n_outputs=300,
-                  progress=False):
-    """Full FEA vs both reduced models for every alpha: a list of case dicts."""
+                  progress=False, contact=None):
+    """Full FEA vs both reduced models for every alpha: a list of case dicts. ``contact``:
+    the ROM's contact model (:class:`rom.contact_rom.ReducedContactModel`; None: its default)."""
     t0 = time.perf_counter()
-    reduced = [ReducedContactModel(setup, nonlinear=True), ReducedContactModel(setup, nonlinear=False)]
+    reduced = [ReducedContactModel(setup, nonlinear=True, contact=contact),
+               ReducedContactModel(setup, nonlinear=False, contact=contact)]
     build = (time.perf_counter() - t0) / 2
     for r in reduced:
         r.run(alphas[0], damping, t_end_s=1e-3, n_outputs=1)          # compile outside the timing

@@ -46,6 +46,8 @@ def add_parsers(sub):
     r.add_argument("--n-outputs", type=int, default=300,
                    help="contact cases: output times over the run (300: every 5 ms; the alpha = 7.5 finger "
                         "chatters at ~400 Hz, which 3000 resolves at no extra FE cost to speak of)")
+    r.add_argument("--contact", choices=("stations", "face"), default=None,
+                   help="ROM contact model (default: rom.contact_rom.DEFAULT_CONTACT, stations)")
     r.set_defaults(func=cmd_rom_check)
 
 
@@ -187,7 +189,7 @@ def cmd_rom_check(args):
     cases = impulse_cases(args.impulse_alphas, n_modes=args.modes) if args.impulse_alphas else []
     if args.alphas:
         cases += contact_cases(DrumSetup(), args.alphas, args.damping, t_end_s=args.t_end_s,
-                                n_outputs=args.n_outputs, progress=True)
+                                n_outputs=args.n_outputs, progress=True, contact=args.contact)
     for c in cases:
         timing = ("" if c["contact_start_error_s"] is None else
                   f", start {c['contact_start_error_s']:+.3f} s, end {c['contact_end_error_s']:+.3f} s, "

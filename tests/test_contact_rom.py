@@ -255,7 +255,7 @@ def test_face_contact_rom_force_and_timing_at_other_segment_counts(coarse_contac
     segments). The finger stress is not asserted here: with one element layer per segment
     the recovered stress of the coarse mesh is 18 % high, with either contact model."""
     setup, full, _ = coarse_contact
-    m = compare_contact(setup, full, ReducedContactModel(setup, n_segments=n_segments).run(180.0))
+    m = compare_contact(setup, full, ReducedContactModel(setup, n_segments=n_segments, contact="face").run(180.0))
     assert abs(m["contact_start_error_s"]) <= 0.03 and abs(m["contact_end_error_s"]) <= 0.03
     assert abs(m["peak_force_error"]) < 0.10 and abs(m["impulse_error"]) < 0.05
     assert m["nrmse"] < 0.02
