@@ -16,14 +16,82 @@ import time
 import numpy as np
 import pandas as pd
 
-from fea.drum import ContactResponse, DrumSetup, contact_timing, finger_mesh
+from fea.drum import ContactResponse, DrumSetup, contact_timing, finger_mesh, finger_on_drum
 from fea.errors import InputError, SolverError, require_finite_positive
-from rom.chain_dynamics import (_FX, _FY, _NPTS, _PEN, _PX, _PY, _chain_run, _internal_forces,
-                                contact_point_stiffness, stable_step)
-from rom.superelement import chain_frequencies, fe_tip_stiffness, finger_chain, fit_tip_stiffness, stress_recovery
+from fea.explicit import TSSFAC, critical_time_step
+from fea.model import cantilever_model
+from fea.static import static_solve
+from fea.contact import penalty_stiffness
+from rom.chain_dynamics import (_FX, _FY, _NPTS, _PEN, _PX, _PY, _chain_run, _internal_forces, contact_omega,
+                                contact_point_stiffness, face_points, stable_step)
+from rom.superelement import (chain_frequencies, fe_tip_stiffness, finger_chain, fit_tip_stiffness, linear_matrices,
+                              stress_recovery)
 
 DEFAULT_SEGMENTS = 17
 """Superelements along the 8-in finger (three SM-A element layers, ~12 mm, each)."""
+DEFAULT_CONTACT = "stations"
+"""Contact model of :class:`ReducedContactModel` ("stations" or "face", see there)."""
+
+
+FACE_PATCH_NODES = 1
+"""Loaded FE apex nodes in the flattening solve of :func:`fe_face_stiffness_per_length`:
+1, each ROM point's spring is its own FE node's compliance (the diagonal of the FE face's
+contact compliance). The FE face is not a Winkler foundation: centre flattening per node
+load is 51.5 / 30.6 / 54.7 / 52.2 / 68.6 um/N for 1 / 3 / 5 / 7 / 9 loaded nodes (the
+FE's contact patch is 3 nodes, 8 mm, in the median at alpha = 7.5, 180 and 600 1/s)."""
+
+
+def fe_face_stiffness_per_length(setup: DrumSetup, patch_nodes=FACE_PATCH_NODES):
+    """Contact stiffness per unit length of finger face [N/m^2] of the full FE model, for
+    the ROM's rigid sections (fitted from the FEA).
+
+    The FE face yields to a contact load twice: its nodes penetrate the object by
+    f / k_pen, k_pen = (1/0.81 - 1) m_node (2 / dt_cfl)^2 (:func:`fea.contact.penalty_stiffness`),
+    and the section flattens (the loaded apex moves against the section's mean). The ROM
+    section is rigid, so its springs must carry both::
+
+        1 / k' = dz (1 / k_pen + d_flat)      [m^2 / N],   k' [N/m^2]
+
+    d_flat [m/N]: apex displacement minus the section's mass-weighted mean displacement
+    at the centre of a patch of ``patch_nodes`` apex nodes loaded by 1 N each (linear
+    static FE solve of the clamped finger, load mid-finger); dz the layer spacing. On the
+    finger's flat-on face only the apex row (x = 0, y = +b) touches: the next row, 3.3 mm
+    to the side, sits 0.33 mm behind, beyond the 50 um the FE penetration reaches. On the
+    8-in SM-A finger: k_pen / dz = 5.4e7 N/m^2 alone; with the flattening 4.5e6 (1 node),
+    7.1e6 (3-node patch), 4.2e6 (5), 3.4e6 (9) N/m^2, against the station model's
+    2.8e6 N/m^2."""
+    model, _ = finger_on_drum(setup, 0.0)
+    local = finger_mesh(setup)
+    X = local.nodes
+    nodes = model.contact.nodes
+    zs = np.unique(X[:, 2])
+    dz = float(np.median(np.diff(zs)))
+    k_pen = penalty_stiffness(model.mass[nodes], critical_time_step(model))
+    x, y, z = X[nodes].T
+    top = np.abs(y - y.max()) < 1e-9
+    apex_rows = (np.abs(x) < 1e-9) & top & (z > 0.0) & (z < zs[-1] - 1e-9 * zs[-1])
+    k_node = float(np.median(k_pen[apex_rows]))
+    d_flat = _face_flattening(local, setup.finger_material, int(patch_nodes))
+    return 1.0 / (dz * (1.0 / k_node + d_flat))
+
+
+def _face_flattening(mesh, material, patch_nodes):
+    """Apex flattening [m/N] of the clamped finger ``mesh``: apex nodes (x = 0, y = y_max)
+    of ``patch_nodes`` planes around mid-finger loaded by 1 N each along -y (linear static
+    solve); the centre plane's apex displacement minus its nodes' mass-weighted mean."""
+    X = mesh.nodes
+    model = cantilever_model(mesh, material)
+    zs = np.unique(X[:, 2])
+    apex = np.flatnonzero((np.abs(X[:, 0]) < 1e-9) & (np.abs(X[:, 1] - X[:, 1].max()) < 1e-9))
+    mid = len(zs) // 2
+    f = np.zeros_like(X)
+    for p in range(mid - patch_nodes // 2, mid + patch_nodes // 2 + 1):
+        f[apex[np.abs(X[apex, 2] - zs[p]) < 1e-9], 1] = -1.0
+    u = static_solve(model, f, linear=True) - X
+    plane = np.abs(X[:, 2] - zs[mid]) < 1e-9
+    centre = apex[np.abs(X[apex, 2] - zs[mid]) < 1e-9]
+    mean = (model.mass[plane] * u[plane, 1]).sum() / model.mass[plane].sum()
+    return float(mean - u[centre, 1].mean())
 
 
 class ReducedContactModel:
@@ -31,9 +99,26 @@ class ReducedContactModel:
 
     n_segments : superelements along the finger; nonlinear : co-rotational (True) or
     linear (False) kinematics; fit : scale the bending stiffness to the FE tip stiffness.
+
+    contact : "stations" (default, ``DEFAULT_CONTACT``): points at the stations only,
+    penalty rule of :mod:`fea.contact` for the station's effective mass, the chain's own
+    step (points 12 mm apart, 2.8e6 N/m^2 per length). "face": contact points on both
+    faces at every FE node plane,
+    moved with the segment's cubic centre line (:func:`rom.chain_dynamics._face_point`),
+    penalty stiffness per unit length ``k_per_length`` [N/m^2] (default: the full FE
+    model's, :func:`fe_face_stiffness_per_length`) times each point's tributary length;
+    the step is the stable step of the chain with the contact springs engaged,
+    TSSFAC x 2 / omega_c (:func:`rom.chain_dynamics.contact_omega`). Against the full FEA
+    (8-in finger, global damping) "face" matches the mean force as "stations" does, keeps
+    the alpha = 180 and 600 peaks within 6 % at 13-51 segments (stations: +83 % / +51 % at
+    34), costs ~2x the wall time, and leaves the alpha = 7.5 peak as far off (friction
+    chatter, see rom.check); it is not the default because it changes the design
+    surrogate's low-alpha peak forces (tests/test_design.py's high-damping direction for
+    the peak-force objective fails with it).
     """
 
-    def __init__(self, setup: DrumSetup, n_segments=DEFAULT_SEGMENTS, nonlinear=True, fit=True):
+    def __init__(self, setup: DrumSetup, n_segments=DEFAULT_SEGMENTS, nonlinear=True, fit=True, contact=None,
+                 k_per_length=None):
         self.setup = setup
         self.nonlinear = bool(nonlinear)
         self.name = "rom-corotational" if self.nonlinear else "rom-linear"
@@ -44,9 +129,24 @@ class ReducedContactModel:
         self.chain = chain
         self.stress = stress_recovery(chain, setup.finger_material)
         self.omega_max_rad_s = float(chain_frequencies(chain)[-1])
-        self.dt_s = stable_step(self.omega_max_rad_s)
-        self.contact_stiffness_N_m = contact_point_stiffness(chain.mass_kg, chain.inertia_kg_m2,
-                                                             chain.half_thickness_m, self.omega_max_rad_s)
+        contact = DEFAULT_CONTACT if contact is None else contact
+        if contact not in ("face", "stations"):
+            raise InputError(f"contact must be 'face' or 'stations', got {contact!r}")
+        self.contact = contact
+        if contact == "stations":
+            self.pt_seg, self.pt_xi, _ = face_points(chain.station_z_m, chain.station_z_m, nonlinear=False)
+            self.pt_k = contact_point_stiffness(chain.mass_kg, chain.inertia_kg_m2, chain.half_thickness_m,
+                                                self.omega_max_rad_s)[1:]
+            self.dt_s = stable_step(self.omega_max_rad_s)
+            self.k_per_length = None
+        else:
+            self.k_per_length = fe_face_stiffness_per_length(setup) if k_per_length is None else float(k_per_length)
+            self.pt_seg, self.pt_xi, trib = face_points(chain.station_z_m, np.unique(mesh.nodes[:, 2]), self.nonlinear)
+            self.pt_k = self.k_per_length * trib
+            K, M = linear_matrices(chain)
+            self.omega_contact_rad_s = contact_omega(K, M, self.pt_seg, self.pt_xi, self.pt_k,
+                                                     chain.half_thickness_m, chain.station_z_m, self.nonlinear)
+            self.dt_s = TSSFAC * 2.0 / self.omega_contact_rad_s
 
     def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300):
         """Integrate the chain over the object; returns a :class:`fea.drum.ContactResponse`."""
@@ -70,7 +170,7 @@ class ReducedContactModel:
         wall0 = time.perf_counter()
         status, steps = _chain_run(P, TH, V, W, ch.mass_kg, ch.inertia_kg_m2, ch.segment_length_m,
                                    ch.natural_stiffness, ch.half_thickness_m, self.nonlinear, damping == "relative",
-                                   float(alpha), s.omega_rad_s, s.theta0_rad, self.contact_stiffness_N_m,
+                                   float(alpha), s.omega_rad_s, s.theta0_rad, self.pt_seg, self.pt_xi, self.pt_k,
                                    float(obj.mu), obj_params, self.dt_s, t_out, P_out, TH_out, C_out)
         if status:
             raise SolverError(f"reduced model diverged (non-finite state) at step {steps + 1}")
