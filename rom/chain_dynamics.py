@@ -343,9 +343,10 @@ def _chain_run(P, TH, V, W, mass, inertia, l0, Kn, h, nonlinear, relative, alpha
     return 0, steps
 
 
-def stable_step(omega_max, contact=True):
-    """Time step [s]: TSSFAC x 2 / omega_max, times 0.9 with contact (as :mod:`fea.explicit`)."""
-    return TSSFAC * (STEP_SHRINK if contact else 1.0) * 2.0 / omega_max
+def stable_step(omega_max):
+    """Time step [s] of the station-contact chain: TSSFAC x 2 / omega_max, times 0.9 for the
+    contact (as :mod:`fea.explicit`)."""
+    return TSSFAC * STEP_SHRINK * 2.0 / omega_max
 
 
 def contact_point_stiffness(mass, inertia, half_thickness_m, omega_max):

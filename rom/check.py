@@ -32,6 +32,7 @@ from fea.drum import DrumSetup, FullContactModel
 from fea.material import RUBBER
 from fea.mesh import SEMI_AXES
 from fea.studies import impulse_model, impulse_response
+from fea.units import m_to_inch
 from rom.contact_rom import ReducedContactModel
 from rom.modal import fit_to_response, nrmse, tip_modal_rom
 
@@ -84,7 +85,8 @@ def contact_cases(setup: DrumSetup, alphas=(7.5, 180.0, 600.0), damping="global"
         ref = full.run(alpha, damping, t_end_s, n_outputs, progress=progress)
         for r in reduced:
             res = r.run(alpha, damping, t_end_s, n_outputs)
-            cases.append({"case": f"contact, 8-in finger, alpha {alpha:g} 1/s, {damping} damping",
+            cases.append({"case": f"contact, {m_to_inch(setup.finger_length_m):.3g}-in finger, alpha {alpha:g} 1/s, "
+                                  f"{damping} damping",
                           "kind": "contact", "model": r.name, "alpha_per_s": float(alpha),
                           **compare_contact(setup, ref, res), "rom_build_time_s": build,
                           "fea": _key_figures(ref.summary), "rom": _key_figures(res.summary)})

@@ -217,6 +217,7 @@ def finger_chain(mesh: Mesh, material: NeoHookean, n_segments=17):
     segments are cut."""
     z = station_planes(mesh, n_segments)
     half_thickness_m = float(np.abs(mesh.nodes[:, 1]).max())
+    rigid_u = np.array([1.0, 0.0, 0.0, 1.0, 0.0, 0.0])
     mass, inertia = np.zeros(len(z)), np.zeros(len(z))
     K_n, zones = [], []
     root_end = int(np.searchsorted(z, ROOT_ZONE_DEPTHS * 2.0 * half_thickness_m))
@@ -227,22 +228,28 @@ def finger_chain(mesh: Mesh, material: NeoHookean, n_segments=17):
         K_n.append(zone.stiffness)
         if s >= root_end:
             zones.append(zone)
-        rigid_u = np.array([1.0, 0.0, 0.0, 1.0, 0.0, 0.0])
         for end, (u, th) in enumerate(((0, 2), (3, 5))):
             mass[s + end] += (seg.M_e @ rigid_u)[u]
             inertia[s + end] += seg.M_e[th, th]
     return FingerChain(station_z_m=z, mass_kg=mass, inertia_kg_m2=inertia, natural_stiffness=np.array(K_n),
-                       half_thickness_m=float(half_thickness_m), stress_zones=tuple(zones))
+                       half_thickness_m=half_thickness_m, stress_zones=tuple(zones))
+
+
+def _assembled_stiffness(chain: FingerChain, a, b):
+    """Linear stiffness of the chain's segments between stations a and b on the planar DOFs
+    [U_i, V_i, theta_i] of stations a..b, all free: sum of G^T K_n G per segment."""
+    K = np.zeros((3 * (b - a + 1),) * 2)
+    for s in range(a, b):
+        G = deformation_map(chain.segment_length_m[s])
+        i = 3 * (s - a)
+        K[i:i + 6, i:i + 6] += G.T @ chain.natural_stiffness[s] @ G
+    return K
 
 
 def linear_matrices(chain: FingerChain):
     """Assembled linear stiffness K [N/m, N, N m] and lumped mass M of the chain on the
     planar DOFs [U_i, V_i, theta_i] of stations 1..n (station 0 clamped)."""
-    n = chain.n_segments
-    K = np.zeros((3 * (n + 1), 3 * (n + 1)))
-    for s, l0 in enumerate(chain.segment_length_m):
-        G = deformation_map(l0)
-        K[3 * s:3 * s + 6, 3 * s:3 * s + 6] += G.T @ chain.natural_stiffness[s] @ G
+    K = _assembled_stiffness(chain, 0, chain.n_segments)
     m = np.column_stack([chain.mass_kg, chain.mass_kg, chain.inertia_kg_m2]).ravel()
     return K[3:, 3:], np.diag(m[3:])
 
@@ -281,11 +288,7 @@ def fit_tip_stiffness(chain: FingerChain, k_tip_target):
 def zone_stiffness(chain: FingerChain, a, b):
     """Natural stiffness (3 x 3) of the chain's segments between stations a and b, the
     stations in between condensed out."""
-    K = np.zeros((3 * (b - a + 1),) * 2)
-    for s in range(a, b):
-        G = deformation_map(chain.segment_length_m[s])
-        i = 3 * (s - a)
-        K[i:i + 6, i:i + 6] += G.T @ chain.natural_stiffness[s] @ G
+    K = _assembled_stiffness(chain, a, b)
     ends = np.r_[0:3, len(K) - 3:len(K)]
     mid = np.arange(3, len(K) - 3)
     K6 = K[np.ix_(ends, ends)] - K[np.ix_(ends, mid)] @ np.linalg.solve(K[np.ix_(mid, mid)], K[np.ix_(mid, ends)])
