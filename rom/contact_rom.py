@@ -62,17 +62,20 @@ def fe_face_stiffness_per_length(setup: DrumSetup, patch_nodes=FACE_PATCH_NODES)
     2.8e6 N/m^2."""
     model, _ = finger_on_drum(setup, 0.0)
     local = finger_mesh(setup)
-    X = local.nodes
-    nodes = model.contact.nodes
-    zs = np.unique(X[:, 2])
+    zs = np.unique(local.nodes[:, 2])
     dz = float(np.median(np.diff(zs)))
-    k_pen = penalty_stiffness(model.mass[nodes], critical_time_step(model))
-    x, y, z = X[nodes].T
-    top = np.abs(y - y.max()) < 1e-9
-    apex_rows = (np.abs(x) < 1e-9) & top & (z > 0.0) & (z < zs[-1] - 1e-9 * zs[-1])
-    k_node = float(np.median(k_pen[apex_rows]))
+    apex = _apex_nodes(local)
+    z = local.nodes[apex, 2]
+    inner = apex[(z > 0.0) & (z < zs[-1] - 1e-9 * zs[-1])]         # neither the clamp nor the tip face
+    k_node = float(np.median(penalty_stiffness(model.mass[inner], critical_time_step(model))))
     d_flat = _face_flattening(local, setup.finger_material, int(patch_nodes))
     return 1.0 / (dz * (1.0 / k_node + d_flat))
+
+
+def _apex_nodes(mesh):
+    """Nodes of the finger face's apex row (x = 0, y = max y) of a straight finger ``mesh``."""
+    X = mesh.nodes
+    return np.flatnonzero((np.abs(X[:, 0]) < 1e-9) & (np.abs(X[:, 1] - X[:, 1].max()) < 1e-9))
 
 
 def _face_flattening(mesh, material, patch_nodes):
@@ -82,7 +85,7 @@ def _face_flattening(mesh, material, patch_nodes):
     X = mesh.nodes
     model = cantilever_model(mesh, material)
     zs = np.unique(X[:, 2])
-    apex = np.flatnonzero((np.abs(X[:, 0]) < 1e-9) & (np.abs(X[:, 1] - X[:, 1].max()) < 1e-9))
+    apex = _apex_nodes(mesh)
     mid = len(zs) // 2
     f = np.zeros_like(X)
     for p in range(mid - patch_nodes // 2, mid + patch_nodes // 2 + 1):
