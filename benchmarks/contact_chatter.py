@@ -1,4 +1,4 @@
-"""Where the alpha = 7.5 1/s contact-force peak comes from (issue 5, acceptance 2).
+"""Where the alpha = 7.5 1/s contact-force peak comes from.
 
 The 8-in finger on the drum, global damping alpha = 7.5 1/s, 3000 outputs (0.5 ms, which
 resolves the ~400 Hz chatter; the FE run costs the same as with 300). Full FEA and the
@@ -19,9 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from fea.contact_study import window_mean
-from fea.drum import DrumSetup, FullContactModel
-from rom.contact_rom import ReducedContactModel
+from ccedi.fea.contact_study import window_mean
+from ccedi.fea.drum import DrumSetup, FullContactModel
+from ccedi.rom.contact_rom import ReducedContactModel
 
 from _output import report  # benchmarks/ is on sys.path when run as a script
 

@@ -1,4 +1,4 @@
-"""Speed of the contact study (issue 4, acceptance 5).
+"""Speed of the contact study.
 
 The full 8-in finger on the drum, 1.5 s at alpha = 7.5 1/s with global damping, object
 stress at each of 300 outputs, with a progress bar. Prints and writes to
@@ -11,7 +11,7 @@ import platform
 import sys
 from pathlib import Path
 
-from fea.drum import DrumSetup, contact_run, contact_summary
+from ccedi.fea.drum import DrumSetup, contact_run, contact_summary
 
 from _output import report  # benchmarks/ is on sys.path when run as a script
 

@@ -1,4 +1,4 @@
-"""Speed of the design optimiser (issue 6, acceptance 3: the whole Pareto front in < 60 s).
+"""Speed of the design optimiser (target: the whole Pareto front in < 60 s).
 
 Surrogate build: the 15 x 11 ROM grid over alpha in [1, 600] 1/s and L in [3, 8] in,
 run afresh (no cache), plus the B-spline fit. Optimisation: the weighted optimum
@@ -10,10 +10,10 @@ Run: ``.venv/bin/python benchmarks/design_speed.py``; writes benchmarks/design_s
 import time
 from pathlib import Path
 
-from design.optimise import DesignProblem, solve
-from design.pareto import pareto_front
-from design.surrogate import Surrogate, design_space, grid_points, run_rom
-from fea.drum import DrumSetup
+from ccedi.design.optimise import DesignProblem, solve
+from ccedi.design.pareto import pareto_front
+from ccedi.design.surrogate import Surrogate, design_space, grid_points, run_rom
+from ccedi.fea.drum import DrumSetup
 
 from _output import report  # benchmarks/ is on sys.path when run as a script
 

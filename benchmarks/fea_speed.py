@@ -1,4 +1,4 @@
-"""Speed of the explicit solver (issue 2, acceptance 7).
+"""Speed of the explicit solver.
 
 SM-A 4.5-in finger, 1 N tip impulse for 10 ms, alpha = 180 1/s, 0.2 s simulated, one core.
 Prints and writes to benchmarks/fea_speed.json: wall time [s], steps, and nanoseconds per
@@ -16,11 +16,11 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 
-from fea.explicit import run  # noqa: E402
-from fea.kernels import internal_forces_numba  # noqa: E402
-from fea.material import RUBBER  # noqa: E402
-from fea.mesh import sm_a  # noqa: E402
-from fea.model import cantilever_model, tip_pulse  # noqa: E402
+from ccedi.fea.explicit import run  # noqa: E402
+from ccedi.fea.kernels import internal_forces_numba  # noqa: E402
+from ccedi.fea.material import RUBBER  # noqa: E402
+from ccedi.fea.mesh import sm_a  # noqa: E402
+from ccedi.fea.model import cantilever_model, tip_pulse  # noqa: E402
 
 from _output import report  # noqa: E402  (benchmarks/ is on sys.path when run as a script)
 

@@ -1,4 +1,4 @@
-"""Speed-up of the reduced models over full FEA (issue 5, acceptance 3).
+"""Speed-up of the reduced models over full FEA.
 
 Impulse ROM: the 4.5-in SM-A finger, 1 N tip pulse for 10 ms, alpha = 180 1/s, 400
 outputs over 0.2 s; full explicit FEA against the 6-mode ROM (building the ROM, i.e. the
@@ -15,11 +15,11 @@ from pathlib import Path
 
 import numpy as np
 
-from fea.drum import DrumSetup, FullContactModel
-from fea.studies import impulse_model, impulse_response
-from rom.check import compare_contact
-from rom.contact_rom import ReducedContactModel
-from rom.modal import nrmse, tip_modal_rom
+from ccedi.fea.drum import DrumSetup, FullContactModel
+from ccedi.fea.studies import impulse_model, impulse_response
+from ccedi.rom.check import compare_contact
+from ccedi.rom.contact_rom import ReducedContactModel
+from ccedi.rom.modal import nrmse, tip_modal_rom
 
 from _output import report  # benchmarks/ is on sys.path when run as a script
 

@@ -1,6 +1,6 @@
 """Modes of the declared finger as an Euler-Bernoulli cantilever, by Rayleigh-Ritz on the
 analytic clamped-free modes (the calibration's model; the data generator in
-:mod:`calibrate.synthetic` uses a finite-element beam instead).
+:mod:`ccedi.calibrate.synthetic` uses a finite-element beam instead).
 
 Basis: the first ``n_basis`` clamped-free modes (x along the finger, 0 <= x <= L)::
 
@@ -25,7 +25,7 @@ import numpy as np
 from scipy.linalg import eigh
 from scipy.optimize import brentq
 
-from fea.errors import InputError, require_finite_positive
+from ccedi.errors import InputError, require_finite_positive
 
 N_QUADRATURE = 160
 """Gauss-Legendre points along the finger for the Ritz integrals."""

@@ -13,7 +13,7 @@ with F(t) = F0 for t0 <= t < t0 + T (the impulse), F_c [N] Coulomb friction, k_3
 cubic (large-amplitude) stiffening, and c_q [N s^2/m^3] quadratic (air) drag per unit
 length, integrated along the finger by Gauss points x_k (weights w_k [m], mode shapes
 Phi_ik, lateral velocity w'(x_k) = sum_i Phi_ik q_i'). With
-g = 0 and no tip nonlinearity the model is linear and :class:`rom.modal.ModalROM` gives
+g = 0 and no tip nonlinearity the model is linear and :class:`ccedi.rom.modal.ModalROM` gives
 its exact pulse response; this integrator is for the other cases. The step is
 h <= H_OMEGA / omega_max and divides the output interval; the step containing the end of
 the pulse is split there, so the impulse F0 T is integrated exactly.
@@ -104,7 +104,7 @@ def _integrate(n_out, dt_out, substeps, w2, c, b, g, inv_tau, F0, t_on, t_off, c
 def integrate_tip(time_s, modes, zeta, force_N, duration_s, start_s=0.0, prony_g=0.0, prony_tau_s=1.0,
                   drag_N_s2_m3=0.0, friction_N=0.0, cubic_N_m3=0.0):
     """Tip displacement [m] at ``time_s`` [s] (from rest at t = 0) of the model in the
-    module docstring, for :class:`calibrate.beam.Modes` ``modes`` and damping ratios ``zeta``. The output is computed on a uniform grid from 0 to max(time_s) and
+    module docstring, for :class:`ccedi.calibrate.beam.Modes` ``modes`` and damping ratios ``zeta``. The output is computed on a uniform grid from 0 to max(time_s) and
     interpolated linearly when ``time_s`` is not that grid."""
     t = np.asarray(time_s, dtype=float)
     dt = float(np.median(np.diff(t)))

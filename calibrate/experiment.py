@@ -1,4 +1,4 @@
-"""A measured experiment: the CSV record (:mod:`rom.measurement`) and its JSON sidecar,
+"""A measured experiment: the CSV record (:mod:`ccedi.rom.measurement`) and its JSON sidecar,
 both validated; every error names the offending field and its allowed range.
 
 Sidecar (``DATA.json`` beside ``DATA.csv``; format in data/README.md)::
@@ -22,10 +22,10 @@ from pathlib import Path
 
 import numpy as np
 
-from fea.beam_theory import cantilever_frequencies, ellipse_section_properties
-from fea.errors import InputError, require_finite_positive
-from fea.units import inch_to_m
-from rom.measurement import MeasuredResponse, load_response
+from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties
+from ccedi.errors import InputError, require_finite_positive
+from ccedi.fea.units import inch_to_m
+from ccedi.rom.measurement import MeasuredResponse, load_response
 
 KINDS = ("impulse", "contact")
 DEFAULT_E_TOLERANCE = 0.2
@@ -61,7 +61,7 @@ class Finger:
 class Experiment:
     """A validated record with its sidecar. kind; finger; force_N [N], duration_s [s] and
     start_s [s] of the tip pulse; alpha_per_s [1/s] or None; noise_std_m [m] or None;
-    E_tolerance [-]; the record (:class:`rom.measurement.MeasuredResponse`)."""
+    E_tolerance [-]; the record (:class:`ccedi.rom.measurement.MeasuredResponse`)."""
 
     kind: str
     finger: Finger

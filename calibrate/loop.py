@@ -1,7 +1,7 @@
 """Closing the loop: fit the declared model, read its residual, add the missing effects.
 
-1. Baseline: alpha and E (within tolerance) fitted (:func:`calibrate.fit.fit_baseline`).
-2. Residual analysis (:mod:`calibrate.residual`): signatures and suggested effects.
+1. Baseline: alpha and E (within tolerance) fitted (:func:`ccedi.calibrate.fit.fit_baseline`).
+2. Residual analysis (:mod:`ccedi.calibrate.residual`): signatures and suggested effects.
 3. Every catalogued effect not yet in the model is refitted together with it.
 4. Selection: the candidate with the lowest training BIC wins if it lowers BIC by more
    than ``BIC_MARGIN`` and lowers the held-out RMS error; it is added, refitted on the
@@ -15,7 +15,8 @@ import numpy as np
 
 from .experiment import Experiment
 from .fit import Fit, fit, fit_baseline
-from .model import CATALOGUE, FingerModel
+from .effects import CATALOGUE
+from .model import FingerModel
 from .residual import analyse, noise_std, suggest
 
 BIC_MARGIN = 10.0

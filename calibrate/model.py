@@ -1,128 +1,35 @@
-"""The calibration model: the declared finger's Rayleigh-damped modes (:mod:`calibrate.beam`)
+"""The calibration model: the declared finger's Rayleigh-damped modes (:mod:`ccedi.calibrate.beam`)
 plus any set of catalogued effects, each a physical extension with named SI parameters.
 
 Baseline parameters: ``alpha_per_s`` (mass-proportional damping, 1/s) and ``E_factor``
 (Young's modulus over the declared one, within the sidecar's tolerance). With modes omega_i,
-tip values b_i and weight participations p_i (see :mod:`calibrate.beam`)::
+tip values b_i and weight participations p_i (see :mod:`ccedi.calibrate.beam`)::
 
     zeta_i = alpha / (2 omega_i) + beta omega_i / 2
     w(t)   = tip displacement of the modal model under the pulse F0 on [t0, t0 + T), plus
              the static sag g_t sum b_i p_i / omega_i^2
     y(t)   = w(t - tau) + s_2 w(t - tau)^2 + y_0 + y_1 t         (what the sensor reports)
 
-The catalogue (:data:`CATALOGUE`) lists each effect's parameters with units, bounds and
+The catalogue (:data:`ccedi.calibrate.effects.CATALOGUE`) lists each effect's parameters with units, bounds and
 a starting value scaled to the record (mass, stiffness, first frequency, amplitude).
-Linear effects keep the exact pulse response of :class:`rom.modal.ModalROM`; viscoelastic
-and nonlinear tip forces use :func:`calibrate.dynamics.integrate_tip`.
+Linear effects keep the exact pulse response of :class:`ccedi.rom.modal.ModalROM`; viscoelastic
+and nonlinear tip forces use :func:`ccedi.calibrate.dynamics.integrate_tip`.
 """
 from dataclasses import dataclass
 
 import numpy as np
 
-from rom.modal import ModalROM
+from ccedi.rom.modal import ModalROM
 
 from .beam import CantileverRitz
 from .dynamics import integrate_tip
+from .effects import CATALOGUE, Parameter, Scales
 from .experiment import Experiment
 
 N_MODES = 6
 """Modes kept in the calibration model."""
 
 
-@dataclass(frozen=True)
-class Parameter:
-    """A fitted parameter: name (with its unit), bounds, log scale or linear with ``scale``."""
-
-    name: str
-    lower: float
-    upper: float
-    log: bool = True
-    scale: float = 1.0
-
-    def to_z(self, x):
-        return np.log10(x) if self.log else x / self.scale
-
-    def from_z(self, z):
-        return 10.0**z if self.log else z * self.scale
-
-    def z_bounds(self):
-        return self.to_z(self.lower), self.to_z(self.upper)
-
-
-@dataclass(frozen=True)
-class Effect:
-    """A candidate effect: name, physics (one line, with its equation), the residual
-    signature that suggests it, and ``parameters(scales) -> [(Parameter, start value)]``."""
-
-    name: str
-    physics: str
-    signature: str
-    parameters: object
-
-
-@dataclass(frozen=True)
-class Scales:
-    """Record scales for bounds and starting values: finger mass [kg], tip stiffness [N/m],
-    EI / L [N m/rad], first and second frequency [rad/s], amplitude [m], record length [s],
-    finger length [m]."""
-
-    mass_kg: float
-    stiffness_N_m: float
-    ei_over_l: float
-    omega1: float
-    omega2: float
-    amplitude_m: float
-    duration_s: float
-    length_m: float
-
-
-def _catalogue():
-    P = Parameter
-    return {e.name: e for e in [
-        Effect("stiffness_damping", "Rayleigh C = alpha M + beta K: zeta_i = alpha/(2 w_i) + beta w_i/2",
-               "higher modes decay faster than alpha alone allows (residual at mode 2 early on)",
-               lambda s: [(P("beta_s", 1e-7, 10.0 / s.omega2), 0.04 / s.omega2)]),
-        Effect("viscoelastic", "standard linear solid: stiffness w^2 (q - g v), v' = (q - v)/tau",
-               "slow creep/recovery tail and frequency-dependent damping",
-               lambda s: [(P("prony_g", 1e-4, 0.9), 0.05), (P("prony_tau_s", 0.05 / s.omega2, s.duration_s), 1.0 / s.omega1)]),
-        Effect("quadratic_damping", "air drag -c_q |w'| w' per unit length along the finger [c_q in N s^2/m^3]",
-               "decay per cycle grows with amplitude",
-               lambda s: [(P("drag_N_s2_m3", 1e-6 * s.mass_kg / (s.amplitude_m * s.length_m),
-                             10.0 * s.mass_kg / (s.amplitude_m * s.length_m)), 0.03 * s.mass_kg / (s.amplitude_m * s.length_m))]),
-        Effect("coulomb_friction", "tip friction -F_c tanh(u'/1 mm/s)",
-               "envelope decays linearly; residual correlates with sign(velocity)",
-               lambda s: [(P("friction_N", 1e-7 * s.stiffness_N_m * s.amplitude_m, 0.5 * s.stiffness_N_m * s.amplitude_m),
-                           2.5e-3 * s.stiffness_N_m * s.amplitude_m)]),
-        Effect("tip_mass", "point mass m_t at the tip (magnet, sensor target)",
-               "frequency lower than E's tolerance allows, with a smaller response per impulse",
-               lambda s: [(P("tip_mass_kg", 1e-5 * s.mass_kg, 2.0 * s.mass_kg), 0.05 * s.mass_kg)]),
-        Effect("root_compliance", "clamp as a rotational spring k_r at the root",
-               "frequency lower than E's tolerance allows, with a larger static flexibility",
-               lambda s: [(P("root_stiffness_N_m_rad", 0.1 * s.ei_over_l, 1e4 * s.ei_over_l), 30.0 * s.ei_over_l)]),
-        Effect("gravity", "static sag under the transverse gravity component g_t",
-               "constant offset of the residual",
-               lambda s: [(P("gravity_m_s2", -9.81, 9.81, log=False), 0.0)]),
-        Effect("geometric_nonlinearity", "large-amplitude stiffening as a cubic tip spring -k_3 u^3",
-               "frequency falls as the amplitude decays; residual correlates with u^3",
-               lambda s: [(P("cubic_N_m3", -10 * s.stiffness_N_m / s.amplitude_m**2, 10 * s.stiffness_N_m / s.amplitude_m**2,
-                             log=False, scale=0.01 * s.stiffness_N_m / s.amplitude_m**2), 0.0)]),
-        Effect("sensor_nonlinearity", "sensor reads u + s_2 u^2",
-               "residual correlates with u^2 (asymmetric peaks)",
-               lambda s: [(P("sensor_quadratic_per_m", -0.5 / s.amplitude_m, 0.5 / s.amplitude_m, log=False,
-                             scale=0.01 / s.amplitude_m), 0.0)]),
-        Effect("sensor_offset_drift", "sensor reads u + y_0 + y_1 t",
-               "constant offset plus a slow linear drift of the residual",
-               lambda s: [(P("offset_m", -s.amplitude_m, s.amplitude_m, log=False, scale=0.01 * s.amplitude_m), 0.0),
-                          (P("drift_m_s", -s.amplitude_m / s.duration_s, s.amplitude_m / s.duration_s, log=False,
-                             scale=0.01 * s.amplitude_m / s.duration_s), 0.0)]),
-        Effect("time_delay", "sensor reads u(t - tau)",
-               "residual proportional to -velocity, uniform in time (phase lag at every frequency)",
-               lambda s: [(P("delay_s", 0.0, 1.0 / s.omega1, log=False, scale=0.01 / s.omega1), 0.01 / s.omega1)]),
-    ]}
-
-
-CATALOGUE = _catalogue()
-"""Candidate effects by name (the issue's list)."""
 NONLINEAR = {"prony_g", "drag_N_s2_m3", "friction_N", "cubic_N_m3"}
 
 

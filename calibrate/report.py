@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from fea.outputs import write_csv, write_figure, write_text
+from ccedi.fea.outputs import write_csv, write_figure, write_text
 
 from .loop import Calibration
 

@@ -22,8 +22,8 @@ of candidate effects with the reason for each; the selection itself refits every
 """
 import numpy as np
 
-from fea.errors import InputError
-from rom.damping import log_decrement, noise_level
+from ccedi.errors import InputError
+from ccedi.rom.damping import log_decrement, noise_level
 
 from .fit import Fit
 from .model import FingerModel

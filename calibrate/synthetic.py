@@ -2,8 +2,8 @@
 bundled test set under ``data/measured/``.
 
 This is deliberately NOT the calibration's code path. The calibration uses a 6-mode
-Rayleigh-Ritz model on analytic cantilever modes (:mod:`calibrate.beam`) integrated
-exactly or by RK4 in modal coordinates (:mod:`calibrate.dynamics`); this generator uses a
+Rayleigh-Ritz model on analytic cantilever modes (:mod:`ccedi.calibrate.beam`) integrated
+exactly or by RK4 in modal coordinates (:mod:`ccedi.calibrate.dynamics`); this generator uses a
 finite-element Euler-Bernoulli beam (``N_ELEMENTS`` Hermite-cubic elements, consistent
 mass, all its 2 x N_ELEMENTS degrees of freedom) integrated in physical coordinates by the
 Newmark average-acceleration rule (step ``DT_S``), with the effects built in physically:
@@ -27,10 +27,10 @@ step (explicit in them, implicit in the linear beam). Records are decimated to
 Young's modulus and alpha differ from the declared ones (seeded, within +-8 % and 3-5 1/s).
 
 One more clean control comes from the full 3-D explicit FEA of the 4.5-in SM-A finger
-(:func:`fea.studies.impulse_response`, hexahedral neo-Hookean solid, 1 s): the
+(:func:`ccedi.fea.studies.impulse_response`, hexahedral neo-Hookean solid, 1 s): the
 beam-against-solid model-form mismatch the calibration must absorb without adding an effect.
 
-Regenerate: ``.venv/bin/python -m calibrate.synthetic [OUT_DIR]`` (deterministic).
+Regenerate: ``.venv/bin/python -m ccedi.calibrate.synthetic [OUT_DIR]`` (deterministic).
 """
 import sys
 from dataclasses import dataclass, field
@@ -40,12 +40,12 @@ import numpy as np
 import pandas as pd
 from scipy.linalg import lu_factor, lu_solve
 
-from fea.beam_theory import ellipse_section_properties
-from fea.material import RUBBER
-from fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR
-from fea.outputs import write_csv, write_json
-from fea.studies import impulse_response
-from fea.units import inch_to_m
+from ccedi.fea.beam_theory import ellipse_section_properties
+from ccedi.fea.material import RUBBER
+from ccedi.fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR
+from ccedi.fea.outputs import write_csv, write_json
+from ccedi.fea.studies import impulse_response
+from ccedi.fea.units import inch_to_m
 
 N_ELEMENTS = 40
 DT_S = 2.5e-5
@@ -234,7 +234,7 @@ def write_bundled_set(out_dir):
     write_json(out_dir / "control_fea_solid.json", meta)
     manifest = {"control_fea_solid": {"E_factor": 1.0, "alpha_per_s": SOLID["alpha_per_s"],
                                       "force_N": SOLID["force_N"], "effects": {},
-                                      "generator": "fea.studies.impulse_response (3-D SM-A solid)"}}
+                                      "generator": "ccedi.fea.studies.impulse_response (3-D SM-A solid)"}}
     for i, (name, truth) in enumerate(bundled_set().items()):
         frame, meta = record(truth, seed=1000 + i)
         write_csv(out_dir / f"{name}.csv", frame)
@@ -242,7 +242,7 @@ def write_bundled_set(out_dir):
         manifest[name] = {"E_factor": truth.E_factor, "alpha_per_s": truth.alpha_per_s,
                           "force_N": truth.force_N, "effects": truth.effects}
         print(f"{name}: E x {truth.E_factor:.3f}, alpha {truth.alpha_per_s:.2f} 1/s, {truth.effects}")
-    write_json(out_dir / "manifest.json", {"generator": "calibrate.synthetic", "noise_fraction": NOISE_FRACTION,
+    write_json(out_dir / "manifest.json", {"generator": "ccedi.calibrate.synthetic", "noise_fraction": NOISE_FRACTION,
                                            "records": manifest})
 
 

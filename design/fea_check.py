@@ -1,11 +1,11 @@
 """Re-check of recommended designs with a full model run (by default the explicit FEA,
-:class:`fea.drum.FullContactModel`): the same design outputs
-(:func:`design.objectives.design_outputs`) from the full model beside the surrogate's,
+:class:`ccedi.fea.drum.FullContactModel`): the same design outputs
+(:func:`ccedi.design.objectives.design_outputs`) from the full model beside the surrogate's,
 with relative errors (surrogate - full) / full."""
 import time
 
-from fea.drum import DrumSetup, FullContactModel, ObjectStress
-from fea.units import m_to_inch
+from ccedi.fea.drum import DrumSetup, FullContactModel, ObjectStress
+from ccedi.fea.units import m_to_inch
 
 from .objectives import OUTPUT_STEP_S, design_outputs, run_time_s, setup_for_length
 
@@ -38,14 +38,14 @@ def _check_one(d, setup, objective_outputs, model_factory):
 
 def fea_check(setup: DrumSetup, designs, objective_outputs, model_factory=_full_fea, progress=print,
               scheduler="serial"):
-    """For each :class:`design.optimise.Design`: run ``model_factory(setup at its length)``
+    """For each :class:`ccedi.design.optimise.Design`: run ``model_factory(setup at its length)``
     at its alpha up to the predicted breakaway + margin + 0.5 s and compare; the designs
-    are mapped through :func:`fea.distributed.map_runs` (``scheduler``). Returns a list of
+    are mapped through :func:`ccedi.fea.distributed.map_runs` (``scheduler``). Returns a list of
     dicts (``alpha_per_s``, ``length_in``, ``surrogate``, ``fea``, ``relative_error`` per
     objective, ``wall_time_s``)."""
     from functools import partial
 
-    from fea.distributed import map_runs
+    from ccedi.fea.distributed import map_runs
 
     check = partial(_check_one, setup=setup, objective_outputs=tuple(objective_outputs),
                     model_factory=model_factory)

@@ -1,8 +1,8 @@
 """What a finger design is judged on, from one contact run (ROM or full FEA).
 
 A design is (alpha, L): mass-proportional damping alpha [1/s] and finger length L [m]
-(SM-A cross-section, the drum set-up of :class:`fea.drum.DrumSetup`). From the run's
-history (:class:`fea.drum.ContactResponse`) :func:`design_outputs` computes
+(SM-A cross-section, the drum set-up of :class:`ccedi.fea.drum.DrumSetup`). From the run's
+history (:class:`ccedi.fea.drum.ContactResponse`) :func:`design_outputs` computes
 
 * ``peak_reaction_force_N`` [N]: max_t of the force on the object averaged over a
   sliding 25 ms window, max_t |(1/w) int_{t-w/2}^{t+w/2} F dt'|, w = 25 ms: the load
@@ -11,7 +11,7 @@ history (:class:`fea.drum.ContactResponse`) :func:`design_outputs` computes
   chatters differently), which makes the instantaneous peak a rough, model-dependent
   function of the design; it is kept as ``peak_instantaneous_force_N`` for reference;
 * ``max_object_stress_Pa`` [Pa]: max von Mises stress of the object, from a linear
-  static solve of the object (:class:`fea.drum.ObjectStress`) under the 25 ms-averaged
+  static solve of the object (:class:`ccedi.fea.drum.ObjectStress`) under the 25 ms-averaged
   contact force at the force-weighted contact point, at the outputs where the averaged
   force is at least half its peak;
 * ``contact_duration_s`` [s]: t_end - t_start, last minus first output with contact;
@@ -19,7 +19,7 @@ history (:class:`fea.drum.ContactResponse`) :func:`design_outputs` computes
 * ``residual_oscillation_m_s`` [m/s]: RMS over the 0.5 s after breakaway of the tip's
   velocity relative to the rigidly turning finger,
   sqrt( (1/T) int_{t_b}^{t_b+T} (d lag/dt)^2 dt ), T = 0.5 s, where lag(t) is
-  :func:`fea.contact_study.tip_lag_series_m`. A velocity, not a displacement, so that an
+  :func:`ccedi.fea.contact_study.tip_lag_series_m`. A velocity, not a displacement, so that an
   over-damped finger creeping back to its rest lag counts as quiet and a ringing one
   as loud (ring amplitude A at omega_1 gives ~A omega_1 / sqrt(2));
 * ``max_finger_stress_Pa`` [Pa]: max von Mises stress in the finger over the run.
@@ -31,11 +31,11 @@ from dataclasses import replace
 import casadi as ca
 import numpy as np
 
-from fea.contact_study import tip_lag_series_m, window_mean
-from fea.drum import DrumSetup, ObjectStress, contact_timing
-from fea.errors import InputError
-from fea.mesh import sm_a_elements_along
-from rom.ccedi import piecewise_alpha_fit
+from ccedi.fea.contact_study import tip_lag_series_m, window_mean
+from ccedi.fea.drum import DrumSetup, ObjectStress, contact_timing
+from ccedi.errors import InputError
+from ccedi.fea.mesh import sm_a_elements_along
+from ccedi.rom.ccedi import piecewise_alpha_fit
 
 RESIDUAL_WINDOW_S = 0.5
 """Length of the after-breakaway window of the residual oscillation [s]."""

@@ -1,7 +1,7 @@
 """The design problem on the surrogate, solved with casadi/IPOPT (multi-start) and by
 brute force on a grid (the check of the former).
 
-Design variables: alpha [1/s] and L [m] (:func:`design.surrogate.design_space`), worked
+Design variables: alpha [1/s] and L [m] (:func:`ccedi.design.surrogate.design_space`), worked
 in their unit coordinates u in [-1, 1]^2 (ln alpha and L scaled). Objectives (surrogate
 values, SI units):
 
@@ -18,7 +18,7 @@ f~_i = (f_i - min_grid f_i) / (max_grid f_i - min_grid f_i), and combined as
 Constraints: contact duration >= ``min_contact_duration_s`` (the finger touches the
 object), max finger von Mises stress <= ``allowable_finger_stress_Pa``, optionally
 contact start in ``contact_start_bounds_s`` [s], and for "this rubber only" designs
-alpha = alpha(L) (:func:`design.objectives.alpha_of_length`), imposed as
+alpha = alpha(L) (:func:`ccedi.design.objectives.alpha_of_length`), imposed as
 ln alpha - ln alpha(L) = 0.
 """
 import time
@@ -27,8 +27,8 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from fea.errors import InputError, SolverError, require_finite_positive
-from fea.units import m_to_inch
+from ccedi.errors import InputError, SolverError, require_finite_positive
+from ccedi.fea.units import m_to_inch
 
 from .objectives import alpha_of_length
 from .surrogate import Surrogate

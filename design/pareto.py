@@ -2,7 +2,7 @@
 (epsilon-constraint on the surrogate).
 
 With f_c = sum_{i in {stress, duration}} w_i f~_i / (w_s + w_d) (normalised as in
-:mod:`design.optimise`; equal weights when both are zero) and f_o the residual
+:mod:`ccedi.design.optimise`; equal weights when both are zero) and f_o the residual
 oscillation [m/s], the k-th front point solves
 
     min f_c  subject to  f_o <= eps_k  (and the problem's constraints),
@@ -16,7 +16,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from fea.units import m_to_inch
+from ccedi.fea.units import m_to_inch
 
 from .optimise import DesignProblem, solve
 
@@ -25,7 +25,7 @@ OSC = "residual_oscillation_m_s"
 
 def pareto_front(problem: DesignProblem, n_points=24, n_starts=4):
     """``n_points`` designs along the (f_c, f_o) front, non-dominated and de-duplicated
-    (as :class:`design.optimise.Design`), sorted by f_o."""
+    (as :class:`ccedi.design.optimise.Design`), sorted by f_o."""
     w_s, w_d, _ = problem.weights
     contact = replace(problem, weights=(w_s, w_d, 0.0) if w_s + w_d > 0 else (1.0, 1.0, 0.0))
     quiet = replace(problem, weights=(0.0, 0.0, 1.0))

@@ -1,8 +1,8 @@
 """A smooth surrogate of the contact ROM's design outputs over the design variables.
 
-The ROM (:class:`rom.contact_rom.ReducedContactModel`) is run on a tensor grid of the
+The ROM (:class:`ccedi.rom.contact_rom.ReducedContactModel`) is run on a tensor grid of the
 design variables (:class:`Variable`: alpha log-spaced, length linear); each output of
-:data:`design.objectives.OUTPUTS` is then interpolated by a tensor-product cubic
+:data:`ccedi.design.objectives.OUTPUTS` is then interpolated by a tensor-product cubic
 B-spline (casadi ``interpolant``, "bspline") in the unit coordinates
 
     u = 2 (z - z_lo) / (z_hi - z_lo) - 1 in [-1, 1],  z = ln(alpha) or L,
@@ -14,7 +14,7 @@ and predicted 10 N where the ROM gives 14.5 N.) A further set of ROM runs off th
 measures the interpolation error (:func:`validation_errors`).
 
 More variables (cross-section, drum speed) only need another :class:`Variable` and a
-way to set them on the :class:`fea.drum.DrumSetup` (:func:`run_rom`).
+way to set them on the :class:`ccedi.fea.drum.DrumSetup` (:func:`run_rom`).
 """
 import itertools
 import json
@@ -25,11 +25,11 @@ import casadi as ca
 import numpy as np
 import pandas as pd
 
-from fea.drum import DrumSetup, ObjectStress
-from fea.errors import InputError
-from fea.outputs import write_csv, write_json
-from fea.units import inch_to_m
-from rom.contact_rom import ReducedContactModel
+from ccedi.fea.drum import DrumSetup, ObjectStress
+from ccedi.errors import InputError
+from ccedi.fea.outputs import write_csv, write_json
+from ccedi.fea.units import inch_to_m
+from ccedi.rom.contact_rom import ReducedContactModel
 
 from .objectives import (FORCE_WINDOW_S, OUTPUTS, OUTPUT_STEP_S, RESIDUAL_WINDOW_S, design_outputs, rom_segments,
                          setup_for_length)
@@ -72,7 +72,7 @@ class Variable:
 
 
 def design_space(alpha_bounds_per_s=(1.0, 600.0), length_bounds_in=(3.0, 8.0)):
-    """The (alpha [1/s], L [m]) variables of issue 6 (lengths given in inches)."""
+    """The (alpha [1/s], L [m]) design variables (lengths given in inches)."""
     (a_lo, a_hi), (l_lo, l_hi) = alpha_bounds_per_s, length_bounds_in
     if not 0.0 < a_lo < a_hi:
         raise InputError(f"alpha bounds must satisfy 0 < lo < hi [1/s], got {alpha_bounds_per_s}")

@@ -22,14 +22,14 @@ normal is the ellipse gradient (q_x / a^2, q_y / b^2), normalised.
 Friction (Coulomb, coefficient mu) is applied in the velocity update as an impulse, so
 it needs no regularisation and cannot reverse the sliding direction within a step: the
 tangential trial velocity v_t is reduced by at most ``mu f_n Dt / m_eff`` (slip); if
-that would stop it, it is set to zero (stick). See :func:`fea.explicit.run`.
+that would stop it, it is set to zero (stick). See :func:`ccedi.fea.explicit.run`.
 """
 from dataclasses import dataclass
 
 import numba as nb
 import numpy as np
 
-from .errors import InputError, require_finite_positive
+from ccedi.errors import InputError, require_finite_positive
 from .kernels import FASTMATH
 
 PLANE, ELLIPSE = 0, 1

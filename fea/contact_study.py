@@ -33,7 +33,7 @@ def _contact_case(alpha, setup, damping, t_end_s, n_outputs, progress):
 
 def sweep(setup: DrumSetup, alphas=PAPER_ALPHAS, damping="global", t_end_s=1.5, n_outputs=300, progress=False,
           scheduler="serial"):
-    """Run every alpha, mapped through :func:`fea.distributed.map_runs` (``scheduler``).
+    """Run every alpha, mapped through :func:`ccedi.fea.distributed.map_runs` (``scheduler``).
     Returns (long history DataFrame with an alpha_per_s column, summaries DataFrame,
     {alpha: (first-contact positions, last-contact positions)})."""
     from functools import partial

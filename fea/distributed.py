@@ -16,7 +16,7 @@ input order. A progress bar (tqdm) counts finished runs.
 import logging
 from contextlib import ExitStack
 
-from .errors import InputError
+from ccedi.errors import InputError
 
 SERIAL, LOCAL = "serial", "local"
 CONNECT_TIMEOUT = "10s"
@@ -78,11 +78,3 @@ def map_runs(function, items, scheduler=SERIAL, n_workers=LOCAL_WORKERS, label="
             pass
         return dask.gather(futures)
 
-
-def add_scheduler_argument(p, default=SERIAL):
-    """``--scheduler serial|local|ADDRESS`` on parser ``p``; ``default=None`` leaves the
-    choice to the command (e.g. a config file)."""
-    said = f"default {default}" if default is not None else "default: the config's scheduler"
-    p.add_argument("--scheduler", default=default, metavar="serial|local|ADDRESS",
-                   help="where independent runs go: serial (this process), local (a 2-worker Dask local "
-                        f"cluster) or a Dask scheduler address such as tcp://host:8786 ({said})")

@@ -36,7 +36,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from .contact import Contact, RigidEllipse, boundary_nodes
-from .errors import InputError, require_finite_positive
+from ccedi.errors import InputError, require_finite_positive
 from .explicit import run
 from .hex8 import deformation_gradient
 from .material import RUBBER, NeoHookean, cauchy_stress, von_mises
@@ -225,7 +225,7 @@ def object_side(setup: DrumSetup, point_xy):
 
 def contact_timing(history):
     """Contact timing and peaks from a contact history (columns of :func:`contact_run`,
-    also written by the reduced model of :mod:`rom.contact_rom`): first and last output
+    also written by the reduced model of :mod:`ccedi.rom.contact_rom`): first and last output
     with contact [s], the contact points there [m], peak reaction force [N] and the
     largest finger stress [Pa]."""
     h = history
@@ -254,7 +254,7 @@ def _max_or_none(column):
 
 
 def contact_summary(setup: DrumSetup, result, model):
-    """The summary the CLI writes (keys of issue 4), from a :func:`contact_run`."""
+    """The summary ``ccedi contact`` writes, from a :func:`contact_run`."""
     h = result.history
     summary = {"alpha_per_s": model.alpha, "damping": model.damping, "theta0_rad": setup.theta0_rad,
                "wall_time_s": result.summary["wall_time_s"], "steps": result.summary["steps"]}
@@ -289,7 +289,7 @@ class ContactResponse:
 
 class FullContactModel:
     """The full explicit FE model of the finger on the drum, behind the interface the
-    reduced model (:class:`rom.contact_rom.ReducedContactModel`) shares:
+    reduced model (:class:`ccedi.rom.contact_rom.ReducedContactModel`) shares:
     ``run(alpha, damping, t_end_s, n_outputs) -> ContactResponse``."""
 
     name = "fea"

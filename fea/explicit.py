@@ -28,7 +28,7 @@ import numba as nb
 import numpy as np
 import pandas as pd
 
-from .errors import InputError, SolverError, require_finite_positive
+from ccedi.errors import InputError, SolverError, require_finite_positive
 from .hex8 import deformation_gradient, internal_forces_numpy
 from .contact import PLANE, STEP_SHRINK, contact_forces, penalty_stiffness
 from .kernels import FASTMATH, internal_forces_numba
@@ -83,7 +83,7 @@ def _trial_velocities(v, v_new, x, f_ext, f_int, f_int_prev, v_pres, mass, free,
 
 @nb.njit(cache=True, fastmath=FASTMATH)
 def _friction(v, v_new, f_ext, mass, free, c_nodes, c_normal, c_fn, mu, alpha, Dt, c_out):
-    """Coulomb friction impulse on the contact nodes (see :mod:`fea.contact`): reduce the
+    """Coulomb friction impulse on the contact nodes (see :mod:`ccedi.fea.contact`): reduce the
     tangential trial velocity by at most mu f_n Dt / m_eff (slip) or to zero (stick).
     Adds the friction force to f_ext and its reaction to the surface force c_out[:3];
     returns (normal work, friction work) of the step [J]."""
@@ -266,7 +266,7 @@ def _pulse_arrays(pulses):
 
 def max_von_mises(model, x):
     """Largest von Mises stress [Pa] at nodal positions x: Cauchy stress of the solid
-    elements, and the normal stress bound of the rods (:func:`fea.rod.rod_max_stress`)."""
+    elements, and the normal stress bound of the rods (:func:`ccedi.fea.rod.rod_max_stress`)."""
     sigma = rod_max_stress(x, model.rod_arrays)
     if model.mesh.n_elements:
         F = deformation_gradient(x[model.mesh.hexes], model.geometry)
@@ -275,7 +275,7 @@ def max_von_mises(model, x):
 
 
 def rod_time_step(model):
-    """Smallest critical step of the rod elements [s] (inf without rods), see :mod:`fea.rod`."""
+    """Smallest critical step of the rod elements [s] (inf without rods), see :mod:`ccedi.fea.rod`."""
     r = model.rod_arrays
     return float(min(np.min(r.segment_time_step, initial=np.inf), np.min(r.hinge_time_step, initial=np.inf)))
 
@@ -332,7 +332,7 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     """Integrate ``model`` from rest (or x0, v0) to ``t_end_s`` [s].
 
     dt_s : fixed step [s] (default: CFL-controlled, TSSFAC x min dt_e, every step; times
-    0.9 more when the model has contact, see :mod:`fea.contact`).
+    0.9 more when the model has contact, see :mod:`ccedi.fea.contact`).
     progress : show a progress bar (tqdm) over the output times.
     output_hook : optional ``hook(t_out, x_out, f_ext) -> dict`` called at every output
     with the interpolated positions and the external nodal forces of the last step

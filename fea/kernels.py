@@ -1,7 +1,7 @@
 """numba-compiled hot loop: internal forces of one-point hexahedra.
 
-Same contract and equations as :func:`fea.hex8.internal_forces_numpy` (the reference
-path the tests compare against); see :mod:`fea.hex8` for the formulation.
+Same contract and equations as :func:`ccedi.fea.hex8.internal_forces_numpy` (the reference
+path the tests compare against); see :mod:`ccedi.fea.hex8` for the formulation.
 """
 import numba as nb
 import numpy as np
@@ -22,7 +22,7 @@ def internal_forces_numba(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c,
 
     The 3x3 tensors F, Fdot, F^-1 and P live in scalar locals (registers) rather than
     small arrays, which is what makes this loop fast; the algebra is line for line
-    :func:`fea.hex8.internal_forces_numpy`."""
+    :func:`ccedi.fea.hex8.internal_forces_numpy`."""
     f[:, :] = 0.0
     ne = hexes.shape[0]
     dt_min = np.inf; w_s = 0.0; w_hg = 0.0; p_b = 0.0

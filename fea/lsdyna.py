@@ -1,4 +1,4 @@
-"""LS-DYNA keyword decks: write a ccedi :class:`fea.model.Model` so that a user with LS-DYNA
+"""LS-DYNA keyword decks: write a ccedi :class:`ccedi.fea.model.Model` so that a user with LS-DYNA
 can run the same model, and read back the cards ccedi writes (round-trip check).
 
 Format: LS-DYNA's standard fixed-width fields, 10 characters per field except *NODE
@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import InputError
+from ccedi.errors import InputError
 from .explicit import TSSFAC
 from .outputs import write_text
 

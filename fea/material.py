@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError, require_finite_positive
+from ccedi.errors import InputError, require_finite_positive
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.linalg import eigh
 
-from .errors import InputError
+from ccedi.errors import InputError
 from .model import Model
 from .static import free_dofs, tangent_stiffness
 

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import InputError, require_finite_positive
+from ccedi.errors import InputError, require_finite_positive
 from .hex8 import FACES, ElementGeometry, element_geometry, hourglass_stiffness
 from .material import NeoHookean
 from .mesh import Mesh
@@ -70,11 +70,11 @@ class Model:
 
     alpha : mass-proportional damping [1/s], >= 0.
     beta : stiffness-proportional damping [s], >= 0.
-    hourglass_coefficient : Q_hg of :func:`fea.hex8.hourglass_stiffness` [-], > 0.
+    hourglass_coefficient : Q_hg of :func:`ccedi.fea.hex8.hourglass_stiffness` [-], > 0.
     fixed_nodes : node ids with all displacements fixed (clamped root).
-    rods : :class:`fea.rod.Rod` chains on mesh nodes (beam elements), may share nodes with solids.
+    rods : :class:`ccedi.fea.rod.Rod` chains on mesh nodes (beam elements), may share nodes with solids.
     point_masses : {node id: mass [kg]} lumped point-mass elements.
-    contact : :class:`fea.contact.Contact` of mesh nodes against a rigid surface, or None.
+    contact : :class:`ccedi.fea.contact.Contact` of mesh nodes against a rigid surface, or None.
     damping : ``"global"`` (mass damping on the absolute velocity, LS-DYNA
         *DAMPING_GLOBAL) or ``"relative"`` (on the velocity relative to the frame of
         ``rotating``, *DAMPING_RELATIVE).

@@ -69,7 +69,7 @@ def write_text(path, text):
 
 def require_parquet():
     """Raise a one-line InputError unless pandas' Parquet engine (pyarrow) is installed."""
-    from .errors import InputError
+    from ccedi.errors import InputError
 
     try:
         import pyarrow  # noqa: F401

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
-from .errors import InputError, require_finite_positive
+from ccedi.errors import InputError, require_finite_positive
 from .kernels import FASTMATH
 
 

@@ -1,6 +1,6 @@
 """Consistent tangent stiffness and nonlinear static equilibrium (Newton-Raphson).
 
-Element tangent of the one-point hexahedron (total Lagrangian, see :mod:`fea.hex8`)::
+Element tangent of the one-point hexahedron (total Lagrangian, see :mod:`ccedi.fea.hex8`)::
 
     K_(ki)(lm) = (1/V0) sum_{j,L} b_kj A_ijmL b_lL + kappa sum_a gamma_ak gamma_al delta_im
 
@@ -14,7 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .errors import InputError, SolverError
+from ccedi.errors import InputError, SolverError
 from .hex8 import deformation_gradient, internal_forces_numpy
 from .model import Model, face_node_weights
 

@@ -70,7 +70,7 @@ def _impulse_run(alpha, kwargs):
 
 def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), scheduler="serial", **kwargs):
     """Fig. 7 analogue: tip responses for several alpha [1/s], one run per alpha mapped
-    through :func:`fea.distributed.map_runs` (``scheduler``). Returns (history, summaries):
+    through :func:`ccedi.fea.distributed.map_runs` (``scheduler``). Returns (history, summaries):
     a long DataFrame with columns alpha_per_s, time_s, tip_uy_m, max_von_mises_Pa,
     reaction_y_N and a list of run summaries."""
     from functools import partial

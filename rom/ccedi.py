@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from fea.errors import InputError, require_finite_positive
+from ccedi.errors import InputError, require_finite_positive
 
 from .damping import _validate_signal, log_decrement, noise_level, oscillates
 
@@ -26,7 +26,7 @@ from .damping import _validate_signal, log_decrement, noise_level, oscillates
 def fe_simulator(model_factory, t_end_s, n_outputs=400, tip_component="tip_uy_m"):
     """``simulate(alpha)`` running the explicit FE solver on ``model_factory(alpha)`` for
     ``t_end_s`` [s] and returning (time_s, tip displacement [m]) at ``n_outputs`` times."""
-    from fea.explicit import run
+    from ccedi.fea.explicit import run
 
     def simulate(alpha):
         h = run(model_factory(alpha), t_end_s, n_outputs=n_outputs).history
@@ -51,7 +51,7 @@ class CriticalAlpha:
 
 def critical_alpha(simulate, alpha_guess, rtol=0.01, bracket=(0.8, 1.1), noise_band=1e-6, max_expand=6):
     """Critical mass-proportional coefficient alpha_cr [1/s] by bisection on "the
-    simulated tip response oscillates" (:func:`rom.damping.oscillates`: after its
+    simulated tip response oscillates" (:func:`ccedi.rom.damping.oscillates`: after its
     largest excursion the response crosses its final value, 0 after an impulse, by more
     than ``noise_band`` x that excursion).
 
@@ -159,7 +159,7 @@ def identify(time_s, tip_displacement_m, simulate, alpha_guess, bounds_per_s=Non
 
     If the measured response oscillates (crosses its final value, after its peak, by more
     than the band: ``noise_band`` x the peak, or five times the measurement noise
-    estimated by :func:`rom.damping.noise_level` if larger), zeta comes from log-decrement and
+    estimated by :func:`ccedi.rom.damping.noise_level` if larger), zeta comes from log-decrement and
     ``alpha = zeta alpha_cr`` with alpha_cr from :func:`critical_alpha` (or ``critical``,
     a precomputed CriticalAlpha). Otherwise alpha is matched by :func:`match_alpha`
     within ``bounds_per_s`` (default 0.2 to 10 x ``alpha_guess``).

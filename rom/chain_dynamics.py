@@ -1,5 +1,5 @@
 """Explicit dynamics of the superelement chain on the rotating drum, with penalty contact
-and Coulomb friction against the rigid elliptical object (issue 5, part B).
+and Coulomb friction against the rigid elliptical object.
 
 Frame: the drum's rotating frame (floating frame of reference). Planar coordinates
 p = (p1, p2) of each station centre: p1 along the undeformed finger (radial, from the
@@ -19,7 +19,7 @@ and each station (mass m, rotary inertia I) obeys::
 
 Global damping acts on the absolute velocity (the drag that makes a damped finger
 trail the drum), relative damping on the velocity in the drum's frame, as in
-:mod:`fea.drum`. Station 0 is clamped to the drum.
+:mod:`ccedi.fea.drum`. Station 0 is clamped to the drum.
 
 Internal forces, co-rotational (``nonlinear=True``): each segment's chord of current
 length l and angle psi defines its frame; the natural deformations
@@ -38,10 +38,10 @@ the object gets ``f_n = k d`` along the object's outward normal, passed to the t
 stations as J^T f with J the exact derivative of the point's position (the contact is
 conservative). The step is TSSFAC x 2 / omega_c, omega_c the chain's highest frequency
 with one face's contact springs all engaged (:func:`contact_omega`). The earlier
-station-only model (``contact="stations"`` in :mod:`rom.contact_rom`) takes
+station-only model (``contact="stations"`` in :mod:`ccedi.rom.contact_rom`) takes
 ``k = (1/0.81 - 1) (2/dt_cfl)^2 / (1/m + h^2/I)`` per station point (the rule of
-:mod:`fea.contact`, for the point's effective mass) and the step shrunk by 0.9. Friction
-is Coulomb, applied as in :mod:`fea.explicit`: the impulse that would stop the point's
+:mod:`ccedi.fea.contact`, for the point's effective mass) and the step shrunk by 0.9. Friction
+is Coulomb, applied as in :mod:`ccedi.fea.explicit`: the impulse that would stop the point's
 tangential velocity within the step (through the stations' masses and inertias, the
 point's flexibility t J M^-1 J^T t), clipped to mu f_n.
 
@@ -52,9 +52,9 @@ import numba as nb
 import numpy as np
 from scipy.linalg import eigh
 
-from fea.contact import STEP_SHRINK, _ellipse_gap, penalty_stiffness
-from fea.explicit import TSSFAC
-from fea.kernels import FASTMATH
+from ccedi.fea.contact import STEP_SHRINK, _ellipse_gap, penalty_stiffness
+from ccedi.fea.explicit import TSSFAC
+from ccedi.fea.kernels import FASTMATH
 
 # per-output contact record slots
 _FX, _FY, _NPTS, _PX, _PY, _PEN = range(6)
@@ -345,12 +345,12 @@ def _chain_run(P, TH, V, W, mass, inertia, l0, Kn, h, nonlinear, relative, alpha
 
 def stable_step(omega_max):
     """Time step [s] of the station-contact chain: TSSFAC x 2 / omega_max, times 0.9 for the
-    contact (as :mod:`fea.explicit`)."""
+    contact (as :mod:`ccedi.fea.explicit`)."""
     return TSSFAC * STEP_SHRINK * 2.0 / omega_max
 
 
 def contact_point_stiffness(mass, inertia, half_thickness_m, omega_max):
-    """Penalty stiffness [N/m] per station contact point: :func:`fea.contact.penalty_stiffness`
+    """Penalty stiffness [N/m] per station contact point: :func:`ccedi.fea.contact.penalty_stiffness`
     for the point's effective mass 1 / (1/m + h^2 / I)."""
     m_eff = 1.0 / (1.0 / mass + half_thickness_m**2 / inertia)
     return penalty_stiffness(m_eff, 2.0 / omega_max)
@@ -374,7 +374,7 @@ def face_points(station_z_m, plane_z_m, nonlinear=True):
 
 def contact_omega(K, M, pt_seg, pt_xi, pt_k, half_thickness_m, station_z_m, nonlinear=True):
     """Highest frequency [rad/s] of the linear clamped chain (K, M of
-    :func:`rom.superelement.linear_matrices`) with every contact spring of one face
+    :func:`ccedi.rom.superelement.linear_matrices`) with every contact spring of one face
     engaged across the finger (normal along the section's y): K_c = sum_p k_p J_p^T e_y
     e_y^T J_p, J_p of :func:`_face_point` at the straight finger. An upper bound for the
     contact frequencies the run can meet (fewer springs engage at once)."""

@@ -1,15 +1,15 @@
-"""Reduced models against the full FEA (issue 5, ``ccedi rom-check``).
+"""Reduced models against the full FEA (``ccedi rom-check``).
 
 Impulse cases (acceptance 1): the 4.5-in finger, a small tip pulse, the modal ROM with
 ``n_modes`` modes before and after its least-squares fit to the FE response.
 
 Contact cases (acceptance 2): the 8-in finger on the drum, the full explicit FE model
-(:class:`fea.drum.FullContactModel`) against the superelement chain
-(:class:`rom.contact_rom.ReducedContactModel`), co-rotational and linear, through the
+(:class:`ccedi.fea.drum.FullContactModel`) against the superelement chain
+(:class:`ccedi.rom.contact_rom.ReducedContactModel`), co-rotational and linear, through the
 same ``run`` interface. Per case:
 
 * ``nrmse``: NRMSE of the tip lag behind the rigidly turning finger
-  (:func:`fea.contact_study.tip_lag_series_m`) over the run [-];
+  (:func:`ccedi.fea.contact_study.tip_lag_series_m`) over the run [-];
 * ``peak_force_error``: peak reaction force, ROM / FEA - 1 [-];
   ``smoothed_peak_force_error`` the same after a ``SMOOTHING_S`` moving average of both
   histories (the lightly damped FE finger chatters on the object: its sampled peak
@@ -27,21 +27,21 @@ import time
 
 import numpy as np
 
-from fea.contact_study import tip_lag_series_m, window_mean
-from fea.drum import DrumSetup, FullContactModel
-from fea.material import RUBBER
-from fea.mesh import SEMI_AXES
-from fea.studies import impulse_model, impulse_response
-from fea.units import m_to_inch
-from rom.contact_rom import ReducedContactModel
-from rom.modal import fit_to_response, nrmse, tip_modal_rom
+from ccedi.fea.contact_study import tip_lag_series_m, window_mean
+from ccedi.fea.drum import DrumSetup, FullContactModel
+from ccedi.fea.material import RUBBER
+from ccedi.fea.mesh import SEMI_AXES
+from ccedi.fea.studies import impulse_model, impulse_response
+from ccedi.fea.units import m_to_inch
+from ccedi.rom.contact_rom import ReducedContactModel
+from ccedi.rom.modal import fit_to_response, nrmse, tip_modal_rom
 
 SMOOTHING_S = 0.025
 """Moving-average window [s] for ``smoothed_peak_force_error``."""
 
 
 def compare_contact(setup: DrumSetup, fea, rom):
-    """Metrics (module docstring) of a reduced :class:`fea.drum.ContactResponse` ``rom``
+    """Metrics (module docstring) of a reduced :class:`ccedi.fea.drum.ContactResponse` ``rom``
     against the full one ``fea`` (same output times)."""
     hf, hr = fea.history, rom.history
     if not np.allclose(hf.time_s, hr.time_s):
@@ -72,7 +72,7 @@ def _key_figures(summary):
 def contact_cases(setup: DrumSetup, alphas=(7.5, 180.0, 600.0), damping="global", t_end_s=1.5, n_outputs=300,
                   progress=False, contact=None):
     """Full FEA vs both reduced models for every alpha: a list of case dicts. ``contact``:
-    the ROM's contact model (:class:`rom.contact_rom.ReducedContactModel`; None: its default)."""
+    the ROM's contact model (:class:`ccedi.rom.contact_rom.ReducedContactModel`; None: its default)."""
     t0 = time.perf_counter()
     reduced = [ReducedContactModel(setup, nonlinear=True, contact=contact),
                ReducedContactModel(setup, nonlinear=False, contact=contact)]

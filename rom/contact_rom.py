@@ -1,10 +1,10 @@
-"""Reduced model of the finger on the rotating drum (issue 5, part B).
+"""Reduced model of the finger on the rotating drum.
 
 :class:`ReducedContactModel` builds the superelement chain of the finger's FE mesh
-(:mod:`rom.superelement`), fits its bending stiffness to the full FE model's static tip
+(:mod:`ccedi.rom.superelement`), fits its bending stiffness to the full FE model's static tip
 stiffness, and runs the chain's explicit dynamics in the drum's rotating frame
-(:mod:`rom.chain_dynamics`). It answers the same question as
-:class:`fea.drum.FullContactModel`, through the same ``run(alpha, damping, t_end_s,
+(:mod:`ccedi.rom.chain_dynamics`). It answers the same question as
+:class:`ccedi.fea.drum.FullContactModel`, through the same ``run(alpha, damping, t_end_s,
 n_outputs) -> ContactResponse``, with the same history columns, so a study swaps one
 for the other with one argument.
 
@@ -16,15 +16,15 @@ import time
 import numpy as np
 import pandas as pd
 
-from fea.drum import ContactResponse, DrumSetup, contact_timing, finger_mesh, finger_on_drum
-from fea.errors import InputError, SolverError, require_finite_positive
-from fea.explicit import TSSFAC, critical_time_step
-from fea.model import cantilever_model
-from fea.static import static_solve
-from fea.contact import penalty_stiffness
-from rom.chain_dynamics import (_FX, _FY, _NPTS, _PEN, _PX, _PY, _chain_run, _internal_forces, contact_omega,
+from ccedi.fea.drum import ContactResponse, DrumSetup, contact_timing, finger_mesh, finger_on_drum
+from ccedi.errors import InputError, SolverError, require_finite_positive
+from ccedi.fea.explicit import TSSFAC, critical_time_step
+from ccedi.fea.model import cantilever_model
+from ccedi.fea.static import static_solve
+from ccedi.fea.contact import penalty_stiffness
+from ccedi.rom.chain_dynamics import (_FX, _FY, _NPTS, _PEN, _PX, _PY, _chain_run, _internal_forces, contact_omega,
                                 contact_point_stiffness, face_points, stable_step)
-from rom.superelement import (chain_frequencies, fe_tip_stiffness, finger_chain, fit_tip_stiffness, linear_matrices,
+from ccedi.rom.superelement import (chain_frequencies, fe_tip_stiffness, finger_chain, fit_tip_stiffness, linear_matrices,
                               stress_recovery)
 
 DEFAULT_SEGMENTS = 17
@@ -46,7 +46,7 @@ def fe_face_stiffness_per_length(setup: DrumSetup, patch_nodes=FACE_PATCH_NODES)
     the ROM's rigid sections (fitted from the FEA).
 
     The FE face yields to a contact load twice: its nodes penetrate the object by
-    f / k_pen, k_pen = (1/0.81 - 1) m_node (2 / dt_cfl)^2 (:func:`fea.contact.penalty_stiffness`),
+    f / k_pen, k_pen = (1/0.81 - 1) m_node (2 / dt_cfl)^2 (:func:`ccedi.fea.contact.penalty_stiffness`),
     and the section flattens (the loaded apex moves against the section's mean). The ROM
     section is rigid, so its springs must carry both::
 
@@ -98,20 +98,20 @@ def _face_flattening(mesh, material, patch_nodes):
 
 
 class ReducedContactModel:
-    """Superelement-chain ROM of :class:`fea.drum.DrumSetup`'s finger.
+    """Superelement-chain ROM of :class:`ccedi.fea.drum.DrumSetup`'s finger.
 
     n_segments : superelements along the finger; nonlinear : co-rotational (True) or
     linear (False) kinematics; fit : scale the bending stiffness to the FE tip stiffness.
 
     contact : "stations" (default, ``DEFAULT_CONTACT``): points at the stations only,
-    penalty rule of :mod:`fea.contact` for the station's effective mass, the chain's own
+    penalty rule of :mod:`ccedi.fea.contact` for the station's effective mass, the chain's own
     step (points 12 mm apart, 2.8e6 N/m^2 per length). "face": contact points on both
     faces at every FE node plane,
-    moved with the segment's cubic centre line (:func:`rom.chain_dynamics._face_point`),
+    moved with the segment's cubic centre line (:func:`ccedi.rom.chain_dynamics._face_point`),
     penalty stiffness per unit length ``k_per_length`` [N/m^2] (default: the full FE
     model's, :func:`fe_face_stiffness_per_length`) times each point's tributary length;
     the step is the stable step of the chain with the contact springs engaged,
-    TSSFAC x 2 / omega_c (:func:`rom.chain_dynamics.contact_omega`). Against the full FEA
+    TSSFAC x 2 / omega_c (:func:`ccedi.rom.chain_dynamics.contact_omega`). Against the full FEA
     (8-in finger, global damping) "face" matches the mean force as "stations" does, keeps
     the alpha = 180 and 600 peaks within 6 % at 13-51 segments (stations: +83 % / +51 % at
     34), costs ~2x the wall time, and leaves the alpha = 7.5 peak as far off (friction
@@ -152,7 +152,7 @@ class ReducedContactModel:
             self.dt_s = TSSFAC * 2.0 / self.omega_contact_rad_s
 
     def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300):
-        """Integrate the chain over the object; returns a :class:`fea.drum.ContactResponse`."""
+        """Integrate the chain over the object; returns a :class:`ccedi.fea.drum.ContactResponse`."""
         alpha = require_finite_positive("alpha (mass-proportional damping, 1/s)", alpha, allow_zero=True)
         if damping not in ("global", "relative"):
             raise InputError(f"damping must be 'global' or 'relative', got {damping!r}")

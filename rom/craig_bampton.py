@@ -1,4 +1,4 @@
-"""Craig-Bampton reduction (issue 5, part B, linear core).
+"""Craig-Bampton reduction (the linear core of the superelement chain).
 
 Split the free degrees of freedom of a linearised FE model into boundary DOFs b (kept
 physically: the root/drum interface, the contact-side surface nodes) and interior DOFs i.
@@ -20,9 +20,9 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.linalg import eigh
 
-from fea.errors import InputError
-from fea.model import Model
-from fea.static import free_dofs, tangent_stiffness
+from ccedi.errors import InputError
+from ccedi.fea.model import Model
+from ccedi.fea.static import free_dofs, tangent_stiffness
 
 
 def fe_matrices(model: Model, x=None):

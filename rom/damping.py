@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
-from fea.errors import InputError
+from ccedi.errors import InputError
 
 
 @dataclass(frozen=True)

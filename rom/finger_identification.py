@@ -1,15 +1,15 @@
 """CCEDI on the paper's structures: SM-A rubber fingers of any length and the steel rod.
 
-Simulators (``alpha -> (time_s, tip displacement m)``) for :mod:`rom.ccedi`, with run
+Simulators (``alpha -> (time_s, tip displacement m)``) for :mod:`ccedi.rom.ccedi`, with run
 lengths chosen from the first natural frequency so that a nearly critical response has
 time to cross zero: t_end = load duration + 12 / omega_1.
 """
-from fea.material import RUBBER
-from fea.mesh import SEMI_AXES, sm_a
-from fea.modal import natural_frequencies
-from fea.model import cantilever_model
-from fea.steel_rod import STEEL_ROD, steel_rod_model
-from fea.studies import impulse_model
+from ccedi.fea.material import RUBBER
+from ccedi.fea.mesh import SEMI_AXES, sm_a
+from ccedi.fea.modal import natural_frequencies
+from ccedi.fea.model import cantilever_model
+from ccedi.fea.steel_rod import STEEL_ROD, steel_rod_model
+from ccedi.fea.studies import impulse_model
 
 from .ccedi import critical_alpha, fe_simulator, paper_alpha_cr
 
@@ -66,9 +66,9 @@ def alpha_cr_table(lengths_in=(3.0, 4.5, 6.0, 8.0), rtol=0.01, scheduler="serial
                    semi_axes_m=SEMI_AXES):
     """alpha_cr, 2 omega_1 and the paper's Eq. (8) (which holds for the paper's rubber and
     section only) for each finger length, one length per run of
-    :func:`fea.distributed.map_runs` (``scheduler``); a list of dicts."""
+    :func:`ccedi.fea.distributed.map_runs` (``scheduler``); a list of dicts."""
     from functools import partial
 
-    from fea.distributed import map_runs
+    from ccedi.fea.distributed import map_runs
 
     return map_runs(partial(_alpha_cr_row, rtol=rtol, material=material, semi_axes_m=semi_axes_m), lengths_in, scheduler, label="alpha_cr")

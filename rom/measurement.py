@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from fea.errors import InputError
+from ccedi.errors import InputError
 
 REQUIRED_COLUMNS = ("time_s", "tip_displacement_m")
 OPTIONAL_COLUMNS = ("force_N", "reaction_force_N")

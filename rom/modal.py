@@ -1,4 +1,4 @@
-"""Modal reduced model of a linearised FE model with Rayleigh damping (issue 5, part A).
+"""Modal reduced model of a linearised FE model with Rayleigh damping.
 
 From the tangent stiffness K (at the undeformed or a preloaded state) and the lumped
 mass M, the first N mass-normalised modes phi_i (K phi = omega^2 M phi) decouple the
@@ -30,9 +30,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import least_squares
 
-from fea.errors import InputError, require_finite_positive
-from fea.modal import natural_frequencies
-from fea.model import Model, face_node_weights
+from ccedi.errors import InputError, require_finite_positive
+from ccedi.fea.modal import natural_frequencies
+from ccedi.fea.model import Model, face_node_weights
 
 
 @dataclass(frozen=True)
@@ -205,7 +205,7 @@ def fit_to_response(rom: ModalROM, time_s, y, force_N, duration_s):
 def rom_simulator(rom: ModalROM, force_N, duration_s, t_end_s, n_outputs=400):
     """``simulate(alpha) -> (time_s, displacement_m)`` of the modal ROM with Rayleigh
     damping alpha, for a pulse of ``force_N`` [N] held ``duration_s`` [s]: the same
-    interface as :func:`rom.ccedi.fe_simulator`, so CCEDI studies can swap the full FE
+    interface as :func:`ccedi.rom.ccedi.fe_simulator`, so CCEDI studies can swap the full FE
     model for the surrogate."""
     t = np.linspace(0.0, t_end_s, n_outputs + 1)[1:]
 

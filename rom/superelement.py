@@ -1,6 +1,6 @@
-"""The finger as a chain of Craig-Bampton superelements (issue 5, part B).
+"""The finger as a chain of Craig-Bampton superelements.
 
-The straight finger mesh (along z, soft bending along y, see :mod:`fea.mesh`) is cut at
+The straight finger mesh (along z, soft bending along y, see :mod:`ccedi.fea.mesh`) is cut at
 n + 1 stations z_0 = 0 < z_1 < ... < z_n = L (planes of mesh nodes) into n segments.
 Each segment keeps its two end sections as boundary; in the bending plane a section
 moves rigidly, so the boundary of a segment is six planar DOFs::
@@ -13,7 +13,7 @@ u_x = 0 (an exact symmetry condition, which also removes the out-of-plane rigid 
 a planar interface cannot hold).
 
 Every other DOF of the segment is interior and is condensed by
-:func:`rom.craig_bampton.craig_bampton` with no fixed-interface modes (a segment's
+:func:`ccedi.rom.craig_bampton.craig_bampton` with no fixed-interface modes (a segment's
 first fixed-interface mode lies above 10 kHz, far above anything the contact excites):
 ``K_e = T^T K T``, ``M_e = T^T M T`` (6 x 6), and ``T`` recovers the segment's full
 displacement field, hence its stresses.
@@ -24,7 +24,7 @@ natural deformations of the segment (chord of length l0 along z)::
     e = G d = [U_b - U_a,  theta_a - (V_b - V_a)/l0,  theta_b - (V_b - V_a)/l0]
 
 and the 3 x 3 natural stiffness ``K_n`` (axial force, end moments) is what the co-rotational
-dynamics in :mod:`rom.chain_dynamics` uses. Station masses are the row sums of the
+dynamics in :mod:`ccedi.rom.chain_dynamics` uses. Station masses are the row sums of the
 translational Guyan mass (they add up to the finger's mass); the rotary inertia of a
 station is the diagonal rotation entry of M_e (the section's second moment of mass).
 
@@ -41,14 +41,14 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.linalg import eigh
 
-from fea.errors import InputError
-from fea.hex8 import deformation_gradient, element_geometry
-from fea.kernels import FASTMATH
-from fea.material import NeoHookean, cauchy_stress, von_mises
-from fea.mesh import Mesh
-from fea.model import Model, cantilever_model
-from fea.static import tangent_stiffness, tip_deflection
-from rom.craig_bampton import craig_bampton
+from ccedi.errors import InputError
+from ccedi.fea.hex8 import deformation_gradient, element_geometry
+from ccedi.fea.kernels import FASTMATH
+from ccedi.fea.material import NeoHookean, cauchy_stress, von_mises
+from ccedi.fea.mesh import Mesh
+from ccedi.fea.model import Model, cantilever_model
+from ccedi.fea.static import tangent_stiffness, tip_deflection
+from ccedi.rom.craig_bampton import craig_bampton
 
 
 @dataclass(frozen=True)

@@ -1,102 +1,63 @@
-"""``ccedi`` sub-commands of the end-to-end study (registered by :mod:`fea.cli`).
+"""The ``ccedi`` command line: one parser, every sub-command, and ``main``.
 
-  study   the whole design study on the bundled data -> reports/index.html
-  init    write a commented example study TOML
-  export  a model as an LS-DYNA keyword deck, or a run's results as VTU, CSV or Parquet
+Sub-commands (registered by the modules of :mod:`ccedi.study.commands`):
+
+  table1, impulse, contact, contact-sweep, contact-report   explicit FEA (:mod:`ccedi.fea`)
+  identify, damping-fits, rom-check                         identification and ROMs (:mod:`ccedi.rom`)
+  design                                                    design optimiser (:mod:`ccedi.design`)
+  calibrate                                                 close the loop (:mod:`ccedi.calibrate`)
+  study, init, export                                       the whole study (:mod:`ccedi.study`)
+
+Building the parser imports no library, so ``ccedi --help`` answers at once.
 """
-from pathlib import Path
+import argparse
+import sys
 
-from fea.distributed import add_scheduler_argument
-from fea.errors import InputError
-
-from .config import add_config_argument
-
-
-def add_parsers(sub):
-    s = sub.add_parser("study", help="the whole design study on the bundled data: identification, ROMs, design, "
-                       "FEA re-check, calibration -> OUT/index.html")
-    s.add_argument("--config", help="study TOML (default: built-in defaults; see ccedi init)")
-    s.add_argument("--out", default="reports", help="output directory (default reports)")
-    add_scheduler_argument(s, default=None)
-    s.add_argument("--quick", action="store_true", help="a few-minute smoke run of every step (short runs, "
-                   "one length, one contact alpha, no FEA re-check)")
-    s.add_argument("--only", nargs="+", metavar="STEP", help="run only these steps (table1 steel_rod impulse mesh "
-                   "damping_fits contact design calibrate), then rewrite index.html")
-    s.set_defaults(func=cmd_study)
-    i = sub.add_parser("init", help="write a commented example study TOML (every key, its unit, range and default)")
-    i.add_argument("path", nargs="?", default="study.toml", help="file to write (default study.toml)")
-    i.add_argument("--force", action="store_true", help="overwrite an existing file")
-    i.set_defaults(func=cmd_init)
-    e = sub.add_parser("export", help="a model as an LS-DYNA keyword deck, or its run as VTU (ParaView), "
-                       "CSV or Parquet time series")
-    e.add_argument("--case", choices=("impulse", "contact"), default="impulse",
-                   help="impulse: clamped SM-A finger, tip pulse; contact: the finger on the drum "
-                   "([finger] contact_length_in of --config, default 8 in)")
-    e.add_argument("--format", choices=("lsdyna", "vtu", "csv", "parquet"), default="lsdyna")
-    e.add_argument("--alpha", type=float, default=180.0, help="mass-proportional damping [1/s]")
-    e.add_argument("--length-in", type=float, default=4.5, help="finger length of the impulse case [in]")
-    e.add_argument("--t-end-s", type=float, help="simulated time [s] (default 0.2 impulse, 1.5 contact)")
-    e.add_argument("--out", required=True, help="file (lsdyna: .k; csv/parquet) or directory (vtu)")
-    add_config_argument(e)
-    e.set_defaults(func=cmd_export)
+from ccedi.errors import InputError, SolverError
+from ccedi.study.commands import calibrate, design, fea, rom, study
 
 
-def cmd_study(args):
-    from .config import load
-    from .run import STEP_NAMES, run_study
+def build_parser():
+    """The ``ccedi`` argument parser with every sub-command.
 
-    cfg = load(args.config)
-    unknown = sorted(set(args.only or ()) - set(STEP_NAMES))
-    if unknown:
-        raise InputError(f"--only: unknown step {unknown[0]!r} (steps: {' '.join(STEP_NAMES)})")
-    index = run_study(cfg, args.out, scheduler=args.scheduler, quick=args.quick, only=args.only)
-    print(f"wrote {index}")
-
-
-def cmd_init(args):
-    from fea.outputs import write_text
-
-    from .config import example
-
-    path = Path(args.path)
-    if path.exists() and not args.force:
-        raise InputError(f"{path} exists (use --force to overwrite)")
-    write_text(path, example())
-    print(f"wrote {path}; run: ccedi study --config {path}")
+    Returns
+    -------
+    argparse.ArgumentParser
+        Parsed arguments carry ``func``, the sub-command's function of them.
+    """
+    p = argparse.ArgumentParser(prog="ccedi", description="Compliant finger design: explicit FEA, "
+                                "damping identification, reduced models, design optimisation.")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND")
+    for module in (fea, rom, calibrate, design, study):
+        module.add_parsers(sub)
+    return p
 
 
-def _case(args, t_end_s):
-    """(model, simulate) of the export case; simulate(snapshot_every) -> RunResult."""
-    from fea.drum import contact_run, finger_on_drum
-    from fea.explicit import run
-    from fea.studies import impulse_model
+def main(argv=None):
+    """Run ``ccedi`` with ``argv`` (default: ``sys.argv[1:]``).
 
-    from .config import drum_setup, finger_inputs, from_args
+    Parameters
+    ----------
+    argv : list of str, optional
+        The command line after the program name.
 
-    cfg = from_args(args)
-    if args.case == "impulse":
-        material, semi_axes = finger_inputs(cfg)
-        model = impulse_model(length_in=args.length_in, alpha=args.alpha, material=material, semi_axes_m=semi_axes)
-        return model, lambda every: run(model, t_end_s, snapshot_every=every, progress=True)
-    setup = drum_setup(cfg)
-    model = finger_on_drum(setup, args.alpha)[0]
-    return model, lambda every: contact_run(setup, args.alpha, t_end_s=t_end_s, snapshot_every=every,
-                                            progress=True)[0]
-
-
-def cmd_export(args):
-    from fea.lsdyna import write_keyword
-    from fea.outputs import require_parquet, write_table
-    from fea.vtu import write_series
-
-    if args.format == "parquet":
-        require_parquet()
-    t_end_s = args.t_end_s if args.t_end_s is not None else {"impulse": 0.2, "contact": 1.5}[args.case]
-    model, simulate = _case(args, t_end_s)
-    if args.format == "lsdyna":
-        path = write_keyword(model, args.out, t_end_s, title=f"ccedi {args.case}, alpha = {args.alpha:g} 1/s")
-    elif args.format == "vtu":
-        path = write_series(args.out, model, simulate(10), stem=args.case)
-    else:
-        path = write_table(Path(args.out).with_suffix(f".{args.format}"), simulate(0).history)
-    print(f"wrote {path}")
+    Returns
+    -------
+    int
+        Exit status: 0 done, 1 bad input or solver failure (one line on stderr), 2 no
+        sub-command, 130 interrupted.
+    """
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 2
+    try:
+        args.func(args)
+    except (InputError, SolverError) as err:
+        print(f"ccedi {args.command}: error: {err}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print(f"ccedi {args.command}: interrupted; no partial outputs were written", file=sys.stderr)
+        return 130
+    return 0

@@ -3,22 +3,23 @@ the drum test, and the study settings.
 
 Every key carries its unit in its name (``length_in``, ``alpha_per_s``, ``t_end_s``);
 a key whose unit suffix is not the schema's (``length_mm``) is unknown, and the error
-names the key the schema expects. Any problem gives one :class:`fea.errors.InputError`
+names the key the schema expects. Any problem gives one :class:`ccedi.errors.InputError`
 line naming the section and key, e.g. ``[finger] length_in = 20: must be in 1..12 (in)``.
 
 Every sub-command that builds a finger takes the same file with ``--config``
-(:func:`add_config_argument`, :func:`finger_inputs`, :func:`drum_setup`); ``ccedi study``
-writes the resolved inputs to ``OUT/config.toml`` and passes it to each step.
+(:func:`finger_inputs`, :func:`drum_setup`); ``ccedi study`` loads and validates its
+inputs once, writes them to ``OUT/config.toml`` for the record and passes them to each
+step as objects.
 """
 import tomllib
 from dataclasses import dataclass, fields
 from pathlib import Path
 
-from fea.drum import DrumSetup
-from fea.errors import InputError
-from fea.material import RUBBER, NeoHookean
-from fea.mesh import SEMI_AXES
-from fea.units import inch_to_m, m_to_inch
+from ccedi.fea.drum import DrumSetup
+from ccedi.errors import InputError
+from ccedi.fea.material import RUBBER, NeoHookean
+from ccedi.fea.mesh import SEMI_AXES
+from ccedi.fea.units import inch_to_m, m_to_inch
 
 _DRUM = {f.name: f.default for f in fields(DrumSetup)}
 
@@ -141,7 +142,7 @@ def finger_inputs(cfg):
 
 
 def drum_setup(cfg):
-    """The :class:`fea.drum.DrumSetup` of the validated inputs ``cfg`` (contact-length finger);
+    """The :class:`ccedi.fea.drum.DrumSetup` of the validated inputs ``cfg`` (contact-length finger);
     an inconsistent set-up is an InputError naming the [drum] section."""
     material, semi_axes = finger_inputs(cfg)
     d = cfg["drum"]
@@ -152,17 +153,6 @@ def drum_setup(cfg):
                          finger_material=material, finger_semi_axes_m=semi_axes)
     except InputError as err:
         raise InputError(f"[drum]: {err}") from None
-
-
-def add_config_argument(parser):
-    """``--config TOML``: the finger's material and section and the drum set-up of a sub-command."""
-    parser.add_argument("--config", help="inputs TOML ([material], [finger], [drum]; see ccedi init); "
-                        "default: the paper's rubber finger and drum test")
-
-
-def from_args(args):
-    """The validated inputs of ``--config`` (all defaults when it is not given)."""
-    return load(getattr(args, "config", None))
 
 
 def load(path):

@@ -5,7 +5,7 @@ from functools import partial
 import numpy as np
 import pandas as pd
 
-from fea.outputs import write_csv, write_figure, write_json
+from ccedi.fea.outputs import write_csv, write_figure, write_json
 
 
 FREE_PERIODS = 6
@@ -23,9 +23,9 @@ def steel_rod(out):
     """CCEDI on the steel rod: alpha_cr by bisection from 2 omega_1, responses at the guess,
     at alpha_cr and, for contrast, at alpha_cr / 4 (Fig. 3), and at alpha = zeta alpha_cr against the published decay
     (Fig. 4). Writes steel_rod.json, steel_rod_responses.csv, fig3/fig4 PNGs in ``out``."""
-    from fea.steel_rod import PAPER_ROD, STEEL_ROD
-    from rom.damping import log_decrement
-    from rom.finger_identification import rod_alpha_cr, rod_simulator
+    from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD
+    from ccedi.rom.damping import log_decrement
+    from ccedi.rom.finger_identification import rod_alpha_cr, rod_simulator
 
     crit = rod_alpha_cr()
     guess = 2.0 * PAPER_ROD["omega1_rad_s"]
@@ -74,8 +74,8 @@ def steel_rod(out):
 
 
 def _mesh_run(name, length_in, alpha, force_N, duration_s, t_end_s, material, semi_axes_m):
-    from fea.mesh import sm_a, sm_b
-    from fea.studies import impulse_response
+    from ccedi.fea.mesh import sm_a, sm_b
+    from ccedi.fea.studies import impulse_response
 
     mesh = {"SM-A": sm_a, "SM-B": sm_b}[name](length_in=length_in, semi_axes_m=semi_axes_m)
     res = impulse_response(alpha=alpha, force_N=force_N, duration_s=duration_s, t_end_s=t_end_s, mesh=mesh,
@@ -89,7 +89,7 @@ def mesh_comparison(out, length_in, alpha, force_N, duration_s, t_end_s, schedul
     """Fig. 6 analogue: tip response and max von Mises stress of SM-A and SM-B (``material``,
     section semi-axes ``semi_axes_m`` [m]) under the same impulse at one alpha. Writes
     mesh_comparison.csv/.json and the figure."""
-    from fea.distributed import map_runs
+    from ccedi.fea.distributed import map_runs
 
     run = partial(_mesh_run, length_in=length_in, alpha=alpha, force_N=force_N, duration_s=duration_s,
                   t_end_s=t_end_s, material=material, semi_axes_m=semi_axes_m)

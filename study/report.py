@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from fea.outputs import write_pdf_figures, write_text
+from ccedi.fea.outputs import write_pdf_figures, write_text
 
 UNITS = (("_per_s", "1/s"), ("_rad_s", "rad/s"), ("_m_s", "m/s"), ("_N_per_m", "N/m"), ("_us", "us"),
          ("_Pa", "Pa"), ("_N", "N"), ("_in", "in"), ("_s", "s"), ("_m", "m"), ("_J", "J"))
@@ -82,7 +82,7 @@ def _inputs_of(out):
 
 
 def _table1(out):
-    from fea.studies import PAPER_TABLE1, is_paper_finger
+    from ccedi.fea.studies import PAPER_TABLE1, is_paper_finger
 
     from .config import finger_inputs
 

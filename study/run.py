@@ -1,7 +1,8 @@
 """``ccedi study``: the whole design study on the bundled data, one step after another,
 each writing its sub-report under the output directory, then ``index.html``.
 
-Steps (each an existing sub-command or a function of :mod:`study.paper_steps`):
+Steps (each the ``write_*`` function of a sub-command, :mod:`ccedi.study.commands`, or a
+function of :mod:`ccedi.study.paper_steps`):
 
   table1        paper Table 1 (SM-A, SM-B)                        -> table1.json
   steel_rod     CCEDI on the steel rod (Figs. 3, 4)                -> steel_rod/
@@ -13,8 +14,8 @@ Steps (each an existing sub-command or a function of :mod:`study.paper_steps`):
   calibrate     close the loop on the bundled measured records     -> calibrate/<record>/
   report        index.html (and index.pdf) from the files above
 
-The resolved inputs are written to ``config.toml`` first and every sub-command step
-reads the finger's material and section and the drum set-up from it (``--config``).
+The inputs are parsed and validated once; every step gets them as objects, and the
+resolved inputs are written to ``config.toml`` first, for the record.
 Every output is written atomically, so an interrupted study (Ctrl-C) leaves the
 finished steps' files and no partial ones; ``study.json`` records each finished step's
 wall time [s].
@@ -23,7 +24,7 @@ import json
 import time
 from pathlib import Path
 
-from fea.outputs import write_json, write_text
+from ccedi.fea.outputs import write_json, write_text
 
 from . import paper_steps
 from .config import finger_inputs, to_toml
@@ -34,49 +35,53 @@ QUICK = {"study": {"impulse_t_end_s": 0.05, "mesh_comparison_t_end_s": 0.03, "id
 """Settings ``--quick`` overrides: a few-minute smoke run of every step."""
 
 
-def _cli(argv):
-    """Run a ccedi sub-command in this process (the same code path as the command line)."""
-    from fea.cli import build_parser
-
-    args = build_parser().parse_args([str(a) for a in argv])
-    args.func(args)
-
-
-def _numbers(flag, values):
-    return [flag, *values]
-
-
 def steps(cfg, out, scheduler):
-    """[(name, description, thunk)] of the study with settings ``cfg`` writing under ``out``."""
+    """The study's steps with settings ``cfg`` writing under ``out``.
+
+    Parameters
+    ----------
+    cfg : dict
+        Validated inputs (:func:`ccedi.study.config.load`), parsed once and handed to
+        every step as objects.
+    out : Path
+        Output directory of the study.
+    scheduler : str
+        ``serial``, ``local`` or a Dask scheduler address, for the steps' own sweeps.
+
+    Returns
+    -------
+    list of (str, str, callable)
+        (name, description, thunk) per step, in the study's order.
+    """
+    from ccedi.study.commands.calibrate import write_calibration
+    from ccedi.study.commands.design import DesignOptions, write_design
+    from ccedi.study.commands.fea import contact_setup, write_contact_sweep, write_impulse, write_table1
+    from ccedi.study.commands.rom import write_damping_fits
+
     f, s = cfg["finger"], cfg["study"]
-    config = ["--config", out / CONFIG_NAME]
-    impulse = ["--length-in", f["impulse_length_in"], "--force-N", s["impulse_force_N"],
-               "--duration-s", s["impulse_duration_s"], *config]
+    impulse = {"length_in": f["impulse_length_in"], "force_N": s["impulse_force_N"],
+               "duration_s": s["impulse_duration_s"]}
     material, semi_axes = finger_inputs(cfg)
     records = [Path(r) for r in s["measured_records"]]
+    design = DesignOptions(weights=tuple(s["design_weights"]), fea_check=s["design_fea_check"])
     return [
-        ("table1", "paper Table 1", lambda: _cli(["table1", "--length-in", f["impulse_length_in"],
-                                                   "--json", out / "table1.json", *config])),
+        ("table1", "paper Table 1", lambda: write_table1(cfg, f["impulse_length_in"], out / "table1.json")),
         ("steel_rod", "steel rod alpha_cr (Figs. 3, 4)", lambda: paper_steps.steel_rod(out / "steel_rod")),
-        ("impulse", "impulse study (Fig. 7)", lambda: _cli(
-            ["impulse", *_numbers("--alpha", s["impulse_alphas_per_s"]), *impulse, "--t-end-s", s["impulse_t_end_s"],
-             "--out", out / "impulse", "--scheduler", scheduler])),
+        ("impulse", "impulse study (Fig. 7)", lambda: write_impulse(
+            cfg, s["impulse_alphas_per_s"], out / "impulse", t_end_s=s["impulse_t_end_s"], scheduler=scheduler,
+            **impulse)),
         ("mesh", "SM-A vs SM-B (Fig. 6)", lambda: paper_steps.mesh_comparison(
             out / "mesh", f["impulse_length_in"], s["mesh_comparison_alpha_per_s"], s["impulse_force_N"],
             s["impulse_duration_s"], s["mesh_comparison_t_end_s"], scheduler, material, semi_axes)),
-        ("damping_fits", "alpha_cr over lengths (Fig. 8)", lambda: _cli(
-            ["damping-fits", *_numbers("--lengths-in", s["identification_lengths_in"]),
-             "--out", out / "damping_fits", "--scheduler", scheduler, *config])),
-        ("contact", "drum contact sweep (Figs. 10, 13, 14)", lambda: _cli(
-            ["contact-sweep", *_numbers("--alphas", s["contact_alphas_per_s"]), "--t-end-s", s["contact_t_end_s"],
-             "--out", out / "contact", "--scheduler", scheduler, *config])),
-        ("design", "design optimisation and FEA re-check", lambda: _cli(
-            ["design", "--weights", ",".join(f"{w:g}" for w in s["design_weights"]), "--json",
-             out / "design" / "design.json", "--out", out / "design", "--scheduler", scheduler, *config,
-             *([] if s["design_fea_check"] else ["--no-fea-check"])])),
-        ("calibrate", "close the loop on measured records", lambda: [_cli(
-            ["calibrate", r, "--json", out / "calibrate" / f"{r.stem}.json", "--report", out / "calibrate" / r.stem])
-            for r in records]),
+        ("damping_fits", "alpha_cr over lengths (Fig. 8)", lambda: write_damping_fits(
+            cfg, s["identification_lengths_in"], out / "damping_fits", scheduler=scheduler)),
+        ("contact", "drum contact sweep (Figs. 10, 13, 14)", lambda: write_contact_sweep(
+            contact_setup(cfg), s["contact_alphas_per_s"], out / "contact", t_end_s=s["contact_t_end_s"],
+            scheduler=scheduler)),
+        ("design", "design optimisation and FEA re-check", lambda: write_design(
+            contact_setup(cfg), design, out / "design" / "design.json", out / "design", scheduler=scheduler)),
+        ("calibrate", "close the loop on measured records", lambda: [write_calibration(
+            r, out / "calibrate" / f"{r.stem}.json", report_dir=out / "calibrate" / r.stem) for r in records]),
     ]
 
 
@@ -103,7 +108,7 @@ def _distributed(todo, cfg, out, scheduler):
 
     from dask.distributed import as_completed
 
-    from fea.distributed import client
+    from ccedi.fea.distributed import client
 
     with ExitStack() as stack:
         dask = client(stack, scheduler)
@@ -120,8 +125,8 @@ def run_study(cfg, out, scheduler=None, quick=False, only=None):
     the index path."""
     from tqdm import tqdm
 
-    from fea.distributed import SERIAL
-    from fea.outputs import remove_temporaries
+    from ccedi.fea.distributed import SERIAL
+    from ccedi.fea.outputs import remove_temporaries
 
     if quick:
         cfg = {sec: {**keys, **QUICK.get(sec, {})} for sec, keys in cfg.items()}

@@ -1,10 +1,10 @@
 """Shared fixtures: the paper's 4.5-in SM-A finger and its analytic beam values."""
 import pytest
 
-from fea.beam_theory import cantilever_frequencies, ellipse_section_properties, tip_stiffness_eb
-from fea.material import RUBBER
-from fea.mesh import sm_a
-from fea.units import inch_to_m
+from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties, tip_stiffness_eb
+from ccedi.fea.material import RUBBER
+from ccedi.fea.mesh import sm_a
+from ccedi.fea.units import inch_to_m
 
 LENGTH_M = inch_to_m(4.5)
 

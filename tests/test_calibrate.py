@@ -8,15 +8,15 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from calibrate.beam import CantileverRitz
-from calibrate.dynamics import integrate_tip
-from calibrate.experiment import load_experiment
-from calibrate.synthetic import Truth, beam_response, declared_finger
-from fea.beam_theory import cantilever_frequencies, ellipse_section_properties
-from fea.cli import main
-from fea.errors import InputError
-from fea.units import inch_to_m
-from rom.modal import ModalROM, nrmse
+from ccedi.calibrate.beam import CantileverRitz
+from ccedi.calibrate.dynamics import integrate_tip
+from ccedi.calibrate.experiment import load_experiment
+from ccedi.calibrate.synthetic import Truth, beam_response, declared_finger
+from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties
+from ccedi.study.cli import main
+from ccedi.errors import InputError
+from ccedi.fea.units import inch_to_m
+from ccedi.rom.modal import ModalROM, nrmse
 
 DATA = Path(__file__).parents[1] / "data" / "measured"
 RECORD = "time_delay_low"
@@ -131,7 +131,7 @@ def test_declared_finger_is_what_the_sidecars_say():
     assert meta["finger"] == declared_finger()
 
 
-def test_cli_writes_the_issue_keys_and_the_report(record, tmp_path):
+def test_cli_writes_the_documented_keys_and_the_report(record, tmp_path):
     csv, meta = record
     _write(csv, meta)
     out = tmp_path / "out.json"

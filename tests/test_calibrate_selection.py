@@ -1,4 +1,4 @@
-"""Issue 7 acceptance on the bundled set (data/measured, made by calibrate.synthetic, an FE
+"""Effect selection on the bundled set (data/measured, made by ccedi.calibrate.synthetic, an FE
 beam that is not the calibration's model): the right effect is selected in >= 90 % of the
 records, nothing is added to the clean controls, the error after is >= 50 % below the error
 before or at the noise floor, and two effects at once are both found. The truths are read
@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from calibrate.experiment import load_experiment
-from calibrate.loop import calibrate, summary
+from ccedi.calibrate.experiment import load_experiment
+from ccedi.calibrate.loop import calibrate, summary
 
 DATA = Path(__file__).parents[1] / "data" / "measured"
 MANIFEST = json.loads((DATA / "manifest.json").read_text())["records"]

@@ -3,11 +3,11 @@ exact single-DOF responses (fast), then on the paper's FE structures."""
 import numpy as np
 import pytest
 
-from fea.errors import InputError
-from fea.steel_rod import PAPER_ROD, STEEL_ROD
-from rom.ccedi import critical_alpha, identify, match_alpha, paper_alpha, paper_alpha_cr, power_law_fit
-from rom.damping import log_decrement
-from rom.finger_identification import finger_alpha_cr, finger_simulator, rod_alpha_cr, rod_simulator
+from ccedi.errors import InputError
+from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD
+from ccedi.rom.ccedi import critical_alpha, identify, match_alpha, paper_alpha, paper_alpha_cr, power_law_fit
+from ccedi.rom.damping import log_decrement
+from ccedi.rom.finger_identification import finger_alpha_cr, finger_simulator, rod_alpha_cr, rod_simulator
 
 OMEGA = 50.0
 

@@ -3,11 +3,11 @@ analytic answers."""
 import numpy as np
 import pytest
 
-from fea.contact import Contact, RigidEllipse, RigidPlane, _ellipse_gap, boundary_nodes, contact_forces
-from fea.explicit import run
-from fea.material import NeoHookean
-from fea.mesh import elliptical_cantilever
-from fea.model import ForcePulse, Model, face_node_weights
+from ccedi.fea.contact import Contact, RigidEllipse, RigidPlane, _ellipse_gap, boundary_nodes, contact_forces
+from ccedi.fea.explicit import run
+from ccedi.fea.material import NeoHookean
+from ccedi.fea.mesh import elliptical_cantilever
+from ccedi.fea.model import ForcePulse, Model, face_node_weights
 
 STIFF = NeoHookean(E=2e8, nu=0.3, rho=1000.0)
 
@@ -31,9 +31,9 @@ def test_pressed_block_settles_on_its_penalty_springs():
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
 
-    from fea.contact import penalty_stiffness
-    from fea.explicit import critical_time_step
-    from fea.static import tangent_stiffness
+    from ccedi.fea.contact import penalty_stiffness
+    from ccedi.fea.explicit import critical_time_step
+    from ccedi.fea.static import tangent_stiffness
 
     F = 50.0
     model = block_on_plane(F, alpha=2000.0)

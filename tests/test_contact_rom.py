@@ -1,24 +1,24 @@
-"""Contact ROM (issue 5 B): the superelement chain against the full FE model and beam theory."""
+"""Contact ROM: the superelement chain against the full FE model and beam theory."""
 import json
 
 import numpy as np
 import pytest
 
-from fea.beam_theory import drum_drag_tip_deflection, ellipse_section_properties
-from fea.cli import main
-from fea.contact_study import tip_lag_series_m
-from fea.drum import DrumSetup, FullContactModel, finger_mesh
-from fea.errors import InputError
-from fea.explicit import max_von_mises
-from fea.material import RUBBER
-from fea.mesh import elliptical_cantilever, sm_a
-from fea.model import cantilever_model, face_node_weights
-from fea.static import static_solve
-from rom.chain_dynamics import _face_point, _internal_forces, face_points
-from rom.check import compare_contact
-from rom.contact_rom import ReducedContactModel
-from rom.modal import tip_modal_rom
-from rom.superelement import (chain_frequencies, chain_tip_stiffness, deformation_map, fe_tip_stiffness,
+from ccedi.fea.beam_theory import drum_drag_tip_deflection, ellipse_section_properties
+from ccedi.study.cli import main
+from ccedi.fea.contact_study import tip_lag_series_m
+from ccedi.fea.drum import DrumSetup, FullContactModel, finger_mesh
+from ccedi.errors import InputError
+from ccedi.fea.explicit import max_von_mises
+from ccedi.fea.material import RUBBER
+from ccedi.fea.mesh import elliptical_cantilever, sm_a
+from ccedi.fea.model import cantilever_model, face_node_weights
+from ccedi.fea.static import static_solve
+from ccedi.rom.chain_dynamics import _face_point, _internal_forces, face_points
+from ccedi.rom.check import compare_contact
+from ccedi.rom.contact_rom import ReducedContactModel
+from ccedi.rom.modal import tip_modal_rom
+from ccedi.rom.superelement import (chain_frequencies, chain_tip_stiffness, deformation_map, fe_tip_stiffness,
                               finger_chain, fit_tip_stiffness, linear_matrices, natural_stiffness, stress_recovery)
 
 
@@ -238,7 +238,7 @@ def test_face_stiffness_is_the_fe_penalty_in_series_with_the_section_flattening(
     """The ROM's rigid sections need the FE face's whole compliance: its penalty springs
     and the section's flattening under the load, which is the larger part (on the SM-A
     8-in finger 4.5e6 N/m^2 against the penalty alone, 5.4e7)."""
-    from rom.contact_rom import _face_flattening, fe_face_stiffness_per_length
+    from ccedi.rom.contact_rom import _face_flattening, fe_face_stiffness_per_length
     setup = DrumSetup()
     k = fe_face_stiffness_per_length(setup)
     assert 3.5e6 < k < 6e6

@@ -4,12 +4,12 @@ import numpy as np
 import pytest
 from scipy.linalg import eigh
 
-from fea.material import RUBBER
-from fea.mesh import elliptical_cantilever, sm_a
-from fea.model import cantilever_model, face_node_weights
-from fea.modal import natural_frequencies
-from fea.static import tip_deflection
-from rom.craig_bampton import craig_bampton, fe_matrices
+from ccedi.fea.material import RUBBER
+from ccedi.fea.mesh import elliptical_cantilever, sm_a
+from ccedi.fea.model import cantilever_model, face_node_weights
+from ccedi.fea.modal import natural_frequencies
+from ccedi.fea.static import tip_deflection
+from ccedi.rom.craig_bampton import craig_bampton, fe_matrices
 
 
 def tip_dofs(model, direction=1):
@@ -56,7 +56,7 @@ def test_few_modes_converge_from_above():
 
 
 def test_bad_boundary_is_named():
-    from fea.errors import InputError
+    from ccedi.errors import InputError
     model = cantilever_model(elliptical_cantilever(0.05, 2, 3), RUBBER)
     K, M, dofs = fe_matrices(model)
     with pytest.raises(InputError, match="boundary_dofs"):

@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from fea.errors import InputError
-from rom.damping import log_decrement
+from ccedi.errors import InputError
+from ccedi.rom.damping import log_decrement
 
 
 def sdof_free_response(zeta, omega_n=90.0, t_end=0.5, n=2000, x0=1e-3):
@@ -50,7 +50,7 @@ def test_bad_signals_are_named(t, y, match):
 from hypothesis import given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
-from rom.damping import envelope_fit, half_power, oscillates  # noqa: E402
+from ccedi.rom.damping import envelope_fit, half_power, oscillates  # noqa: E402
 
 
 def sdof_impulse_response(zeta, omega_n, noise, seed, periods_min=30):
@@ -125,6 +125,6 @@ def test_noise_level_of_a_noisy_decay():
     t, y = sdof_impulse_response(0.05, 60.0, noise=0.0, seed=0)
     rng = np.random.default_rng(9)
     sigma = 0.01 * np.abs(y).max()
-    from rom.damping import noise_level
+    from ccedi.rom.damping import noise_level
     assert noise_level(y + sigma * rng.standard_normal(len(y))) == pytest.approx(sigma, rel=0.1)
     assert noise_level(y) < 0.05 * sigma               # a clean, finely sampled signal has ~none

@@ -1,4 +1,4 @@
-"""Design optimiser (issue 6): casadi optimum against brute force on the same surrogate,
+"""Design optimiser: casadi optimum against brute force on the same surrogate,
 physics direction of the optimum, the Pareto front, the FEA re-check plumbing and clear
 errors for infeasible requests."""
 import json
@@ -6,17 +6,17 @@ import json
 import numpy as np
 import pytest
 
-from design.fea_check import fea_check
-from design.objectives import alpha_of_length, rom_segments
-from design.optimise import DesignProblem, brute_force, solve
-from design.pareto import pareto_front
-from design.surrogate import Surrogate, cached_rom_runs, design_space, grid_points
-from fea.cli import main
-from fea.drum import DrumSetup
-from fea.errors import InputError
-from fea.units import inch_to_m, m_to_inch
-from rom.ccedi import paper_alpha
-from rom.contact_rom import ReducedContactModel
+from ccedi.design.fea_check import fea_check
+from ccedi.design.objectives import alpha_of_length, rom_segments
+from ccedi.design.optimise import DesignProblem, brute_force, solve
+from ccedi.design.pareto import pareto_front
+from ccedi.design.surrogate import Surrogate, cached_rom_runs, design_space, grid_points
+from ccedi.study.cli import main
+from ccedi.fea.drum import DrumSetup
+from ccedi.errors import InputError
+from ccedi.fea.units import inch_to_m, m_to_inch
+from ccedi.rom.ccedi import paper_alpha
+from ccedi.rom.contact_rom import ReducedContactModel
 
 GRID = (8, 6)
 
@@ -138,7 +138,7 @@ def test_cli_bad_weights(tmp_path, capsys):
     assert "--weights" in capsys.readouterr().err
 
 
-def test_cli_writes_the_issue_keys(tmp_path):
+def test_cli_writes_the_documented_keys(tmp_path):
     out = tmp_path / "d.json"
     rc = main(["design", "--weights", "1,1,2", "--grid", "5", "4", "--validation-runs", "2", "--pareto-points", "20",
                "--no-fea-check", "--out", str(tmp_path), "--json", str(out)])

@@ -6,9 +6,9 @@ import json
 import numpy as np
 import pytest
 
-from fea.cli import main
-from fea.drum import DrumSetup, ObjectStress, first_contact_angle, finger_frame, finger_on_drum
-from fea.errors import InputError
+from ccedi.study.cli import main
+from ccedi.fea.drum import DrumSetup, ObjectStress, first_contact_angle, finger_frame, finger_on_drum
+from ccedi.errors import InputError
 
 
 def test_finger_matches_table2_and_sits_on_the_drum():

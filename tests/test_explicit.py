@@ -3,14 +3,14 @@ balance, and clear errors."""
 import numpy as np
 import pytest
 
-from fea.errors import InputError, SolverError
-from fea.explicit import TSSFAC, critical_time_step, run
-from fea.material import RUBBER
-from fea.mesh import elliptical_cantilever
-from fea.modal import natural_frequencies
-from fea.model import cantilever_model, face_node_weights, tip_pulse
-from fea.static import static_solve
-from rom.damping import log_decrement
+from ccedi.errors import InputError, SolverError
+from ccedi.fea.explicit import TSSFAC, critical_time_step, run
+from ccedi.fea.material import RUBBER
+from ccedi.fea.mesh import elliptical_cantilever
+from ccedi.fea.modal import natural_frequencies
+from ccedi.fea.model import cantilever_model, face_node_weights, tip_pulse
+from ccedi.fea.static import static_solve
+from ccedi.rom.damping import log_decrement
 
 PAPER_DT_US = {"SM-A": 4.04, "SM-B": 1.43}
 
@@ -32,7 +32,7 @@ def free_vibration(mesh, x0, alpha):
 
 
 def test_critical_time_step_near_paper(mesh_a):
-    from fea.mesh import sm_b
+    from ccedi.fea.mesh import sm_b
     for name, mesh in (("SM-A", mesh_a), ("SM-B", sm_b(length_in=4.5))):
         dt_us = 1e6 * TSSFAC * critical_time_step(cantilever_model(mesh, RUBBER))
         assert dt_us == pytest.approx(PAPER_DT_US[name], rel=0.25)

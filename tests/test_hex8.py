@@ -3,11 +3,11 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from fea.hex8 import characteristic_length, element_geometry, element_time_step, internal_forces_numpy
-from fea.kernels import internal_forces_numba
-from fea.material import RUBBER, first_piola
-from fea.mesh import elliptical_cantilever
-from fea.model import cantilever_model
+from ccedi.fea.hex8 import characteristic_length, element_geometry, element_time_step, internal_forces_numpy
+from ccedi.fea.kernels import internal_forces_numba
+from ccedi.fea.material import RUBBER, first_piola
+from ccedi.fea.mesh import elliptical_cantilever
+from ccedi.fea.model import cantilever_model
 
 
 @pytest.fixture(scope="module")

@@ -6,10 +6,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from fea.cli import main
-from rom.ccedi import paper_alpha_cr
-from rom.finger_identification import finger_simulator
-from rom.measurement import load_response
+from ccedi.study.cli import main
+from ccedi.rom.ccedi import paper_alpha_cr
+from ccedi.rom.finger_identification import finger_simulator
+from ccedi.rom.measurement import load_response
 
 
 def test_alpha_cr_of_3_in_finger(tmp_path):

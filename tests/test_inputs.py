@@ -7,12 +7,12 @@ import tomllib
 import numpy as np
 import pytest
 
-from fea.cli import main
-from fea.drum import finger_mesh
-from rom.finger_identification import finger_omega1
-from rom.superelement import finger_chain
-from study import run as study_run
-from study.config import drum_setup, finger_inputs, load, validate
+from ccedi.study.cli import main
+from ccedi.fea.drum import finger_mesh
+from ccedi.rom.finger_identification import finger_omega1
+from ccedi.rom.superelement import finger_chain
+from ccedi.study import run as study_run
+from ccedi.study.config import drum_setup, finger_inputs, load, validate
 
 
 def _write(tmp_path, text, name="inputs.toml"):
@@ -65,20 +65,30 @@ def test_drum_setup_and_contact_rom_take_the_section_of_the_inputs():
 
 
 def test_every_finger_step_of_the_study_gets_the_resolved_inputs(tmp_path, monkeypatch):
+    from ccedi.study.commands import design, fea, rom
+
     config = _write(tmp_path, "[material]\nE_Pa = 5.0e6\n[finger]\nimpulse_length_in = 3.0\n", "study.toml")
     cfg = load(config)
-    calls, mesh_args = [], []
-    monkeypatch.setattr(study_run, "_cli", lambda argv: calls.append([str(a) for a in argv]))
+    calls, mesh_args = {}, []
+    for module, name in ((fea, "write_table1"), (fea, "write_impulse"), (rom, "write_damping_fits"),
+                         (fea, "write_contact_sweep"), (design, "write_design")):
+        monkeypatch.setattr(module, name, lambda *a, _name=name, **k: calls.setdefault(_name, (a, k)))
     monkeypatch.setattr(study_run.paper_steps, "mesh_comparison", lambda *a: mesh_args.append(a))
     out = tmp_path / "out"
     for name in ("table1", "impulse", "mesh", "damping_fits", "contact", "design"):
         study_run._run_step(name, cfg, out, "serial")
-    assert [c[0] for c in calls] == ["table1", "impulse", "damping-fits", "contact-sweep", "design"]
-    for argv in calls:
-        assert argv[argv.index("--config") + 1] == str(out / study_run.CONFIG_NAME)
+    assert list(calls) == ["write_table1", "write_impulse", "write_damping_fits", "write_contact_sweep",
+                           "write_design"]
+    for name in ("write_table1", "write_impulse", "write_damping_fits"):
+        assert calls[name][0][0] is cfg                      # the inputs object itself, parsed once
+    for name in ("write_contact_sweep", "write_design"):
+        setup = calls[name][0][0]
+        assert setup.finger_material.E == 5.0e6 and setup.finger_semi_axes_m == tuple(cfg["finger"]["section_semi_axes_m"])
+    assert calls["write_table1"][0][1] == 3.0
+    assert calls["write_design"][0][1].weights == tuple(cfg["study"]["design_weights"])    # no digits lost
     material, semi_axes = mesh_args[0][-2:]
     assert material.E == 5.0e6 and semi_axes == tuple(cfg["finger"]["section_semi_axes_m"])
-    # the file the steps read is the study's resolved inputs
+    # the study records its resolved inputs
     monkeypatch.setattr(study_run, "steps", lambda cfg, out, scheduler: [])
     monkeypatch.setattr(study_run, "write_index", lambda out: out / "index.html")
     study_run.run_study(cfg, out, scheduler="serial")

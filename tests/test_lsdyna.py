@@ -2,10 +2,10 @@
 import numpy as np
 import pytest
 
-from fea.drum import DrumSetup, finger_on_drum
-from fea.errors import InputError
-from fea.lsdyna import read_keyword, write_keyword
-from fea.studies import impulse_model
+from ccedi.fea.drum import DrumSetup, finger_on_drum
+from ccedi.errors import InputError
+from ccedi.fea.lsdyna import read_keyword, write_keyword
+from ccedi.fea.studies import impulse_model
 
 
 def test_sm_a_impulse_deck_round_trip(tmp_path):

@@ -3,8 +3,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from fea.errors import InputError
-from fea.material import RUBBER, NeoHookean, cauchy_stress, first_piola, strain_energy_density, von_mises
+from ccedi.errors import InputError
+from ccedi.fea.material import RUBBER, NeoHookean, cauchy_stress, first_piola, strain_energy_density, von_mises
 
 small = st.floats(-0.3, 0.3)
 

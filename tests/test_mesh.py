@@ -1,10 +1,10 @@
 import numpy as np
 import pytest
 
-from fea.errors import InputError
-from fea.hex8 import element_geometry
-from fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR, elliptical_cantilever, sm_a, sm_b
-from fea.units import inch_to_m
+from ccedi.errors import InputError
+from ccedi.fea.hex8 import element_geometry
+from ccedi.fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR, elliptical_cantilever, sm_a, sm_b
+from ccedi.fea.units import inch_to_m
 
 
 @pytest.mark.parametrize("make, nodes, elements", [(sm_a, 1080, 725), (sm_b, 5900, 4698)])

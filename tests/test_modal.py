@@ -1,10 +1,10 @@
 """Natural frequencies: convergence under mesh refinement towards Euler-Bernoulli."""
 import numpy as np
 
-from fea.material import RUBBER
-from fea.mesh import elliptical_cantilever
-from fea.modal import natural_frequencies
-from fea.units import inch_to_m
+from ccedi.fea.material import RUBBER
+from ccedi.fea.mesh import elliptical_cantilever
+from ccedi.fea.modal import natural_frequencies
+from ccedi.fea.units import inch_to_m
 
 
 def test_first_frequency_converges_under_refinement(euler_bernoulli):
@@ -30,5 +30,5 @@ def test_second_soft_bending_mode_ratio():
 
 
 def cantilever(L, n, nz):
-    from fea.model import cantilever_model
+    from ccedi.fea.model import cantilever_model
     return cantilever_model(elliptical_cantilever(L, n, nz), RUBBER)

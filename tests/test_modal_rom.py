@@ -1,18 +1,18 @@
-"""Modal reduced model (issue 5 A): exactness checks and the comparison with full FEA."""
+"""Modal reduced model: exactness checks and the comparison with full FEA."""
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
-from fea.material import RUBBER
-from fea.mesh import elliptical_cantilever
-from fea.model import cantilever_model, face_node_weights
-from fea.modal import natural_frequencies
-from fea.static import tip_deflection
-from fea.studies import impulse_model, impulse_response
-from rom.ccedi import critical_alpha
-from rom.modal import ModalROM, fit_to_response, modal_rom, nrmse, rom_simulator, tip_modal_rom
+from ccedi.fea.material import RUBBER
+from ccedi.fea.mesh import elliptical_cantilever
+from ccedi.fea.model import cantilever_model, face_node_weights
+from ccedi.fea.modal import natural_frequencies
+from ccedi.fea.static import tip_deflection
+from ccedi.fea.studies import impulse_model, impulse_response
+from ccedi.rom.ccedi import critical_alpha
+from ccedi.rom.modal import ModalROM, fit_to_response, modal_rom, nrmse, rom_simulator, tip_modal_rom
 
 
 @pytest.fixture(scope="module")

@@ -5,12 +5,12 @@ import meshio
 import numpy as np
 import pytest
 
-from fea.cli import main
-from fea.explicit import run
-from fea.material import RUBBER
-from fea.mesh import elliptical_cantilever
-from fea.model import cantilever_model, tip_pulse
-from fea.vtu import write_series, write_vtu
+from ccedi.study.cli import main
+from ccedi.fea.explicit import run
+from ccedi.fea.material import RUBBER
+from ccedi.fea.mesh import elliptical_cantilever
+from ccedi.fea.model import cantilever_model, tip_pulse
+from ccedi.fea.vtu import write_series, write_vtu
 
 
 @pytest.fixture(scope="module")
@@ -51,7 +51,7 @@ def test_cli_reports_bad_input_in_one_line(capsys):
 
 def test_json_output_is_strict_json(tmp_path):
     """NaN and infinity become null, numpy scalars plain numbers: any JSON reader accepts the file."""
-    from fea.outputs import write_json
+    from ccedi.fea.outputs import write_json
     path = write_json(tmp_path / "x.json", {"a": float("nan"), "b": [np.float64(2.5), np.inf], "c": np.int64(3)})
     assert json.loads(path.read_text(), parse_constant=lambda c: pytest.fail(f"non-JSON constant {c}")) == \
         {"a": None, "b": [2.5, None], "c": 3}

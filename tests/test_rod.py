@@ -4,14 +4,14 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from fea.beam_theory import cantilever_frequencies
-from fea.errors import InputError
-from fea.explicit import run
-from fea.mesh import Mesh
-from fea.model import ForcePulse, Model
-from fea.rod import RodSection, rod_arrays, rod_forces_numba, rod_forces_numpy, straight_rod
-from fea.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_model
-from rom.damping import log_decrement
+from ccedi.fea.beam_theory import cantilever_frequencies
+from ccedi.errors import InputError
+from ccedi.fea.explicit import run
+from ccedi.fea.mesh import Mesh
+from ccedi.fea.model import ForcePulse, Model
+from ccedi.fea.rod import RodSection, rod_arrays, rod_forces_numba, rod_forces_numpy, straight_rod
+from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_model
+from ccedi.rom.damping import log_decrement
 
 STEEL = RodSection(E=STEEL_ROD["E_Pa"], rho=STEEL_ROD["rho_kg_per_m3"], diameter_m=STEEL_ROD["diameter_m"])
 

@@ -4,10 +4,10 @@ Euler-Bernoulli deflection under the drag load alpha rho A omega r; relative dam
 import numpy as np
 import pytest
 
-from fea.beam_theory import drum_drag_tip_deflection, ellipse_section_properties
-from fea.drum import DrumSetup, finger_on_drum
-from fea.explicit import run
-from fea.material import RUBBER
+from ccedi.fea.beam_theory import drum_drag_tip_deflection, ellipse_section_properties
+from ccedi.fea.drum import DrumSetup, finger_on_drum
+from ccedi.fea.explicit import run
+from ccedi.fea.material import RUBBER
 
 SETUP = DrumSetup(finger_length_m=0.1143, object_center_m=(5.0, 5.0), theta0_rad=0.0)
 ALPHA = 20.0

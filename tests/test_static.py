@@ -2,10 +2,10 @@
 import numpy as np
 import pytest
 
-from fea.material import RUBBER
-from fea.mesh import elliptical_cantilever, sm_a, sm_b
-from fea.model import cantilever_model
-from fea.static import internal_force, static_solve, tangent_stiffness, tip_deflection, tip_stiffness
+from ccedi.fea.material import RUBBER
+from ccedi.fea.mesh import elliptical_cantilever, sm_a, sm_b
+from ccedi.fea.model import cantilever_model
+from ccedi.fea.static import internal_force, static_solve, tangent_stiffness, tip_deflection, tip_stiffness
 
 
 def test_tangent_is_derivative_of_internal_force():
@@ -43,7 +43,7 @@ def test_newton_converges_to_linear_answer_at_small_load():
 
 
 def test_static_solve_rejects_bad_load(mesh_a):
-    from fea.errors import InputError
+    from ccedi.errors import InputError
     model = cantilever_model(mesh_a, RUBBER)
     f = np.zeros_like(mesh_a.nodes)
     f[0, 0] = np.nan

@@ -2,10 +2,10 @@
 report is built only from the run's files."""
 import json
 
-from fea.cli import main
-from fea.outputs import write_json
-from study import run as study_run
-from study.report import write_index
+from ccedi.study.cli import main
+from ccedi.fea.outputs import write_json
+from ccedi.study import run as study_run
+from ccedi.study.report import write_index
 
 
 def test_interrupt_leaves_finished_steps_and_no_temporary_files(tmp_path, monkeypatch, capsys):
@@ -16,7 +16,7 @@ def test_interrupt_leaves_finished_steps_and_no_temporary_files(tmp_path, monkey
         def interrupted(tmp):
             open(tmp, "w").write("half")
             raise KeyboardInterrupt
-        from fea.outputs import _atomic_write
+        from ccedi.fea.outputs import _atomic_write
         _atomic_write(tmp_path / "second" / "result.json", interrupted)
 
     monkeypatch.setattr(study_run, "steps", lambda cfg, out, scheduler: [("table1", "one", first),
@@ -58,8 +58,8 @@ def test_export_csv_vtu_and_parquet(tmp_path, capsys):
 
 
 def test_index_shows_the_inputs_and_the_paper_table_only_for_the_paper_finger(tmp_path):
-    from study.config import to_toml, validate
-    from study.run import CONFIG_NAME
+    from ccedi.study.config import to_toml, validate
+    from ccedi.study.run import CONFIG_NAME
 
     write_json(tmp_path / "table1.json", {"SM-A": {"nodes": 1080, "elements": 725, "dt_us": 3.438,
                                                    "steps_to_0p2s": 58179, "step_ratio": 1.0,

@@ -1,9 +1,9 @@
 """Study TOML: the example loads back, and every bad input is one line naming the key."""
 import pytest
 
-from fea.cli import main
-from fea.errors import InputError
-from study.config import SCHEMA, load
+from ccedi.study.cli import main
+from ccedi.errors import InputError
+from ccedi.study.config import SCHEMA, load
 
 
 def _write(tmp_path, text):

@@ -1,17 +1,21 @@
-"""``ccedi`` sub-commands of the damping identification (registered by :mod:`fea.cli`).
+"""``ccedi`` sub-commands of the damping identification and the reduced models (:mod:`ccedi.rom`).
 
   identify       CCEDI on a measured CSV, or alpha_cr of an SM-A finger (--alpha-cr)
   damping-fits   alpha_cr of the 3/4.5/6/8-in fingers, the paper's Eq. (7) and (8) refitted
   rom-check      reduced models against the full FEA (impulse and contact cases)
 """
-import numpy as np
-
-from fea.distributed import add_scheduler_argument
-from fea.errors import InputError
-from study.config import add_config_argument, drum_setup, finger_inputs, from_args
+from ccedi.errors import InputError
+from ccedi.study.commands.arguments import add_config_argument, add_scheduler_argument, load_config
 
 
 def add_parsers(sub):
+    """Register identify, damping-fits and rom-check on ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The sub-command registry of the ``ccedi`` parser.
+    """
     i = sub.add_parser("identify", help="CCEDI damping identification: alpha, zeta and alpha_cr from a "
                        "measured impulse response, or alpha_cr of an SM-A finger (--alpha-cr)")
     i.add_argument("csv", nargs="?", help="measured response CSV: time_s, tip_displacement_m[, force_N]")
@@ -58,6 +62,8 @@ def add_parsers(sub):
 def _pulse_from_force(t, force):
     """(amplitude [N], duration [s]) of a measured force pulse: peak |F| and the time span
     where |F| exceeds half of it."""
+    import numpy as np
+
     peak = float(np.max(np.abs(force)))
     if peak == 0.0:
         raise InputError("force_N column is all zero: cannot infer the impulse")
@@ -67,9 +73,10 @@ def _pulse_from_force(t, force):
 
 
 def _simulator_and_guess(args, t_end_s):
-    from rom.finger_identification import SETTLE_PERIODS, finger_omega1, finger_simulator, rod_simulator
+    from ccedi.study.config import finger_inputs
+    from ccedi.rom.finger_identification import SETTLE_PERIODS, finger_omega1, finger_simulator, rod_simulator
     if args.model == "steel-rod":
-        from fea.steel_rod import PAPER_ROD, STEEL_ROD
+        from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD
         force = STEEL_ROD["force_N"] if args.force_N is None else args.force_N
         duration = STEEL_ROD["duration_s"] if args.duration_s is None else args.duration_s
         omega1 = PAPER_ROD["omega1_rad_s"]
@@ -79,7 +86,7 @@ def _simulator_and_guess(args, t_end_s):
         raise InputError("--length-in (finger length, in) is required for --model finger")
     force = 1.0 if args.force_N is None else args.force_N
     duration = 0.01 if args.duration_s is None else args.duration_s
-    material, semi_axes = finger_inputs(from_args(args))
+    material, semi_axes = finger_inputs(load_config(args))
     omega1 = finger_omega1(args.length_in, material, semi_axes)
     t_end = max(t_end_s or 0.0, duration + SETTLE_PERIODS / omega1)
     simulate = finger_simulator(args.length_in, force_N=force, duration_s=duration, t_end_s=t_end, material=material,
@@ -88,9 +95,9 @@ def _simulator_and_guess(args, t_end_s):
 
 
 def cmd_identify(args):
-    from fea.outputs import write_json
-    from rom.ccedi import critical_alpha, identify
-    from rom.measurement import load_response
+    from ccedi.fea.outputs import write_json
+    from ccedi.rom.ccedi import critical_alpha, identify
+    from ccedi.rom.measurement import load_response
 
     if not 0.0 < args.rtol < 1.0:
         raise InputError(f"--rtol must be in (0, 1), got {args.rtol}")
@@ -128,15 +135,43 @@ def cmd_identify(args):
 
 
 def cmd_damping_fits(args):
+    """``ccedi damping-fits``: :func:`write_damping_fits` of the parsed arguments."""
+    write_damping_fits(load_config(args), args.lengths_in, args.out, scheduler=args.scheduler)
+
+
+def write_damping_fits(cfg, lengths_in, out, scheduler="local"):
+    """alpha_cr of the configured SM-A finger at several lengths, the paper's Eq. (8) power
+    law refitted (and Eq. (7) at the paper's four lengths): ``alpha_cr_fit.json`` and
+    ``.png`` in ``out``.
+
+    Parameters
+    ----------
+    cfg : dict
+        Validated inputs (:func:`ccedi.study.config.load`).
+    lengths_in : sequence of float
+        Finger lengths [in], at least two.
+    out : str or Path
+        Output directory.
+    scheduler : str
+        ``serial``, ``local`` or a Dask scheduler address.
+
+    Returns
+    -------
+    dict
+        What ``alpha_cr_fit.json`` holds.
+    """
     from pathlib import Path
 
-    from fea.outputs import write_figure, write_json
-    from rom.ccedi import piecewise_alpha_fit, power_law_fit
-    from rom.finger_identification import alpha_cr_table
+    import numpy as np
 
-    out = Path(args.out)
-    material, semi_axes = finger_inputs(from_args(args))
-    rows = alpha_cr_table(args.lengths_in, scheduler=args.scheduler, material=material, semi_axes_m=semi_axes)
+    from ccedi.fea.outputs import write_figure, write_json
+    from ccedi.rom.ccedi import piecewise_alpha_fit, power_law_fit
+    from ccedi.rom.finger_identification import alpha_cr_table
+    from ccedi.study.config import finger_inputs
+
+    out = Path(out)
+    material, semi_axes = finger_inputs(cfg)
+    rows = alpha_cr_table(lengths_in, scheduler=scheduler, material=material, semi_axes_m=semi_axes)
     for r in rows:
         print(f"{r['length_in']:g} in: alpha_cr = {r['alpha_cr_per_s']:.4g} 1/s, 2 omega_1 = "
               f"{r['two_omega1_per_s']:.4g} 1/s, paper Eq. (8) {r['paper_eq8_per_s']:.4g} 1/s ({r['n_runs']} runs)")
@@ -159,10 +194,13 @@ def cmd_damping_fits(args):
     write_json(out / "alpha_cr_fit.json", result)
     write_figure(out / "alpha_cr_fit.png", _plot_fits(x, acr, c, p, result.get("eq7")))
     print(f"wrote {out}/alpha_cr_fit.json, .png")
+    return result
 
 
 def _plot_fits(x, acr, c, p, eq7_fit=None):
-    from rom.ccedi import paper_alpha, paper_alpha_cr
+    import numpy as np
+
+    from ccedi.rom.ccedi import paper_alpha, paper_alpha_cr
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -186,14 +224,16 @@ def _plot_fits(x, acr, c, p, eq7_fit=None):
 
 
 def cmd_rom_check(args):
-    from fea.outputs import write_json
-    from rom.check import contact_cases, impulse_cases
+    from ccedi.fea.outputs import write_json
+    from ccedi.rom.check import contact_cases, impulse_cases
 
     if args.modes < 1:
         raise InputError(f"--modes must be >= 1, got {args.modes}")
     if args.n_outputs < 1:
         raise InputError(f"--n-outputs must be >= 1, got {args.n_outputs}")
-    cfg = from_args(args)
+    from ccedi.study.config import drum_setup, finger_inputs
+
+    cfg = load_config(args)
     material, semi_axes = finger_inputs(cfg)
     cases = impulse_cases(args.impulse_alphas, n_modes=args.modes, material=material,
                           semi_axes_m=semi_axes) if args.impulse_alphas else []

@@ -1,0 +1,6 @@
+"""``python -m ccedi ...``: the ``ccedi`` command line."""
+import sys
+
+from ccedi.study.cli import main
+
+sys.exit(main())

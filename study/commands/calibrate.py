@@ -1,0 +1,89 @@
+"""``ccedi calibrate`` (:mod:`ccedi.calibrate`): close the loop on a measured record.
+
+  calibrate DATA.csv [--meta DATA.json] --json OUT.json [--report DIR] [--effects NAME ...]
+
+Everything is loaded, validated and computed before the first file is written, and each
+file is written atomically, so bad data leaves no output behind.
+"""
+from ccedi.errors import InputError
+
+
+def add_parsers(sub):
+    """Register calibrate on ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The sub-command registry of the ``ccedi`` parser.
+    """
+    from ccedi.calibrate.effects import CATALOGUE
+
+    c = sub.add_parser("calibrate", help="fit the declared finger to a measured record, find the effects its "
+                       "residual points to, report the error before and after")
+    c.add_argument("csv", help="measured record: time_s, tip_displacement_m[, force_N, reaction_force_N]")
+    c.add_argument("--meta", help="JSON sidecar describing the experiment (default: DATA.json beside DATA.csv)")
+    c.add_argument("--json", required=True, help="write the result as JSON to this path")
+    c.add_argument("--report", help="directory for plots, residuals.csv and report.md")
+    c.add_argument("--effects", nargs="+", choices=sorted(CATALOGUE), metavar="EFFECT",
+                   help=f"candidate effects (default: all of {', '.join(CATALOGUE)})")
+    c.set_defaults(func=cmd_calibrate)
+
+
+def cmd_calibrate(args):
+    """``ccedi calibrate``: :func:`write_calibration` of the parsed arguments."""
+    write_calibration(args.csv, args.json, report_dir=args.report, meta=args.meta, effects=args.effects)
+
+
+def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None):
+    """Calibrate the declared finger on one measured impulse record and write the result.
+
+    Parameters
+    ----------
+    csv : str or Path
+        Measured record (``time_s``, ``tip_displacement_m``[, ``force_N``, ...]).
+    json_path : str or Path
+        Result JSON.
+    report_dir : str or Path, optional
+        Directory for plots, ``residuals.csv`` and ``report.md``.
+    meta : str or Path, optional
+        JSON sidecar (default: beside the CSV).
+    effects : sequence of str, optional
+        Candidate effects (default: the whole :data:`ccedi.calibrate.effects.CATALOGUE`).
+
+    Returns
+    -------
+    dict
+        What the JSON holds.
+
+    Raises
+    ------
+    ccedi.errors.InputError
+        The record or its sidecar is invalid, or the record is not an impulse record.
+    """
+    import time
+
+    from ccedi.calibrate.experiment import load_experiment
+    from ccedi.calibrate.loop import calibrate, summary
+    from ccedi.calibrate.report import write_report
+    from ccedi.fea.outputs import write_json
+
+    t0 = time.perf_counter()
+    exp = load_experiment(csv, meta)
+    if exp.kind != "impulse":
+        raise InputError(f"{csv}: calibrate handles impulse records; this one is kind {exp.kind!r}")
+    cal = calibrate(exp, candidates=effects)
+    result = summary(cal) | {"wall_time_s": time.perf_counter() - t0}
+    b = result["baseline"]
+    print(f"baseline: NRMSE {b['nrmse']:.3%}, alpha = {b['params']['alpha_per_s']:.4g} 1/s, "
+          f"E x {b['params']['E_factor']:.4f}")
+    for e in result["effects_found"]:
+        params = ", ".join(f"{k} = {v:.4g} +- {e['stderr'][k]:.2g}" for k, v in e["params"].items())
+        print(f"+ {e['name']} ({params}): NRMSE {e['nrmse_after']:.3%}")
+    print(f"final NRMSE {result['final_nrmse']:.3%}, noise floor {result['noise_floor_nrmse']:.3%}; "
+          f"{result['stop_reason']}")
+    if report_dir:
+        for path in write_report(report_dir, cal, result):
+            print(f"wrote {path}")
+    write_json(json_path, result)
+    print(f"wrote {json_path}")
+    return result

@@ -1,0 +1,300 @@
+"""``ccedi`` sub-commands of the explicit FEA (:mod:`ccedi.fea`).
+
+  table1         the paper's Table 1 for SM-A and SM-B (nodes, elements, time step, stiffness)
+  impulse        impulse response of the SM-A finger for several alpha (paper Fig. 7), CSV + plot
+  contact        the finger on the drum over the object (paper 3.3-3.4), one alpha
+  contact-sweep  the same for several alpha; paper Figs. 10, 13, 14 analogues
+  contact-report contact_report.md from the CSVs a sweep wrote
+"""
+from pathlib import Path
+
+from ccedi.study.commands.arguments import add_config_argument, add_scheduler_argument, load_config
+
+
+def _fmt(value):
+    return f"{value:d}" if isinstance(value, int) else f"{value:.4g}"
+
+
+def write_table1(cfg, length_in, json_path=None, stiffness=True):
+    """Print Table 1 of the configured finger (with the paper's values for the paper's
+    finger) and write it as JSON.
+
+    Parameters
+    ----------
+    cfg : dict
+        Validated inputs (:func:`ccedi.study.config.load`).
+    length_in : float
+        Finger length [in].
+    json_path : str or Path, optional
+        Where to write the table.
+    stiffness : bool
+        Also solve for the tip stiffness [N/m].
+
+    Returns
+    -------
+    dict
+        ``{model name: {column: value}}``.
+    """
+    from ccedi.fea.outputs import write_json
+    from ccedi.fea.studies import PAPER_TABLE1, is_paper_finger, table1
+    from ccedi.study.config import finger_inputs
+
+    material, semi_axes = finger_inputs(cfg)
+    result = table1(length_in=length_in, material=material, stiffness=stiffness, semi_axes_m=semi_axes)
+    paper_finger = is_paper_finger(length_in, material, semi_axes)
+    for name, row in result.items():
+        paper = PAPER_TABLE1[name] if paper_finger else {}
+        print(f"{name}: " + ", ".join(
+            f"{k} = {_fmt(v)}" + (f" (paper {_fmt(paper[k])})" if k in paper else "") for k, v in row.items()))
+    if json_path:
+        write_json(json_path, result)
+        print(f"wrote {json_path}")
+    return result
+
+
+def write_impulse(cfg, alphas, out, length_in=4.5, force_N=1.0, duration_s=0.01, t_end_s=0.2, scheduler="serial"):
+    """Impulse responses of the configured SM-A finger for several alpha: writes
+    ``impulse_response.csv``, ``.png`` and ``impulse_summary.json`` in ``out``.
+
+    Parameters
+    ----------
+    cfg : dict
+        Validated inputs (:func:`ccedi.study.config.load`).
+    alphas : sequence of float
+        Mass-proportional damping values [1/s].
+    out : str or Path
+        Output directory.
+    length_in : float
+        Finger length [in].
+    force_N : float
+        Tip force [N], soft direction.
+    duration_s : float
+        Pulse duration [s].
+    t_end_s : float
+        Simulated time [s].
+    scheduler : str
+        ``serial``, ``local`` or a Dask scheduler address (:mod:`ccedi.fea.distributed`).
+    """
+    import numpy as np
+
+    from ccedi.fea.outputs import write_csv, write_figure, write_json
+    from ccedi.fea.studies import impulse_study, plot_impulse_study
+    from ccedi.study.config import finger_inputs
+
+    out = Path(out)
+    material, semi_axes = finger_inputs(cfg)
+    history, summaries = impulse_study(alphas=alphas, length_in=length_in, force_N=force_N,
+                                       duration_s=duration_s, t_end_s=t_end_s, scheduler=scheduler,
+                                       material=material, semi_axes_m=semi_axes)
+    write_csv(out / "impulse_response.csv", history)
+    write_figure(out / "impulse_response.png", plot_impulse_study(history))
+    peaks = {}
+    for a, h in history.groupby("alpha_per_s"):
+        i = int(np.argmax(h.tip_uy_m.values))
+        peaks[f"{a:g}"] = {"peak_tip_uy_m": float(h.tip_uy_m.values[i]),
+                           "time_of_peak_s": float(h.time_s.values[i]),
+                           "min_tip_uy_after_peak_m": float(h.tip_uy_m.values[i:].min()),
+                           "peak_von_mises_Pa": float(h.max_von_mises_Pa.max())}
+    write_json(out / "impulse_summary.json", {
+        "length_in": length_in, "force_N": force_N, "duration_s": duration_s,
+        "runs": summaries, "peaks": peaks})
+    for s in summaries:
+        print(f"alpha = {s['alpha_per_s']:g} 1/s: {s['steps']} steps, dt0 = {s['dt_initial_s'] * 1e6:.3f} us, "
+              f"wall {s['wall_time_s']:.2f} s ({s['ns_per_element_cycle']:.0f} ns/element-cycle)")
+    print(f"wrote {out}/impulse_response.csv, .png, impulse_summary.json")
+
+
+def contact_setup(cfg, theta0_rad=None, calibrate=False):
+    """The drum set-up of ``cfg``, with the initial angle given or recalibrated.
+
+    Parameters
+    ----------
+    cfg : dict
+        Validated inputs (:func:`ccedi.study.config.load`).
+    theta0_rad : float, optional
+        Initial finger angle [rad] instead of the configured one.
+    calibrate : bool
+        Recalibrate theta0 so that alpha = 7.5 1/s first touches at t = 0.32 s
+        (:func:`ccedi.fea.drum.calibrate_initial_angle`; prints the iterations).
+
+    Returns
+    -------
+    ccedi.fea.drum.DrumSetup
+    """
+    from dataclasses import replace
+
+    from ccedi.fea.drum import calibrate_initial_angle
+    from ccedi.study.config import drum_setup
+
+    setup = drum_setup(cfg)
+    if theta0_rad is not None:
+        setup = replace(setup, theta0_rad=theta0_rad)
+    if calibrate:
+        theta0, steps = calibrate_initial_angle(setup)
+        for th, t_c in steps:
+            print(f"theta0 = {th:.5f} rad: first contact at {t_c:.4f} s")
+        setup = replace(setup, theta0_rad=theta0)
+    return setup
+
+
+def _setup_of(args):
+    return contact_setup(load_config(args), args.theta0_rad, args.calibrate)
+
+
+def _cmd_table1(args):
+    write_table1(load_config(args), args.length_in, args.json, stiffness=not args.no_stiffness)
+
+
+def _cmd_impulse(args):
+    write_impulse(load_config(args), args.alpha, args.out, length_in=args.length_in, force_N=args.force_N,
+                  duration_s=args.duration_s, t_end_s=args.t_end_s, scheduler=args.scheduler)
+
+
+def _cmd_contact(args):
+    from ccedi.fea.drum import contact_run, contact_summary
+    from ccedi.fea.outputs import write_csv, write_json
+    from ccedi.fea.vtu import write_series
+
+    setup = _setup_of(args)
+    out = Path(args.out)
+    result, model = contact_run(setup, args.alpha, damping=args.damping, t_end_s=args.t_end_s,
+                                n_outputs=args.n_outputs, progress=True, snapshot_every=5 if args.vtu else 0)
+    summary = contact_summary(setup, result, model)
+    stem = f"contact_alpha{args.alpha:g}_{args.damping}"
+    write_csv(out / f"{stem}.csv", result.history)
+    write_json(args.json or out / f"{stem}.json", summary)
+    if args.vtu:
+        print(f"wrote {write_series(args.vtu, model, result, stem=stem)}")
+    for k in ("contact_start_s", "contact_end_s", "contact_duration_s", "first_contact_side",
+              "peak_reaction_force_N", "max_finger_stress_Pa", "max_object_stress_Pa", "wall_time_s"):
+        print(f"{k} = {summary.get(k)}")
+    print(f"wrote {out / stem}.csv and the JSON summary")
+
+
+def write_contact_sweep(setup, alphas, out, damping="global", t_end_s=1.5, n_outputs=300, scheduler="local"):
+    """The contact run for several alpha: histories and summary CSVs, the Fig. 10, 13, 14
+    analogues and ``contact_report.md`` in ``out``.
+
+    Parameters
+    ----------
+    setup : ccedi.fea.drum.DrumSetup
+        The drum test.
+    alphas : sequence of float
+        Mass-proportional damping values [1/s].
+    out : str or Path
+        Output directory.
+    damping : {"global", "relative"}
+        Mass damping on the absolute velocity (the paper) or relative to the drum.
+    t_end_s : float
+        Simulated time [s].
+    n_outputs : int
+        Output times over the run.
+    scheduler : str
+        ``serial``, ``local`` or a Dask scheduler address.
+    """
+    from ccedi.fea.contact_study import plot_contact_shapes, plot_reaction_force, plot_stresses, sweep
+    from ccedi.fea.outputs import write_csv, write_figure
+
+    out = Path(out)
+    history, table, shapes = sweep(setup, alphas, damping=damping, t_end_s=t_end_s,
+                                   n_outputs=n_outputs, progress=True, scheduler=scheduler)
+    write_csv(out / f"contact_histories_{damping}.csv", history)
+    write_csv(out / f"contact_summary_{damping}.csv", table)
+    write_figure(out / f"fig10_reaction_force_{damping}.png", plot_reaction_force(history))
+    write_figure(out / f"fig14_stresses_{damping}.png", plot_stresses(history))
+    write_figure(out / f"fig13_contact_shapes_{damping}.png", plot_contact_shapes(setup, shapes))
+    print(table[["alpha_per_s", "contact_start_s", "contact_end_s", "contact_duration_s", "first_contact_side",
+                 "peak_reaction_force_N", "max_object_stress_Pa"]].to_string(index=False))
+    write_contact_report(setup, out)
+    print(f"wrote {out}/")
+
+
+def _cmd_contact_sweep(args):
+    write_contact_sweep(_setup_of(args), args.alphas, args.out, damping=args.damping, t_end_s=args.t_end_s,
+                        n_outputs=args.n_outputs, scheduler=args.scheduler)
+
+
+def write_contact_report(setup, out):
+    """``contact_report.md`` from the summaries and histories in ``out`` (global, and
+    relative if present); nothing when the global sweep is missing.
+
+    Parameters
+    ----------
+    setup : ccedi.fea.drum.DrumSetup
+        The drum test the sweep ran.
+    out : str or Path
+        Directory holding the sweep CSVs.
+    """
+    import pandas as pd
+
+    from ccedi.fea.contact_study import contact_report
+
+    out = Path(out)
+
+    def load(kind):
+        s, h = out / f"contact_summary_{kind}.csv", out / f"contact_histories_{kind}.csv"
+        return (pd.read_csv(s), pd.read_csv(h)) if s.exists() and h.exists() else (None, None)
+
+    g_table, g_hist = load("global")
+    if g_table is None:
+        return
+    r_table, r_hist = load("relative")
+    (out / "contact_report.md").write_text(contact_report(setup, g_table, g_hist, r_table, r_hist))
+
+
+def _contact_arguments(p):
+    p.add_argument("--damping", choices=("global", "relative"), default="global",
+                   help="mass damping on the absolute velocity (global, the paper) or relative to the drum")
+    p.add_argument("--t-end-s", type=float, default=1.5, help="simulated time [s]")
+    p.add_argument("--n-outputs", type=int, default=300, help="number of output times")
+    p.add_argument("--theta0-rad", type=float, help="initial finger angle [rad] (default: [drum] theta0_rad of "
+                   "--config, else the calibrated one)")
+    p.add_argument("--calibrate", action="store_true",
+                   help="recalibrate theta0 so that alpha = 7.5 1/s first touches at t = 0.32 s")
+    add_config_argument(p)
+
+
+def add_parsers(sub):
+    """Register table1, impulse, contact, contact-sweep and contact-report on ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The sub-command registry of the ``ccedi`` parser.
+    """
+    t = sub.add_parser("table1", help="paper Table 1: nodes, elements, stable time step and tip stiffness "
+                       "of SM-A and SM-B")
+    t.add_argument("--length-in", type=float, default=4.5, help="finger length [in] (default 4.5)")
+    t.add_argument("--json", help="write the table as JSON to this path")
+    t.add_argument("--no-stiffness", action="store_true", help="skip the static stiffness solves")
+    add_config_argument(t)
+    t.set_defaults(func=_cmd_table1)
+    i = sub.add_parser("impulse", help="tip impulse response of the SM-A finger for several alpha "
+                       "(paper Fig. 7): CSV, plot, JSON")
+    i.add_argument("--alpha", type=float, nargs="+", default=[70.0, 120.0, 160.0, 180.0, 200.0],
+                   help="mass-proportional damping values [1/s]")
+    i.add_argument("--length-in", type=float, default=4.5, help="finger length [in]")
+    i.add_argument("--force-N", type=float, default=1.0, help="tip force [N] (soft direction)")
+    i.add_argument("--duration-s", type=float, default=0.01, help="pulse duration [s]")
+    i.add_argument("--t-end-s", type=float, default=0.2, help="simulated time [s]")
+    i.add_argument("--out", default="reports/impulse", help="output directory")
+    add_scheduler_argument(i)
+    add_config_argument(i)
+    i.set_defaults(func=_cmd_impulse)
+    c = sub.add_parser("contact", help="finger on the rotating drum over the elliptical object (paper 3.3-3.4)")
+    c.add_argument("--alpha", type=float, required=True, help="mass-proportional damping [1/s]")
+    c.add_argument("--json", help="summary JSON path (default: OUT/contact_alpha<A>_<damping>.json)")
+    c.add_argument("--vtu", help="directory for a VTU/PVD animation of the finger")
+    c.add_argument("--out", default="reports/contact", help="output directory for the CSV history")
+    _contact_arguments(c)
+    c.set_defaults(func=_cmd_contact)
+    w = sub.add_parser("contact-sweep", help="the contact run for several alpha; paper Figs. 10, 13, 14 analogues")
+    w.add_argument("--alphas", type=float, nargs="+", default=[1.0, 7.5, 20.0, 50.0, 180.0, 600.0])
+    w.add_argument("--out", default="reports/contact", help="output directory")
+    add_scheduler_argument(w, default="local")
+    _contact_arguments(w)
+    w.set_defaults(func=_cmd_contact_sweep)
+    r = sub.add_parser("contact-report", help="contact_report.md from the CSVs a contact-sweep wrote")
+    r.add_argument("--out", default="reports/contact", help="directory holding the sweep CSVs")
+    _contact_arguments(r)
+    r.set_defaults(func=lambda args: write_contact_report(_setup_of(args), args.out))

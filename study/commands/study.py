@@ -1,0 +1,109 @@
+"""``ccedi`` sub-commands of the end-to-end study (:mod:`ccedi.study`).
+
+  study   the whole design study on the bundled data -> reports/index.html
+  init    write a commented example study TOML
+  export  a model as an LS-DYNA keyword deck, or a run's results as VTU, CSV or Parquet
+"""
+from pathlib import Path
+
+from ccedi.errors import InputError
+from ccedi.study.commands.arguments import add_config_argument, add_scheduler_argument, load_config
+
+
+def add_parsers(sub):
+    """Register study, init and export on ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The sub-command registry of the ``ccedi`` parser.
+    """
+    s = sub.add_parser("study", help="the whole design study on the bundled data: identification, ROMs, design, "
+                       "FEA re-check, calibration -> OUT/index.html")
+    s.add_argument("--config", help="study TOML (default: built-in defaults; see ccedi init)")
+    s.add_argument("--out", default="reports", help="output directory (default reports)")
+    add_scheduler_argument(s, default=None)
+    s.add_argument("--quick", action="store_true", help="a few-minute smoke run of every step (short runs, "
+                   "one length, one contact alpha, no FEA re-check)")
+    s.add_argument("--only", nargs="+", metavar="STEP", help="run only these steps (table1 steel_rod impulse mesh "
+                   "damping_fits contact design calibrate), then rewrite index.html")
+    s.set_defaults(func=cmd_study)
+    i = sub.add_parser("init", help="write a commented example study TOML (every key, its unit, range and default)")
+    i.add_argument("path", nargs="?", default="study.toml", help="file to write (default study.toml)")
+    i.add_argument("--force", action="store_true", help="overwrite an existing file")
+    i.set_defaults(func=cmd_init)
+    e = sub.add_parser("export", help="a model as an LS-DYNA keyword deck, or its run as VTU (ParaView), "
+                       "CSV or Parquet time series")
+    e.add_argument("--case", choices=("impulse", "contact"), default="impulse",
+                   help="impulse: clamped SM-A finger, tip pulse; contact: the finger on the drum "
+                   "([finger] contact_length_in of --config, default 8 in)")
+    e.add_argument("--format", choices=("lsdyna", "vtu", "csv", "parquet"), default="lsdyna")
+    e.add_argument("--alpha", type=float, default=180.0, help="mass-proportional damping [1/s]")
+    e.add_argument("--length-in", type=float, default=4.5, help="finger length of the impulse case [in]")
+    e.add_argument("--t-end-s", type=float, help="simulated time [s] (default 0.2 impulse, 1.5 contact)")
+    e.add_argument("--out", required=True, help="file (lsdyna: .k; csv/parquet) or directory (vtu)")
+    add_config_argument(e)
+    e.set_defaults(func=cmd_export)
+
+
+def cmd_study(args):
+    """``ccedi study``: :func:`ccedi.study.run.run_study` of the parsed arguments."""
+    from ccedi.study.run import STEP_NAMES, run_study
+
+    cfg = load_config(args)
+    unknown = sorted(set(args.only or ()) - set(STEP_NAMES))
+    if unknown:
+        raise InputError(f"--only: unknown step {unknown[0]!r} (steps: {' '.join(STEP_NAMES)})")
+    index = run_study(cfg, args.out, scheduler=args.scheduler, quick=args.quick, only=args.only)
+    print(f"wrote {index}")
+
+
+def cmd_init(args):
+    """``ccedi init``: write a commented example study TOML."""
+    from ccedi.fea.outputs import write_text
+
+    from ccedi.study.config import example
+
+    path = Path(args.path)
+    if path.exists() and not args.force:
+        raise InputError(f"{path} exists (use --force to overwrite)")
+    write_text(path, example())
+    print(f"wrote {path}; run: ccedi study --config {path}")
+
+
+def _case(args, t_end_s):
+    """(model, simulate) of the export case; simulate(snapshot_every) -> RunResult."""
+    from ccedi.fea.drum import contact_run, finger_on_drum
+    from ccedi.fea.explicit import run
+    from ccedi.fea.studies import impulse_model
+
+    from ccedi.study.config import drum_setup, finger_inputs
+
+    cfg = load_config(args)
+    if args.case == "impulse":
+        material, semi_axes = finger_inputs(cfg)
+        model = impulse_model(length_in=args.length_in, alpha=args.alpha, material=material, semi_axes_m=semi_axes)
+        return model, lambda every: run(model, t_end_s, snapshot_every=every, progress=True)
+    setup = drum_setup(cfg)
+    model = finger_on_drum(setup, args.alpha)[0]
+    return model, lambda every: contact_run(setup, args.alpha, t_end_s=t_end_s, snapshot_every=every,
+                                            progress=True)[0]
+
+
+def cmd_export(args):
+    """``ccedi export``: the impulse or contact case as an LS-DYNA deck, or its run as VTU, CSV or Parquet."""
+    from ccedi.fea.lsdyna import write_keyword
+    from ccedi.fea.outputs import require_parquet, write_table
+    from ccedi.fea.vtu import write_series
+
+    if args.format == "parquet":
+        require_parquet()
+    t_end_s = args.t_end_s if args.t_end_s is not None else {"impulse": 0.2, "contact": 1.5}[args.case]
+    model, simulate = _case(args, t_end_s)
+    if args.format == "lsdyna":
+        path = write_keyword(model, args.out, t_end_s, title=f"ccedi {args.case}, alpha = {args.alpha:g} 1/s")
+    elif args.format == "vtu":
+        path = write_series(args.out, model, simulate(10), stem=args.case)
+    else:
+        path = write_table(Path(args.out).with_suffix(f".{args.format}"), simulate(0).history)
+    print(f"wrote {path}")
