@@ -34,7 +34,18 @@ N_DRAG_POINTS = 8
 
 
 def cantilever_roots(n):
-    """The first ``n`` roots b_j L of cos(x) cosh(x) = -1 (clamped-free beam)."""
+    """The first ``n`` roots b_j L of cos(x) cosh(x) = -1 (clamped-free beam).
+
+    Parameters
+    ----------
+    n : int
+        Number of roots, >= 0.
+
+    Returns
+    -------
+    numpy.ndarray
+        Roots 1.8751, 4.6941, 7.8548, ... (approaching (j + 1/2) pi), shape (n,) [-].
+    """
     f = lambda x: np.cos(x) * np.cosh(x) + 1.0
     return np.array([brentq(f, (j + 0.5) * np.pi - 1.2, (j + 0.5) * np.pi + 1.2) if j else
                      brentq(f, 1.0, 2.5) for j in range(n)])
@@ -42,9 +53,21 @@ def cantilever_roots(n):
 
 @dataclass(frozen=True)
 class Modes:
-    """omega_rad_s (n,), tip values b (n,) [1/sqrt(kg)], weight participations p (n,)
-    [sqrt(kg)] of mass-normalised modes (module docstring); their shapes (N_DRAG_POINTS, n)
-    [1/sqrt(kg)] at the drag points and those points' quadrature weights (N_DRAG_POINTS,) [m]."""
+    """Lowest mass-normalised modes of the Ritz cantilever (module docstring).
+
+    Parameters
+    ----------
+    omega_rad_s : numpy.ndarray
+        Angular frequencies omega_i, ascending, (n,) [rad/s].
+    tip : numpy.ndarray
+        Tip values b_i = Phi_i(L), (n,) [1/sqrt(kg)], signs chosen >= 0.
+    weight : numpy.ndarray
+        Weight participations p_i = int rho A Phi_i dx + m_tip Phi_i(L), (n,) [sqrt(kg)].
+    shapes : numpy.ndarray
+        Mode shapes at the drag points, (N_DRAG_POINTS, n) [1/sqrt(kg)].
+    shape_weights : numpy.ndarray
+        Gauss-Legendre weights of the drag points, (N_DRAG_POINTS,) [m].
+    """
 
     omega_rad_s: np.ndarray
     tip: np.ndarray
@@ -55,13 +78,34 @@ class Modes:
     @property
     def static_sag_per_g(self):
         """Static tip deflection per unit transverse acceleration [m / (m/s^2)]:
-        sum b_i p_i / omega_i^2."""
+        sum b_i p_i / omega_i^2.
+        """
         return float(np.sum(self.tip * self.weight / self.omega_rad_s**2))
 
 
 class CantileverRitz:
-    """Ritz model of a uniform cantilever of length ``length_m`` [m], mass per length
-    ``rho_a`` [kg/m] and second moment ``second_moment`` [m^4] (E enters per call)."""
+    """Rayleigh-Ritz model of a uniform cantilever on the analytic clamped-free modes.
+
+    Mass and bending matrices are built once (Gauss-Legendre quadrature, module
+    docstring); Young's modulus, tip mass and clamp stiffness enter per call of
+    :meth:`modes`.
+
+    Parameters
+    ----------
+    length_m : float
+        Finger length L [m], > 0.
+    rho_a : float
+        Mass per length rho A [kg/m], > 0.
+    second_moment : float
+        Second moment of area I [m^4], > 0.
+    n_basis : int, optional
+        Number of clamped-free basis modes (plus the root rotation). Default 10.
+
+    Raises
+    ------
+    InputError
+        If ``length_m``, ``rho_a`` or ``second_moment`` is not a finite number > 0.
+    """
 
     def __init__(self, length_m, rho_a, second_moment, n_basis=10):
         self.length_m = require_finite_positive("finger length (m)", length_m)
@@ -90,12 +134,34 @@ class CantileverRitz:
 
     @property
     def mass_kg(self):
+        """Finger mass rho A L [kg]."""
         return self.rho_a * self.length_m
 
     def modes(self, E, n_modes=6, tip_mass_kg=0.0, root_stiffness=None):
-        """Lowest ``n_modes`` modes for Young's modulus ``E`` [Pa], a point mass
-        ``tip_mass_kg`` [kg] at the tip and a clamp of rotational stiffness
-        ``root_stiffness`` [N m/rad] (None: rigid clamp)."""
+        """Lowest ``n_modes`` modes for a given modulus, tip mass and clamp stiffness.
+
+        Parameters
+        ----------
+        E : float
+            Young's modulus [Pa].
+        n_modes : int, optional
+            Number of modes, at most ``n_basis - 2``. Default 6.
+        tip_mass_kg : float, optional
+            Point mass at the tip [kg]. Default 0.
+        root_stiffness : float or None, optional
+            Rotational stiffness k_r of the clamp [N m/rad]; None for a rigid clamp (the
+            root-rotation basis function is then dropped). Default None.
+
+        Returns
+        -------
+        Modes
+            Frequencies, tip values, weight participations and drag-point shapes.
+
+        Raises
+        ------
+        InputError
+            If ``n_modes > n_basis - 2``.
+        """
         if n_modes > self.n_basis - 2:
             raise InputError(f"n_modes must be <= {self.n_basis - 2} for {self.n_basis} basis functions")
         keep = slice(None) if root_stiffness is not None else slice(0, self.n_basis)

@@ -103,9 +103,43 @@ def _integrate(n_out, dt_out, substeps, w2, c, b, g, inv_tau, F0, t_on, t_off, c
 
 def integrate_tip(time_s, modes, zeta, force_N, duration_s, start_s=0.0, prony_g=0.0, prony_tau_s=1.0,
                   drag_N_s2_m3=0.0, friction_N=0.0, cubic_N_m3=0.0):
-    """Tip displacement [m] at ``time_s`` [s] (from rest at t = 0) of the model in the
-    module docstring, for :class:`ccedi.calibrate.beam.Modes` ``modes`` and damping ratios ``zeta``. The output is computed on a uniform grid from 0 to max(time_s) and
-    interpolated linearly when ``time_s`` is not that grid."""
+    """Tip displacement of the modal finger model with nonlinear tip forces (module docstring).
+
+    From rest at t = 0, by fixed-step RK4 with h <= H_OMEGA / omega_max dividing the
+    output interval; the pulse edges are stepped to exactly. The output is computed on a
+    uniform grid from 0 to max(time_s) (spacing the median sample interval) and
+    interpolated linearly when ``time_s`` is not that grid.
+
+    Parameters
+    ----------
+    time_s : array_like
+        Output times, increasing, starting at (or near) 0 [s].
+    modes : Modes
+        :class:`ccedi.calibrate.beam.Modes` of the finger (omega_i, b_i, drag-point shapes).
+    zeta : array_like
+        Modal damping ratios, one per mode [-].
+    force_N : float
+        Pulse force F0 at the tip [N].
+    duration_s : float
+        Pulse duration T [s].
+    start_s : float, optional
+        Pulse start t0 [s]. Default 0.
+    prony_g : float, optional
+        Standard-linear-solid relaxation strength g [-]; 0 for elastic. Default 0.
+    prony_tau_s : float, optional
+        Relaxation time tau [s]. Default 1.
+    drag_N_s2_m3 : float, optional
+        Quadratic (air) drag c_q per unit length [N s^2/m^3]. Default 0.
+    friction_N : float, optional
+        Coulomb friction force F_c at the tip [N]. Default 0.
+    cubic_N_m3 : float, optional
+        Cubic tip stiffening k_3 [N/m^3]. Default 0.
+
+    Returns
+    -------
+    numpy.ndarray
+        Tip displacement u at ``time_s`` [m].
+    """
     t = np.asarray(time_s, dtype=float)
     dt = float(np.median(np.diff(t)))
     n_out = int(round(t[-1] / dt)) + 1

@@ -9,7 +9,23 @@ import numpy as np
 
 @dataclass(frozen=True)
 class Parameter:
-    """A fitted parameter: name (with its unit), bounds, log scale or linear with ``scale``."""
+    """A fitted parameter with its bounds and the scale the optimiser works in.
+
+    The optimiser's variable is z = log10(x) (``log``) or z = x / ``scale``.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name, ending in its unit (e.g. ``"beta_s"``, ``"tip_mass_kg"``).
+    lower : float
+        Lower bound (in the parameter's unit).
+    upper : float
+        Upper bound.
+    log : bool, optional
+        Work in log10 (bounds must then be > 0). Default True.
+    scale : float, optional
+        Linear scale when not ``log``. Default 1.
+    """
 
     name: str
     lower: float
@@ -18,19 +34,62 @@ class Parameter:
     scale: float = 1.0
 
     def to_z(self, x):
+        """The optimiser's variable of a parameter value.
+
+        Parameters
+        ----------
+        x : float or numpy.ndarray
+            Parameter value (its unit).
+
+        Returns
+        -------
+        float or numpy.ndarray
+            z = log10(x) or x / scale.
+        """
         return np.log10(x) if self.log else x / self.scale
 
     def from_z(self, z):
+        """The parameter value of an optimiser variable (inverse of :meth:`to_z`).
+
+        Parameters
+        ----------
+        z : float or numpy.ndarray
+            Optimiser variable.
+
+        Returns
+        -------
+        float or numpy.ndarray
+            x = 10^z or z scale (the parameter's unit).
+        """
         return 10.0**z if self.log else z * self.scale
 
     def z_bounds(self):
+        """The bounds in the optimiser's variable.
+
+        Returns
+        -------
+        tuple of float
+            (to_z(lower), to_z(upper)).
+        """
         return self.to_z(self.lower), self.to_z(self.upper)
 
 
 @dataclass(frozen=True)
 class Effect:
-    """A candidate effect: name, physics (one line, with its equation), the residual
-    signature that suggests it, and ``parameters(scales) -> [(Parameter, start value)]``."""
+    """A candidate physical effect of the calibration catalogue.
+
+    Parameters
+    ----------
+    name : str
+        Effect name (the catalogue key, e.g. ``"coulomb_friction"``).
+    physics : str
+        One line of physics, with its equation.
+    signature : str
+        The residual signature that suggests the effect.
+    parameters : callable
+        ``parameters(scales: Scales) -> [(Parameter, start value)]``: bounds and a
+        starting value scaled to the record.
+    """
 
     name: str
     physics: str
@@ -40,9 +99,27 @@ class Effect:
 
 @dataclass(frozen=True)
 class Scales:
-    """Record scales for bounds and starting values: finger mass [kg], tip stiffness [N/m],
-    EI / L [N m/rad], first and second frequency [rad/s], amplitude [m], record length [s],
-    finger length [m]."""
+    """Scales of the record and finger, for parameter bounds and starting values.
+
+    Parameters
+    ----------
+    mass_kg : float
+        Finger mass [kg].
+    stiffness_N_m : float
+        Tip stiffness [N/m].
+    ei_over_l : float
+        E I / L [N m/rad].
+    omega1 : float
+        First angular frequency [rad/s].
+    omega2 : float
+        Second angular frequency [rad/s].
+    amplitude_m : float
+        Response amplitude [m].
+    duration_s : float
+        Record length [s].
+    length_m : float
+        Finger length [m].
+    """
 
     mass_kg: float
     stiffness_N_m: float

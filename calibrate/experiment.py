@@ -35,7 +35,21 @@ FORCE_PEAK_TOLERANCE = 0.2
 
 @dataclass(frozen=True)
 class Finger:
-    """Declared finger: length [m], section semi-axes (a, b) [m], E [Pa], nu [-], rho [kg/m^3]."""
+    """The finger declared in the sidecar.
+
+    Parameters
+    ----------
+    length_m : float
+        Finger length L [m].
+    semi_axes_m : tuple of float
+        Elliptical section semi-axes (a, b) [m], b along the bending direction.
+    E_Pa : float
+        Declared Young's modulus [Pa].
+    nu : float
+        Poisson's ratio [-].
+    rho_kg_m3 : float
+        Density [kg/m^3].
+    """
 
     length_m: float
     semi_axes_m: tuple
@@ -45,23 +59,56 @@ class Finger:
 
     @property
     def area_m2(self):
+        """Section area pi a b [m^2]."""
         return ellipse_section_properties(*self.semi_axes_m)[0]
 
     @property
     def second_moment_m4(self):
+        """Second moment of area pi a b^3 / 4 about the bending axis [m^4]."""
         return ellipse_section_properties(*self.semi_axes_m)[1]
 
     def omega1_rad_s(self, E_factor=1.0):
-        """Euler-Bernoulli first clamped-free frequency [rad/s] at E x E_factor."""
+        """Euler-Bernoulli first clamped-free frequency at E x ``E_factor``.
+
+        Parameters
+        ----------
+        E_factor : float, optional
+            Multiplier of the declared E [-]. Default 1.
+
+        Returns
+        -------
+        float
+            omega_1 = 1.8751^2 sqrt(E I / (rho A L^4)) [rad/s].
+        """
         return float(cantilever_frequencies(self.E_Pa * E_factor, self.rho_kg_m3, self.length_m,
                                             self.area_m2, self.second_moment_m4)[0])
 
 
 @dataclass(frozen=True)
 class Experiment:
-    """A validated record with its sidecar. kind; finger; force_N [N], duration_s [s] and
-    start_s [s] of the tip pulse; alpha_per_s [1/s] or None; noise_std_m [m] or None;
-    E_tolerance [-]; the record (:class:`ccedi.rom.measurement.MeasuredResponse`)."""
+    """A validated measured record with its sidecar.
+
+    Parameters
+    ----------
+    kind : str
+        ``"impulse"`` or ``"contact"``.
+    finger : Finger
+        The declared finger.
+    force_N : float
+        Tip pulse force [N] (0 for a contact record).
+    duration_s : float
+        Tip pulse duration [s] (0 for a contact record).
+    start_s : float
+        Tip pulse start [s].
+    alpha_per_s : float or None
+        Declared mass-proportional damping, the fit's starting value [1/s], or None.
+    noise_std_m : float or None
+        Declared sensor noise standard deviation [m], or None.
+    E_tolerance : float
+        Relative tolerance of the declared E, in [0, 1) [-].
+    record : MeasuredResponse
+        The CSV record (:class:`ccedi.rom.measurement.MeasuredResponse`).
+    """
 
     kind: str
     finger: Finger
@@ -75,10 +122,12 @@ class Experiment:
 
     @property
     def time_s(self):
+        """Sample times of the record [s]."""
         return self.record.time_s
 
     @property
     def displacement_m(self):
+        """Measured tip displacement of the record [m]."""
         return self.record.tip_displacement_m
 
 
@@ -96,7 +145,27 @@ def _number(section, key, name, source, allow_zero=False):
 
 
 def parse_finger(finger, source):
-    """:class:`Finger` from the sidecar's ``finger`` object."""
+    """:class:`Finger` from the sidecar's ``finger`` object.
+
+    Parameters
+    ----------
+    finger : dict
+        With exactly one of ``length_in`` [in] and ``length_m`` [m];
+        ``section_semi_axes_m`` [a, b] [m], both smaller than the length; ``E_Pa``
+        [Pa]; ``nu`` in (-1, 0.5); ``rho_kg_m3`` [kg/m^3].
+    source : str
+        Name of the sidecar in error messages (its path).
+
+    Returns
+    -------
+    Finger
+        The validated finger (length in metres).
+
+    Raises
+    ------
+    InputError
+        Naming the sidecar field that is missing or out of range.
+    """
     has_in, has_m = "length_in" in finger, "length_m" in finger
     if has_in == has_m:
         raise InputError(f"{source}: sidecar field 'finger.length_in' or 'finger.length_m' is needed (exactly one)")
@@ -118,7 +187,26 @@ def parse_finger(finger, source):
 
 
 def load_experiment(csv_path, meta_path=None):
-    """Read and validate ``csv_path`` and its sidecar (default: the same name with .json)."""
+    """Read and validate a measured record and its JSON sidecar.
+
+    Parameters
+    ----------
+    csv_path : str or pathlib.Path
+        The record CSV (see :mod:`ccedi.rom.measurement`).
+    meta_path : str or pathlib.Path, optional
+        The sidecar. Default: ``csv_path`` with the suffix ``.json``.
+
+    Returns
+    -------
+    Experiment
+        The validated experiment.
+
+    Raises
+    ------
+    InputError
+        If the sidecar is missing, not valid JSON or not an object, or the record or
+        sidecar fails validation (see :func:`experiment_from`).
+    """
     csv_path = Path(csv_path)
     meta_path = Path(meta_path) if meta_path else csv_path.with_suffix(".json")
     if not meta_path.is_file():
@@ -133,7 +221,29 @@ def load_experiment(csv_path, meta_path=None):
 
 
 def experiment_from(record: MeasuredResponse, sidecar, source="<sidecar>"):
-    """Validate ``sidecar`` (a dict) and ``record`` together; see the module docstring."""
+    """Validate a sidecar and a record together (module docstring) into an :class:`Experiment`.
+
+    Parameters
+    ----------
+    record : MeasuredResponse
+        The measured record.
+    sidecar : dict
+        The parsed sidecar JSON.
+    source : str, optional
+        Name of the sidecar in error messages. Default ``"<sidecar>"``.
+
+    Returns
+    -------
+    Experiment
+        The validated experiment.
+
+    Raises
+    ------
+    InputError
+        Naming the sidecar field that is missing or out of range (kind, finger,
+        load, alpha_per_s, sensor, tolerances), or if the record is implausible for
+        the declared finger (see :func:`check_plausible`).
+    """
     kind = sidecar.get("kind")
     if kind not in KINDS:
         raise InputError(f"{source}: sidecar field 'kind' must be one of {', '.join(KINDS)}, got {kind!r}")
@@ -163,7 +273,22 @@ def experiment_from(record: MeasuredResponse, sidecar, source="<sidecar>"):
 
 
 def check_plausible(exp: Experiment):
-    """Reject records whose units cannot be right for the declared finger (module docstring)."""
+    """Reject records whose units cannot be right for the declared finger.
+
+    Checks: |tip displacement| below half the finger length; the largest sample interval
+    below a quarter of the first period at E x (1 + tolerance); for an impulse with a
+    ``force_N`` column, its peak within 20 % of the sidecar's ``load.force_N``.
+
+    Parameters
+    ----------
+    exp : Experiment
+        The experiment to check.
+
+    Raises
+    ------
+    InputError
+        Naming the failed check, the values found and the limit.
+    """
     src = exp.record.source
     y = exp.displacement_m
     limit = MAX_DISPLACEMENT_FRACTION * exp.finger.length_m

@@ -24,16 +24,47 @@ cubic spring), so the optimiser backs off instead of failing."""
 
 
 def holdout_mask(n):
-    """Boolean mask of the held-out samples among ``n`` (blocks 2, 6, 10, ... of N_BLOCKS)."""
+    """Boolean mask of the held-out samples: blocks 2, 6, 10, ... of N_BLOCKS equal blocks.
+
+    Parameters
+    ----------
+    n : int
+        Number of samples.
+
+    Returns
+    -------
+    numpy.ndarray
+        Boolean mask, shape (n,), True on held-out samples (about a quarter).
+    """
     block = np.minimum((np.arange(n) * N_BLOCKS) // n, N_BLOCKS - 1)
     return block % 4 == 2
 
 
 @dataclass(frozen=True)
 class Fit:
-    """A fitted model: its effects, parameter values and standard errors (by name, SI),
-    the sensor reading it predicts [m], its training BIC, held-out RMS [m], full-record
-    RMS [m], NRMSE [-] and max error [m]."""
+    """A fitted calibration model and its scores.
+
+    Parameters
+    ----------
+    effects : tuple of str
+        The effects added to the baseline.
+    values : dict
+        Fitted parameter values by name (SI units, as named).
+    stderr : dict
+        Standard errors by name, from the Gauss-Newton covariance (module docstring).
+    prediction : numpy.ndarray
+        Predicted sensor reading at the record's samples [m].
+    bic : float
+        BIC on the training samples [-].
+    holdout_rms_m : float
+        RMS error on the held-out samples [m].
+    rms_m : float
+        RMS error on the full record [m].
+    nrmse : float
+        Full-record RMS over the record's range [-].
+    max_error_m : float
+        Largest absolute error [m].
+    """
 
     effects: tuple
     values: dict
@@ -47,13 +78,35 @@ class Fit:
 
     @property
     def n_parameters(self):
+        """Number of fitted parameters k."""
         return len(self.values)
 
 
 def fit(model: FingerModel, effects, start=None, extra_starts=()):
-    """Fit the baseline plus ``effects`` to the training part of the record. ``start`` (a
-    dict) overrides the catalogue's starting values (e.g. the previous round's fit);
-    ``extra_starts`` are further dicts of starting values tried, the best kept."""
+    """Fit the baseline plus ``effects`` to the training part of the record.
+
+    Bounded least squares in the parameters' optimiser variables (log or scaled,
+    :class:`ccedi.calibrate.effects.Parameter`); a diverging prediction is given a
+    large constant residual so the optimiser backs off.
+
+    Parameters
+    ----------
+    model : FingerModel
+        The calibration model of the experiment.
+    effects : iterable of str
+        Effect names from the catalogue, added to the baseline (E_factor, alpha).
+    start : dict, optional
+        Starting values by parameter name overriding the catalogue's (e.g. the
+        previous round's fit). Default None.
+    extra_starts : iterable of dict, optional
+        Further starting values tried (each merged over the base start); the best fit
+        (lowest cost) is kept. Default none.
+
+    Returns
+    -------
+    Fit
+        Values, standard errors, prediction and scores.
+    """
     y = model.exp.displacement_m
     train = ~holdout_mask(len(y))
     spec = model.parameters(effects)
@@ -96,8 +149,26 @@ def _scored(model, effects, params, res, train):
 
 
 def fit_baseline(model: FingerModel, n_E=17, zetas=(0.01, 0.03, 0.1, 0.3, 1.0, 2.0)):
-    """The declared model fitted: alpha and E_factor from the best point of a grid
-    (n_E values of E across the tolerance x damping ratios of mode 1), refined by least squares."""
+    """The declared model fitted: E_factor and alpha.
+
+    Starts from the best point of a grid (``n_E`` values of E across its tolerance times
+    the damping ratios ``zetas`` of mode 1, alpha = 2 zeta omega_1 sqrt(E_factor)),
+    refined by least squares.
+
+    Parameters
+    ----------
+    model : FingerModel
+        The calibration model of the experiment.
+    n_E : int, optional
+        Grid points of E_factor across [1 - tol, 1 + tol]. Default 17.
+    zetas : sequence of float, optional
+        Grid of first-mode damping ratios [-]. Default (0.01, 0.03, 0.1, 0.3, 1, 2).
+
+    Returns
+    -------
+    Fit
+        The baseline fit (no effects).
+    """
     s = model.scales
     tol = model.exp.E_tolerance
     y = model.exp.displacement_m

@@ -27,8 +27,23 @@ MAX_EFFECTS = 3
 
 @dataclass(frozen=True)
 class Round:
-    """One selection round: the model it started from, its residual signatures and
-    suggestions, every candidate's fit, and the effect added (None: stop) with why."""
+    """One selection round of :func:`calibrate`.
+
+    Parameters
+    ----------
+    start : Fit
+        The model the round started from.
+    evidence : dict
+        Its residual signatures (:func:`ccedi.calibrate.residual.analyse`).
+    suggested : list of (str, str)
+        (effect, reason) suggested by the residual.
+    candidates : dict
+        {effect name: Fit} of every candidate tried (empty when the round stopped first).
+    added : str or None
+        The effect added, or None when the search stopped.
+    reason : str
+        Why it was added, or why the search stopped.
+    """
 
     start: Fit
     evidence: dict
@@ -40,7 +55,23 @@ class Round:
 
 @dataclass(frozen=True)
 class Calibration:
-    """Result of :func:`calibrate`: baseline and final fits, rounds, noise std [m]."""
+    """Result of :func:`calibrate`.
+
+    Parameters
+    ----------
+    experiment : Experiment
+        The calibrated experiment.
+    model : FingerModel
+        Its calibration model.
+    baseline : Fit
+        The declared model fitted (E_factor, alpha).
+    final : Fit
+        The final model with the effects added.
+    rounds : list of Round
+        The selection rounds, the last one the stop.
+    noise_std_m : float
+        Noise standard deviation used by the stopping test [m].
+    """
 
     experiment: Experiment
     model: FingerModel
@@ -51,11 +82,29 @@ class Calibration:
 
     @property
     def noise_floor_nrmse(self):
+        """Noise std over the record's range: the NRMSE a perfect model would reach [-]."""
         return self.noise_std_m / float(np.ptp(self.experiment.displacement_m))
 
 
 def at_noise_level(f: Fit, sigma, n):
-    """True when the residual is explained by noise of std ``sigma`` (module docstring)."""
+    """Whether a fit's residual is explained by noise (chi-square test, module docstring).
+
+    RMS(r)^2 / sigma^2 <= 1 + NOISE_Z sqrt(2 / n).
+
+    Parameters
+    ----------
+    f : Fit
+        The fit (its full-record RMS error is used).
+    sigma : float
+        Noise standard deviation [m].
+    n : int
+        Number of samples.
+
+    Returns
+    -------
+    bool
+        True at the noise level.
+    """
     return (f.rms_m / sigma) ** 2 <= 1.0 + NOISE_Z * np.sqrt(2.0 / n)
 
 
@@ -67,7 +116,22 @@ def _candidate_starts(name):
 
 
 def calibrate(exp: Experiment, candidates=None, progress=None):
-    """Run the loop on ``exp`` over ``candidates`` (default: the whole catalogue)."""
+    """Run the calibration loop on an experiment (module docstring).
+
+    Parameters
+    ----------
+    exp : Experiment
+        The validated experiment.
+    candidates : iterable of str, optional
+        Effect names to consider. Default: the whole catalogue.
+    progress : callable, optional
+        Called with a one-line message before each candidate fit. Default None.
+
+    Returns
+    -------
+    Calibration
+        Baseline and final fits, the rounds and the noise level.
+    """
     model = FingerModel(exp)
     names = list(CATALOGUE) if candidates is None else list(candidates)
     sigma = noise_std(exp)
@@ -108,9 +172,23 @@ def calibrate(exp: Experiment, candidates=None, progress=None):
 
 
 def summary(cal: Calibration):
-    """The JSON result: baseline, effects found (with parameters and standard errors as
-    fitted in their round and in the final model, error after, evidence and the candidates'
-    scores per round), final and noise-floor NRMSE."""
+    """The JSON-ready result of a calibration.
+
+    Parameters
+    ----------
+    cal : Calibration
+        The calibration.
+
+    Returns
+    -------
+    dict
+        ``source``, ``baseline`` (nrmse, max error [m], parameters, standard errors),
+        ``effects_found`` (per effect added: parameters and standard errors as fitted in
+        its round and in the final model, error after, why, residual evidence and the
+        candidates' scores), ``selected_effect``, final NRMSE, max error [m] and
+        parameters, ``noise_floor_nrmse``, ``stop_reason``, ``final_evidence`` and
+        ``final_suggestions``.
+    """
     found = []
     fin = cal.final
     for r in cal.rounds:

@@ -34,7 +34,21 @@ NONLINEAR = {"prony_g", "drag_N_s2_m3", "friction_N", "cubic_N_m3"}
 
 
 def baseline_parameters(exp: Experiment, s: Scales):
-    """[(Parameter, start)] of the declared model: alpha (start: sidecar or zeta = 0.1) and E_factor."""
+    """Parameters of the declared model with their starting values.
+
+    Parameters
+    ----------
+    exp : Experiment
+        The experiment (its declared alpha and E tolerance).
+    s : Scales
+        Record scales (first frequency omega_1).
+
+    Returns
+    -------
+    list of (Parameter, float)
+        ``alpha_per_s`` in [1e-3, 20] omega_1 [1/s], starting at the sidecar's value or
+        0.2 omega_1 (zeta_1 = 0.1); ``E_factor`` within 1 +- tolerance [-], starting at 1.
+    """
     alpha0 = exp.alpha_per_s or 0.2 * s.omega1
     tol = exp.E_tolerance
     return [(Parameter("alpha_per_s", 1e-3 * s.omega1, 20.0 * s.omega1), alpha0),
@@ -42,7 +56,25 @@ def baseline_parameters(exp: Experiment, s: Scales):
 
 
 class FingerModel:
-    """Predicts the sensor reading of an :class:`Experiment` for parameter values."""
+    """Predicts the sensor reading of an :class:`Experiment` for parameter values.
+
+    Builds the Ritz cantilever of the declared finger and the record scales
+    (:class:`ccedi.calibrate.effects.Scales`) once.
+
+    Parameters
+    ----------
+    exp : Experiment
+        The validated experiment.
+
+    Attributes
+    ----------
+    exp : Experiment
+        The experiment.
+    ritz : CantileverRitz
+        The finger's Ritz model.
+    scales : Scales
+        Scales of the record for bounds and starting values.
+    """
 
     def __init__(self, exp: Experiment):
         f = exp.finger
@@ -58,19 +90,56 @@ class FingerModel:
                              length_m=f.length_m)
 
     def parameters(self, effects):
-        """[(Parameter, start)] of the baseline plus ``effects`` (names in CATALOGUE)."""
+        """Parameters of the baseline plus ``effects``, with starting values.
+
+        Parameters
+        ----------
+        effects : iterable of str
+            Effect names in :data:`ccedi.calibrate.effects.CATALOGUE`.
+
+        Returns
+        -------
+        list of (Parameter, float)
+            Baseline parameters first, then each effect's.
+        """
         out = baseline_parameters(self.exp, self.scales)
         for name in effects:
             out += CATALOGUE[name].parameters(self.scales)
         return out
 
     def modes(self, v):
+        """Modes of the finger for parameter values ``v``.
+
+        Parameters
+        ----------
+        v : dict
+            Parameter values by name: ``E_factor`` (required), ``tip_mass_kg`` and
+            ``root_stiffness_N_m_rad`` (optional; absent means none / rigid clamp).
+
+        Returns
+        -------
+        Modes
+            The N_MODES lowest modes.
+        """
         return self.ritz.modes(self.exp.finger.E_Pa * v["E_factor"], N_MODES, tip_mass_kg=v.get("tip_mass_kg", 0.0),
                                root_stiffness=v.get("root_stiffness_N_m_rad"))
 
     def predict(self, v, time_s=None):
-        """Sensor reading [m] at ``time_s`` (default: the record's) for parameter values ``v``
-        (a dict by parameter name; absent effects are off)."""
+        """Sensor reading predicted for parameter values ``v`` (module docstring).
+
+        Parameters
+        ----------
+        v : dict
+            Parameter values by name (SI units as named); ``alpha_per_s`` and ``E_factor``
+            are required, absent effects are off.
+        time_s : numpy.ndarray, optional
+            Times [s]. Default: the record's sample times.
+
+        Returns
+        -------
+        numpy.ndarray
+            Sensor reading y(t) [m].
+        """
         exp = self.exp
         t = exp.time_s if time_s is None else time_s
         m = self.modes(v)

@@ -78,7 +78,22 @@ def _markdown(summary):
 
 
 def write_report(out_dir, cal: Calibration, summary):
-    """Write the report files (module docstring) into ``out_dir``; returns their paths."""
+    """Write the calibration report files (module docstring) into ``out_dir``.
+
+    Parameters
+    ----------
+    out_dir : str or pathlib.Path
+        Output directory (created if missing).
+    cal : Calibration
+        The calibration result (figures and residual series).
+    summary : dict
+        Its JSON summary (:func:`ccedi.calibrate.loop.summary`), for ``report.md``.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The paths of ``fit.png``, ``residual.png``, ``residuals.csv`` and ``report.md``.
+    """
     out = Path(out_dir)
     fit_fig, res_fig = _figures(cal)
     md = _markdown(summary)

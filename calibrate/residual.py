@@ -37,7 +37,24 @@ LATE = 0.6
 
 
 def noise_std(exp):
-    """Sensor noise std [m]: the sidecar's, or estimated from the record (rom.damping.noise_level)."""
+    """Sensor noise standard deviation of an experiment.
+
+    Parameters
+    ----------
+    exp : Experiment
+        The experiment.
+
+    Returns
+    -------
+    float
+        The sidecar's ``sensor.noise_std_m``, or else the estimate of
+        :func:`ccedi.rom.damping.noise_level` from the record [m].
+
+    Raises
+    ------
+    InputError
+        When estimating from a record of fewer than 5 samples.
+    """
     return exp.noise_std_m if exp.noise_std_m is not None else noise_level(exp.displacement_m)
 
 
@@ -71,7 +88,26 @@ def _corr(r, x):
 
 
 def analyse(model: FingerModel, fitted: Fit):
-    """The residual signatures of ``fitted`` (module docstring) as a flat dict."""
+    """The residual signatures of a fitted model (module docstring), as a flat dict.
+
+    Parameters
+    ----------
+    model : FingerModel
+        The experiment's calibration model.
+    fitted : Fit
+        The fit whose residual is analysed.
+
+    Returns
+    -------
+    dict
+        ``rms_over_noise`` [-], ``noise_std_m`` [m], ``spectrum_peak_hz`` [Hz],
+        ``spectrum_peak_mode`` (1-based), ``mode_frequencies_hz`` (first three) [Hz],
+        ``frequency_shift`` [-], ``E_factor`` [-], ``E_factor_at_bound`` (bool),
+        ``decrement_vs_amplitude`` and ``period_vs_amplitude`` [-] (nan when too few
+        peaks), ``offset_sigma`` and ``drift_t`` [-], and the correlations ``corr_u``,
+        ``corr_velocity``, ``corr_sign_velocity``, ``corr_u2``, ``corr_u3``,
+        ``corr_velocity_abs_velocity`` [-].
+    """
     exp = model.exp
     t, y, u = exp.time_s, exp.displacement_m, fitted.prediction
     r = y - u
@@ -108,7 +144,18 @@ def analyse(model: FingerModel, fitted: Fit):
 
 
 def suggest(ev):
-    """[(effect name, reason)] suggested by the signatures ``ev`` of :func:`analyse`, strongest first."""
+    """Candidate effects suggested by residual signatures, strongest first.
+
+    Parameters
+    ----------
+    ev : dict
+        Signatures from :func:`analyse`.
+
+    Returns
+    -------
+    list of (str, str)
+        (effect name, reason), each effect once, ranked by the strength of its signature.
+    """
     out = []
     if abs(ev["offset_sigma"]) > SIGNIFICANT_T:
         out.append((abs(ev["offset_sigma"]), "gravity", f"static offset {ev['offset_sigma']:.1f} standard errors"))

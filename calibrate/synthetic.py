@@ -75,8 +75,19 @@ INJECTED = {
 
 @dataclass(frozen=True)
 class Truth:
-    """What a synthetic record really contains: E factor over the declared E, alpha [1/s],
-    tip force [N] and the injected effects {name: {parameter: value}}."""
+    """What a synthetic record really contains.
+
+    Parameters
+    ----------
+    E_factor : float
+        True Young's modulus over the declared one [-].
+    alpha_per_s : float
+        True mass-proportional damping [1/s].
+    force_N : float
+        Tip pulse force [N].
+    effects : dict, optional
+        Injected effects {name: {parameter: value}} (SI units as named). Default none.
+    """
 
     E_factor: float
     alpha_per_s: float
@@ -85,9 +96,30 @@ class Truth:
 
 
 def beam_matrices(length_m, n_el, EI, rho_a):
-    """Hermite-cubic Euler-Bernoulli stiffness and consistent mass matrices of a free beam,
-    DOFs (w_0, theta_0, w_1, theta_1, ...) [m, rad]; and the consistent load vector of a
-    unit distributed load [N per N/m]."""
+    """Hermite-cubic Euler-Bernoulli matrices of a free uniform beam.
+
+    DOFs (w_0, theta_0, w_1, theta_1, ...) [m, rad], ``n_el`` equal elements.
+
+    Parameters
+    ----------
+    length_m : float
+        Beam length [m].
+    n_el : int
+        Number of elements.
+    EI : float
+        Bending stiffness [N m^2].
+    rho_a : float
+        Mass per length [kg/m].
+
+    Returns
+    -------
+    K : numpy.ndarray
+        Stiffness, (2 (n_el + 1),) squared [N/m, N, N m].
+    M : numpy.ndarray
+        Consistent mass, same shape [kg, kg m, kg m^2].
+    f : numpy.ndarray
+        Consistent load vector of a unit distributed load [N per N/m, N m per N/m].
+    """
     h = length_m / n_el
     k = EI / h**3 * np.array([[12, 6 * h, -12, 6 * h], [6 * h, 4 * h * h, -6 * h, 2 * h * h],
                               [-12, -6 * h, 12, -6 * h], [6 * h, 2 * h * h, -6 * h, 4 * h * h]])
@@ -105,8 +137,31 @@ def beam_matrices(length_m, n_el, EI, rho_a):
 
 
 def beam_response(truth: Truth, length_m, EI, rho_a, t_end_s=RECORD_S):
-    """Tip displacement w_L [m] of the FE beam on the grid k DT_S, 0 <= t <= t_end_s
-    (physical effects only; sensor effects are applied by :func:`sensor`)."""
+    """Tip displacement of the FE beam with the truth's physical effects (module docstring).
+
+    Newmark average acceleration with step DT_S from the (relaxed) static sag; sensor
+    effects are applied separately by :func:`sensor`.
+
+    Parameters
+    ----------
+    truth : Truth
+        E factor, alpha, force and injected effects.
+    length_m : float
+        Finger length [m].
+    EI : float
+        Declared bending stiffness [N m^2] (multiplied by ``truth.E_factor``).
+    rho_a : float
+        Mass per length [kg/m].
+    t_end_s : float, optional
+        Record length [s]. Default RECORD_S (2 s).
+
+    Returns
+    -------
+    t : numpy.ndarray
+        Times k DT_S, 0 <= t <= t_end_s [s].
+    w : numpy.ndarray
+        Tip displacement w_L [m].
+    """
     fx = truth.effects
     K, M, f_unit = beam_matrices(length_m, N_ELEMENTS, EI * truth.E_factor, rho_a)
     root = fx.get("root_compliance")
@@ -157,7 +212,25 @@ def beam_response(truth: Truth, length_m, EI, rho_a, t_end_s=RECORD_S):
 
 
 def sensor(t, w, effects):
-    """What the displacement sensor reports for tip displacement w [m] at times t [s]."""
+    """What the displacement sensor reports for a tip displacement history.
+
+    Applies the sensor effects of ``effects``: time delay, quadratic nonlinearity,
+    offset and linear drift.
+
+    Parameters
+    ----------
+    t : numpy.ndarray
+        Times [s].
+    w : numpy.ndarray
+        Tip displacement at ``t`` [m].
+    effects : dict
+        Injected effects {name: {parameter: value}}; others are ignored.
+
+    Returns
+    -------
+    numpy.ndarray
+        The sensor reading [m].
+    """
     delay = effects.get("time_delay", {}).get("delay_s", 0.0)
     y = np.interp(t - delay, t, w, left=w[0]) if delay else w.copy()
     s2 = effects.get("sensor_nonlinearity", {}).get("sensor_quadratic_per_m", 0.0)
@@ -166,13 +239,35 @@ def sensor(t, w, effects):
 
 
 def declared_finger():
-    """The finger the sidecars declare: SM-A section, 8 in long, the paper's rubber."""
+    """The finger the sidecars declare: SM-A section, 8 in long, the paper's rubber.
+
+    Returns
+    -------
+    dict
+        The sidecar's ``finger`` object (length_in, section_semi_axes_m [m], E_Pa,
+        nu, rho_kg_m3).
+    """
     return {"length_in": LENGTH_IN, "section_semi_axes_m": [SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR],
             "E_Pa": RUBBER.E, "nu": RUBBER.nu, "rho_kg_m3": RUBBER.rho}
 
 
 def record(truth: Truth, seed):
-    """(CSV frame, sidecar dict) of one synthetic record of the declared finger."""
+    """One synthetic record of the declared finger: FE beam, sensor, decimation, noise.
+
+    Parameters
+    ----------
+    truth : Truth
+        What the record contains.
+    seed : int
+        Seed of the white measurement noise.
+
+    Returns
+    -------
+    frame : pandas.DataFrame
+        Columns ``time_s`` [s], ``tip_displacement_m`` [m] (with noise), ``force_N`` [N].
+    meta : dict
+        The JSON sidecar (kind, declared finger, load, sensor noise std [m]).
+    """
     area, inertia = ellipse_section_properties(SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR)
     t_fine, w = beam_response(truth, inch_to_m(LENGTH_IN), RUBBER.E * inertia, RUBBER.rho * area)
     y_fine = sensor(t_fine, w, truth.effects)
@@ -189,8 +284,16 @@ def record(truth: Truth, seed):
 
 
 def bundled_set():
-    """{name: Truth} of the bundled set: every catalogue effect at two amplitudes, two clean
-    controls and one record with two effects (tip mass and quadratic damping)."""
+    """The truths of the bundled set.
+
+    Every catalogue effect at two amplitudes, two clean controls and one record with two
+    effects (tip mass and quadratic damping); E factors and alphas drawn with a fixed seed.
+
+    Returns
+    -------
+    dict
+        {record name: Truth}.
+    """
     rng = np.random.default_rng(2012)
     cases = {f"control_{a}": {} for a in AMPLITUDES_N}
     for name, params in INJECTED.items():
@@ -210,7 +313,20 @@ SOLID = {"length_in": 4.5, "alpha_per_s": 20.0, "force_N": 0.3, "record_s": 1.0}
 
 
 def solid_record(seed):
-    """(CSV frame, sidecar dict) of the clean control from the full 3-D FEA (module docstring)."""
+    """The clean control record from the full 3-D explicit FEA (module docstring).
+
+    Parameters
+    ----------
+    seed : int
+        Seed of the white measurement noise.
+
+    Returns
+    -------
+    frame : pandas.DataFrame
+        Columns ``time_s`` [s], ``tip_displacement_m`` [m] (with noise), ``force_N`` [N].
+    meta : dict
+        The JSON sidecar (kind, declared finger, load, sensor noise std [m]).
+    """
     fe = impulse_response(length_in=SOLID["length_in"], alpha=SOLID["alpha_per_s"], force_N=SOLID["force_N"],
                           duration_s=PULSE_S, t_end_s=SOLID["record_s"],
                           n_outputs=int(round(SOLID["record_s"] * SAMPLE_RATE_HZ)))
@@ -227,7 +343,15 @@ def solid_record(seed):
 
 
 def write_bundled_set(out_dir):
-    """Write every record as NAME.csv + NAME.json and the truths as manifest.json."""
+    """Write every record as NAME.csv + NAME.json and the truths as manifest.json.
+
+    Deterministic; prints one line per record.
+
+    Parameters
+    ----------
+    out_dir : str or pathlib.Path
+        Output directory (created if missing).
+    """
     out_dir = Path(out_dir)
     frame, meta = solid_record(seed=999)
     write_csv(out_dir / "control_fea_solid.csv", frame)

@@ -2,17 +2,44 @@
 
 
 class InputError(ValueError):
-    """A user-supplied value is invalid; the message names the field and its allowed range."""
+    """A user-supplied value is invalid; the message names the field and its allowed range.
+
+    A subclass of :class:`ValueError`, so callers that catch ``ValueError`` also catch it.
+    The command line turns it into a one-line error message and a non-zero exit status.
+    """
 
 
 class SolverError(RuntimeError):
-    """The explicit solver cannot continue (divergence, inverted element, unstable step)."""
+    """The explicit solver cannot continue (divergence, inverted element, unstable step).
+
+    A subclass of :class:`RuntimeError`: the inputs were valid but the computation failed
+    (e.g. an element with Jacobian J <= 0, a Newton iteration that did not converge).
+    """
 
 
 def require_finite_positive(name, value, allow_zero=False):
     """Return ``float(value)`` or raise :class:`InputError` naming ``name``.
 
-    ``value`` must be a finite real number, > 0 (or >= 0 when ``allow_zero``).
+    Parameters
+    ----------
+    name : str
+        How the field is named in the error message, ideally with its unit,
+        e.g. ``"length_m (finger length, m)"``.
+    value : object
+        The value to check; anything ``float()`` accepts.
+    allow_zero : bool, optional
+        Accept ``value == 0`` (the check becomes ``>= 0``). Default False (``> 0``).
+
+    Returns
+    -------
+    float
+        ``float(value)``, finite and > 0 (or >= 0 when ``allow_zero``).
+
+    Raises
+    ------
+    InputError
+        If ``value`` is not a real number, is NaN or infinite, or is negative
+        (or zero, unless ``allow_zero``).
     """
     try:
         x = float(value)

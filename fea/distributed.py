@@ -31,8 +31,29 @@ the next step starts."""
 
 
 def client(stack, scheduler, n_workers=LOCAL_WORKERS):
-    """A ``dask.distributed.Client`` for ``scheduler`` ("local" or an address), closed
-    (with its local cluster) when ``stack`` closes."""
+    """A ``dask.distributed.Client`` for ``scheduler``, closed when ``stack`` closes.
+
+    Parameters
+    ----------
+    stack : contextlib.ExitStack
+        Owns the client (and the local cluster, if one is started).
+    scheduler : str
+        ``"local"`` (start a LocalCluster of single-threaded worker processes) or the
+        address of a running scheduler, e.g. ``tcp://10.0.0.5:8786``.
+    n_workers : int, optional
+        Worker processes of a local cluster. Default 2.
+
+    Returns
+    -------
+    dask.distributed.Client
+        The connected client.
+
+    Raises
+    ------
+    InputError
+        If dask.distributed is not installed, or the scheduler at the address cannot be
+        reached within 10 s.
+    """
     try:
         from dask.distributed import Client, LocalCluster
     except ImportError:
@@ -59,11 +80,32 @@ def _in_worker():
 
 
 def map_runs(function, items, scheduler=SERIAL, n_workers=LOCAL_WORKERS, label="runs"):
-    """``[function(item) for item in items]``, computed according to ``scheduler`` (see the
-    module docstring). ``function`` must be importable (a module-level function or a
-    ``functools.partial`` of one). Called from a task already running on a Dask worker
-    (a study step), the runs go to that task's cluster (``worker_client``: the waiting task
-    gives its worker slot to the runs)."""
+    """``[function(item) for item in items]``, computed according to ``scheduler``.
+
+    Called from a task already running on a Dask worker (a study step), the runs go to
+    that task's cluster (``worker_client``: the waiting task gives its worker slot to the
+    runs). A tqdm progress bar counts finished runs.
+
+    Parameters
+    ----------
+    function : callable
+        One run; must be importable by the workers (a module-level function or a
+        ``functools.partial`` of one).
+    items : iterable
+        The run inputs.
+    scheduler : str, optional
+        ``"serial"``, ``"local"`` or a scheduler address (see the module docstring).
+        Default ``"serial"``.
+    n_workers : int, optional
+        Worker processes of a local cluster. Default 2.
+    label : str, optional
+        Progress bar label. Default ``"runs"``.
+
+    Returns
+    -------
+    list
+        The results, in the order of ``items``, identical to the serial ones.
+    """
     from tqdm import tqdm
 
     items = list(items)

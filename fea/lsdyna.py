@@ -97,7 +97,31 @@ def _object_shells(surface, first_node):
 
 
 def keyword_lines(model, t_end_s, title="ccedi model"):
-    """The deck of ``model`` run to ``t_end_s`` [s] as a list of lines."""
+    """The LS-DYNA keyword deck of ``model`` as a list of lines (cards in the module docstring).
+
+    Parameters
+    ----------
+    model : Model
+        A solid model (no rods or point masses) with global damping; a rotating root
+        must turn about the global z axis through the origin, and contact must be with
+        the rigid elliptical object.
+    t_end_s : float
+        Termination time (*CONTROL_TERMINATION) [s].
+    title : str, optional
+        *TITLE text, truncated to 80 characters. Default ``"ccedi model"``.
+
+    Returns
+    -------
+    list of str
+        The deck, ``*KEYWORD`` to ``*END``, without line terminators.
+
+    Raises
+    ------
+    InputError
+        If the model has rods or point masses, relative damping, a rotation about
+        another axis, contact with another surface, or a number that does not fit
+        its fixed-width field.
+    """
     if model.rods or model.point_masses:
         raise InputError("LS-DYNA export covers solid models; this model has rods or point masses")
     if model.damping != "global":
@@ -155,13 +179,63 @@ def keyword_lines(model, t_end_s, title="ccedi model"):
 
 
 def write_keyword(model, path, t_end_s, title="ccedi model"):
-    """Write the LS-DYNA deck of ``model`` (run to ``t_end_s`` [s]) to ``path``, atomically."""
+    """Write the LS-DYNA deck of ``model`` to ``path``, atomically.
+
+    Parameters
+    ----------
+    model : Model
+        The model (restrictions as in :func:`keyword_lines`).
+    path : str or pathlib.Path
+        Output ``.k`` file; parent directories are created.
+    t_end_s : float
+        Termination time [s].
+    title : str, optional
+        *TITLE text. Default ``"ccedi model"``.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    InputError
+        If the model cannot be exported (see :func:`keyword_lines`).
+    """
     return write_text(path, "\n".join(keyword_lines(model, t_end_s, title)) + "\n")
 
 
 @dataclass
 class Deck:
-    """What :func:`read_keyword` recovers (0-based ids, SI units)."""
+    """What :func:`read_keyword` recovers from a deck (0-based ids, SI units).
+
+    Parameters
+    ----------
+    nodes : numpy.ndarray
+        Finger node coordinates, shape (n, 3) [m] (the rigid object's nodes dropped).
+    hexes : numpy.ndarray
+        Finger hexahedra, shape (e, 8), 0-based node ids.
+    material : dict
+        ``{"rho": kg/m^3, "E": Pa, "nu": -}`` from *MAT_ELASTIC.
+    alpha_per_s : float
+        VALDMP of *DAMPING_GLOBAL, the mass damping alpha [1/s].
+    tssfac : float
+        Time step scale factor of *CONTROL_TIMESTEP [-].
+    t_end_s : float
+        Termination time [s].
+    node_sets : dict
+        {set id: array of 0-based node ids} of every *SET_NODE_LIST.
+    spc_sets : list of int
+        Node set ids with a *BOUNDARY_SPC_SET.
+    loads : list of dict, optional
+        One per *LOAD_NODE_SET line: ``nodes``, ``dof`` (0, 1, 2), ``force_N``
+        (force per node [N], SF times the curve's height), ``t_start_s``, ``t_end_s``.
+    contact : dict or None, optional
+        ``nodes``, ``static_friction``, ``dynamic_friction`` of the nodes-to-surface
+        contact, or None.
+    shells : numpy.ndarray or None, optional
+        Shell connectivity of the rigid object; not filled by :func:`read_keyword`.
+    """
 
     nodes: np.ndarray
     hexes: np.ndarray
@@ -197,7 +271,26 @@ def _blocks(text):
 
 
 def read_keyword(path):
-    """Parse a deck written by :func:`write_keyword` into a :class:`Deck`."""
+    """Parse a deck written by :func:`write_keyword` into a :class:`Deck`.
+
+    Reads the fixed-width fields ccedi writes and comma-separated (free format) lines.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The keyword file.
+
+    Returns
+    -------
+    Deck
+        Nodes, elements, material, damping, controls, node sets, loads and contact.
+
+    Raises
+    ------
+    InputError
+        If a required card (*MAT_ELASTIC, *DAMPING_GLOBAL, *CONTROL_TIMESTEP,
+        *CONTROL_TERMINATION) is missing.
+    """
     blocks = _blocks(open(path).read())
 
     def one(key, width=10):

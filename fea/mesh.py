@@ -36,7 +36,17 @@ SM_A_ELEMENT_LENGTH = 4.0e-3
 
 @dataclass
 class Mesh:
-    """Nodes (n, 3) [m], 8-node hexahedra (e, 8) and named node sets (arrays of node ids)."""
+    """A hexahedral mesh with named node sets.
+
+    Parameters
+    ----------
+    nodes : numpy.ndarray
+        Nodal positions, shape (n, 3) [m].
+    hexes : numpy.ndarray
+        8-node hexahedra, shape (e, 8), node ids in LS-DYNA / VTK order (module docstring).
+    node_sets : dict, optional
+        {name: array of node ids}, e.g. ``"root"`` and ``"tip"``. Default empty.
+    """
 
     nodes: np.ndarray
     hexes: np.ndarray
@@ -44,10 +54,12 @@ class Mesh:
 
     @property
     def n_nodes(self):
+        """Number of nodes n."""
         return len(self.nodes)
 
     @property
     def n_elements(self):
+        """Number of hexahedra e."""
         return len(self.hexes)
 
 
@@ -63,9 +75,23 @@ def _ellipse_arc_points(a, b, theta0, theta1, n):
 def ellipse_section(a, b, n):
     """Mapped n x n quadrilateral grid of the ellipse x^2/a^2 + y^2/b^2 <= 1.
 
-    Returns grid points of shape (n+1, n+1, 2), index [j, i]. Grid corners lie at the
-    ellipse axis points; the interior is the transfinite (Coons) interpolation
-    P(s,t) = (1-t) B(s) + t T(s) + (1-s) Lf(t) + s R(t) - bilinear corner term.
+    Grid corners lie at the ellipse axis points and the boundary nodes are even in arc
+    length; the interior is the transfinite (Coons) interpolation
+    P(s, t) = (1-t) B(s) + t T(s) + (1-s) L(t) + s R(t) - bilinear corner term.
+
+    Parameters
+    ----------
+    a : float
+        Semi-axis along x [m].
+    b : float
+        Semi-axis along y [m].
+    n : int
+        Quadrilaterals per grid direction, >= 1.
+
+    Returns
+    -------
+    numpy.ndarray
+        Grid points, shape (n+1, n+1, 2) [m], index [j, i].
     """
     h = np.pi / 2
     bottom = _ellipse_arc_points(a, b, -h, 0.0, n)          # (0,-b) -> (a,0)
@@ -85,7 +111,31 @@ def ellipse_section(a, b, n):
 def elliptical_cantilever(length_m, n_section, n_along, a=SEMI_AXIS_MAJOR, b=SEMI_AXIS_MINOR):
     """Hex mesh of a straight elliptical cantilever along +z, root face at z = 0.
 
-    Node sets: ``root`` (z = 0, clamped), ``tip`` (z = L).
+    Node sets: ``root`` (z = 0, clamped) and ``tip`` (z = L).
+
+    Parameters
+    ----------
+    length_m : float
+        Length L [m], > 0.
+    n_section : int
+        Elements per direction of the n x n section grid, >= 1.
+    n_along : int
+        Elements along the length, >= 1.
+    a : float, optional
+        Section semi-axis along x [m], > 0. Default 12 mm.
+    b : float, optional
+        Section semi-axis along y, the bending direction [m], > 0. Default 8.45 mm.
+
+    Returns
+    -------
+    Mesh
+        (n_section+1)^2 (n_along+1) nodes and n_section^2 n_along hexahedra.
+
+    Raises
+    ------
+    InputError
+        If a length or semi-axis is not a finite number > 0, or an element count is not
+        an integer >= 1.
     """
     length_m = require_finite_positive("length_m (finger length, m)", length_m)
     for name, n in (("n_section", n_section), ("n_along", n_along)):
@@ -116,7 +166,18 @@ def _length_m(length_in=None, length_m=None):
 
 
 def sm_a_elements_along(length_m):
-    """SM-A element count along the finger: round(L / 4 mm), at least 1."""
+    """SM-A element count along the finger: round(L / 4 mm), at least 1.
+
+    Parameters
+    ----------
+    length_m : float
+        Finger length L [m].
+
+    Returns
+    -------
+    int
+        Number of elements along the finger.
+    """
     return max(1, int(round(length_m / SM_A_ELEMENT_LENGTH)))
 
 
@@ -125,13 +186,58 @@ SEMI_AXES = (SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR)
 
 
 def sm_a(length_in=None, length_m=None, semi_axes_m=SEMI_AXES):
-    """The paper's simplified model A: 5 x 5 hexahedra in the section, ~4 mm along;
-    section semi-axes ``semi_axes_m`` = (a along x, b along y, the bending direction) [m]."""
+    """The paper's simplified model A: 5 x 5 hexahedra in the section, ~4 mm along.
+
+    Give exactly one of ``length_in`` and ``length_m``.
+
+    Parameters
+    ----------
+    length_in : float, optional
+        Finger length [in], > 0.
+    length_m : float, optional
+        Finger length [m], > 0.
+    semi_axes_m : tuple of float, optional
+        Section semi-axes (a along x, b along y, the bending direction) [m].
+        Default (12 mm, 8.45 mm).
+
+    Returns
+    -------
+    Mesh
+        The SM-A mesh (1080 nodes, 725 elements at 4.5 in).
+
+    Raises
+    ------
+    InputError
+        If neither or both lengths are given, or a length or semi-axis is not > 0.
+    """
     L = _length_m(length_in, length_m)
     return elliptical_cantilever(L, 5, sm_a_elements_along(L), *semi_axes_m)
 
 
 def sm_b(length_in=None, length_m=None, semi_axes_m=SEMI_AXES):
-    """The paper's refined simplified model B: 9 x 9 in the section, twice SM-A along."""
+    """The paper's refined simplified model B: 9 x 9 in the section, twice SM-A along.
+
+    Give exactly one of ``length_in`` and ``length_m``.
+
+    Parameters
+    ----------
+    length_in : float, optional
+        Finger length [in], > 0.
+    length_m : float, optional
+        Finger length [m], > 0.
+    semi_axes_m : tuple of float, optional
+        Section semi-axes (a along x, b along y, the bending direction) [m].
+        Default (12 mm, 8.45 mm).
+
+    Returns
+    -------
+    Mesh
+        The SM-B mesh (5900 nodes, 4698 elements at 4.5 in).
+
+    Raises
+    ------
+    InputError
+        If neither or both lengths are given, or a length or semi-axis is not > 0.
+    """
     L = _length_m(length_in, length_m)
     return elliptical_cantilever(L, 9, 2 * sm_a_elements_along(L), *semi_axes_m)

@@ -19,8 +19,37 @@ from .static import free_dofs, tangent_stiffness
 
 
 def natural_frequencies(model: Model, n_modes=3, x=None, return_modes=False):
-    """The ``n_modes`` lowest angular frequencies [rad/s] (ascending); with
-    ``return_modes`` also the mass-normalised mode shapes (3n, n_modes), zero on fixed DOFs."""
+    """Lowest natural frequencies (and mode shapes) of the linearised model.
+
+    Solves K phi = omega^2 M phi on the free DOFs, K the tangent stiffness at ``x`` and
+    M the lumped mass; shift-invert Lanczos, or a dense solve when (nearly) all modes
+    are asked for.
+
+    Parameters
+    ----------
+    model : Model
+        The finite element model (its fixed nodes are constrained).
+    n_modes : int, optional
+        Number of modes, an integer from 1 to the number of free DOFs. Default 3.
+    x : numpy.ndarray, optional
+        Nodal positions (n, 3) [m] at which K is taken (a preloaded state).
+        Default: the reference positions.
+    return_modes : bool, optional
+        Also return the mode shapes. Default False.
+
+    Returns
+    -------
+    omega : numpy.ndarray
+        The ``n_modes`` lowest angular frequencies, ascending, shape (n_modes,) [rad/s].
+    modes : numpy.ndarray
+        Only with ``return_modes``: mass-normalised mode shapes (3 n, n_modes), DOF
+        index node*3 + direction, zero on fixed DOFs.
+
+    Raises
+    ------
+    InputError
+        If ``n_modes`` is not an integer >= 1 or exceeds the number of free DOFs.
+    """
     if int(n_modes) != n_modes or n_modes < 1:
         raise InputError(f"n_modes must be an integer >= 1, got {n_modes!r}")
     free = free_dofs(model)

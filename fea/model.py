@@ -17,8 +17,30 @@ from .rod import Rod, RodArrays, rod_arrays, rod_lumped_mass
 
 @dataclass(frozen=True)
 class ForcePulse:
-    """A rectangular force pulse: total force ``force_N`` (3,) [N] shared among ``nodes``
-    in proportion to ``weights`` (sum 1), applied for ``t_start_s <= t < t_end_s``."""
+    """A rectangular force pulse shared among a node set.
+
+    The total force ``force_N`` is split among ``nodes`` in proportion to ``weights``
+    and applied for ``t_start_s <= t < t_end_s``.
+
+    Parameters
+    ----------
+    nodes : numpy.ndarray
+        Loaded node ids (stored as int64).
+    weights : numpy.ndarray
+        Share of the force per node, one non-negative number per node, summing to 1.
+    force_N : numpy.ndarray
+        Total force, 3 finite components [N].
+    t_start_s : float
+        Pulse start [s], >= 0.
+    t_end_s : float
+        Pulse end [s], > ``t_start_s``.
+
+    Raises
+    ------
+    InputError
+        If the force is not 3 finite components, the times are not finite or not
+        ordered, or the weights do not match the nodes or do not sum to 1.
+    """
 
     nodes: np.ndarray
     weights: np.ndarray
@@ -44,8 +66,28 @@ class ForcePulse:
 
 @dataclass(frozen=True)
 class RotatingNodes:
-    """Prescribed rigid rotation of a node set about the axis through ``center_m`` along
-    ``axis`` at constant angular velocity ``omega_rad_s``: x(t) = c + R(omega t)(X - c)."""
+    """Prescribed rigid rotation of a node set at constant angular velocity.
+
+    x(t) = c + R(omega t) (X - c), a rotation about the axis through ``center_m``
+    along ``axis``.
+
+    Parameters
+    ----------
+    nodes : numpy.ndarray
+        Driven node ids (stored as int64).
+    center_m : numpy.ndarray
+        A point c on the rotation axis, shape (3,) [m].
+    axis : numpy.ndarray
+        Axis direction, a non-zero 3-vector (stored normalised); the rotation is
+        right-handed about it.
+    omega_rad_s : float
+        Angular velocity omega [rad/s], finite (negative turns the other way).
+
+    Raises
+    ------
+    InputError
+        If ``axis`` is not a non-zero finite 3-vector or ``omega_rad_s`` is not finite.
+    """
 
     nodes: np.ndarray
     center_m: np.ndarray
@@ -66,18 +108,61 @@ class RotatingNodes:
 
 @dataclass
 class Model:
-    """Everything the explicit solver needs.
+    """Everything the explicit solver needs: mesh, material, damping, constraints, loads.
 
-    alpha : mass-proportional damping [1/s], >= 0.
-    beta : stiffness-proportional damping [s], >= 0.
-    hourglass_coefficient : Q_hg of :func:`ccedi.fea.hex8.hourglass_stiffness` [-], > 0.
-    fixed_nodes : node ids with all displacements fixed (clamped root).
-    rods : :class:`ccedi.fea.rod.Rod` chains on mesh nodes (beam elements), may share nodes with solids.
-    point_masses : {node id: mass [kg]} lumped point-mass elements.
-    contact : :class:`ccedi.fea.contact.Contact` of mesh nodes against a rigid surface, or None.
-    damping : ``"global"`` (mass damping on the absolute velocity, LS-DYNA
-        *DAMPING_GLOBAL) or ``"relative"`` (on the velocity relative to the frame of
-        ``rotating``, *DAMPING_RELATIVE).
+    Construction validates the inputs and derives the element geometry, hourglass
+    stiffness, rod arrays and lumped nodal masses.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        Nodes [m], hexahedra and node sets.
+    material : NeoHookean or None
+        Solid material; None only for a mesh without solid elements (rods and point
+        masses only).
+    alpha : float, optional
+        Mass-proportional Rayleigh damping [1/s], >= 0. Default 0.
+    beta : float, optional
+        Stiffness-proportional Rayleigh damping [s], >= 0. Default 0.
+    fixed_nodes : numpy.ndarray, optional
+        Node ids with all displacements fixed (the clamped root). Default none.
+    pulses : tuple of ForcePulse, optional
+        External force pulses. Default none.
+    rotating : RotatingNodes or None, optional
+        Nodes driven in a prescribed rigid rotation (the drum). Default None.
+    hourglass_coefficient : float, optional
+        Q_hg of :func:`ccedi.fea.hex8.hourglass_stiffness` [-], > 0. Default 1.
+    rods : tuple of Rod, optional
+        :class:`ccedi.fea.rod.Rod` chains on mesh nodes (beam elements); they may
+        share nodes with the solids. Default none.
+    point_masses : dict, optional
+        {node id: mass [kg]} lumped point-mass elements, masses > 0. Default none.
+    contact : Contact or None, optional
+        :class:`ccedi.fea.contact.Contact` of mesh nodes against a rigid surface.
+        Default None.
+    damping : {"global", "relative"}, optional
+        Mass damping on the absolute velocity (LS-DYNA *DAMPING_GLOBAL) or on the
+        velocity relative to the frame of ``rotating`` (*DAMPING_RELATIVE).
+        Default ``"global"``.
+
+    Attributes
+    ----------
+    geometry : ElementGeometry
+        Reference element geometry.
+    kappa : numpy.ndarray
+        Hourglass stiffness per element [N/m].
+    rod_arrays : RodArrays
+        The rods packed for the kernels.
+    mass : numpy.ndarray
+        Lumped nodal masses, shape (n,) [kg].
+
+    Raises
+    ------
+    InputError
+        If a damping value or the hourglass coefficient is out of range, ``damping``
+        is unknown (or ``"relative"`` without ``rotating``), an element is inverted,
+        the material is missing for solid elements, a rod or point mass refers to a
+        node outside the mesh, a point mass is not > 0, or a free node has no mass.
     """
 
     mesh: Mesh
@@ -132,7 +217,8 @@ class Model:
     @property
     def solid_constants(self):
         """(mu [Pa], lam [Pa], rho [kg/m^3], wave speed [m/s]) of the solid material, zeros
-        for a model without solid elements (the hexahedron kernel then has nothing to do)."""
+        for a model without solid elements (the hexahedron kernel then has nothing to do).
+        """
         m = self.material
         return (m.mu, m.lam, m.rho, m.wave_speed) if m is not None else (0.0, 0.0, 0.0, 0.0)
 
@@ -143,15 +229,52 @@ class Model:
 
 
 def lumped_mass(mesh, geometry, rho):
-    """Diagonal (lumped) nodal masses [kg]: each element's rho V0 split equally over its 8 nodes."""
+    """Diagonal (lumped) nodal masses of the solid elements.
+
+    Each element's mass rho V0 is split equally over its 8 nodes.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh (connectivity and node count).
+    geometry : ElementGeometry
+        Reference geometry (element volumes V0 [m^3]).
+    rho : float
+        Density [kg/m^3].
+
+    Returns
+    -------
+    numpy.ndarray
+        Nodal masses, shape (n,) [kg]; zero on nodes of no solid element.
+    """
     m = np.zeros(mesh.n_nodes)
     np.add.at(m, mesh.hexes, np.repeat((rho * geometry.volume / 8.0)[:, None], 8, axis=1))
     return m
 
 
 def face_node_weights(mesh, node_set):
-    """Area weights (sum 1) of the nodes of ``node_set`` for a uniform traction on the
-    element faces lying wholly in the set (each quad's area split 1/4 per node)."""
+    """Area weights of the nodes of a node set, for a uniform traction on it.
+
+    The traction acts on the element faces lying wholly in the set; each quadrilateral's
+    area is split 1/4 per node.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh.
+    node_set : numpy.ndarray
+        Node ids (e.g. ``mesh.node_sets["tip"]``).
+
+    Returns
+    -------
+    numpy.ndarray
+        Weights, one per node of ``node_set`` in its order, summing to 1.
+
+    Raises
+    ------
+    InputError
+        If the node set contains no complete element face.
+    """
     in_set = np.zeros(mesh.n_nodes, dtype=bool)
     in_set[node_set] = True
     faces = mesh.hexes[:, FACES].reshape(-1, 4)
@@ -166,7 +289,29 @@ def face_node_weights(mesh, node_set):
 
 
 def tip_pulse(mesh, force_N, duration_s, t_start_s=0.0):
-    """The paper's impulse: a force on the tip face, area-weighted over its nodes."""
+    """The paper's impulse: a force pulse on the tip face, area-weighted over its nodes.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        Mesh with a ``"tip"`` node set.
+    force_N : array_like
+        Total force, 3 components [N].
+    duration_s : float
+        Pulse duration [s], > 0.
+    t_start_s : float, optional
+        Pulse start [s], >= 0. Default 0.
+
+    Returns
+    -------
+    ForcePulse
+        Acting on the tip nodes for ``t_start_s <= t < t_start_s + duration_s``.
+
+    Raises
+    ------
+    InputError
+        If ``duration_s`` is not a finite number > 0 (and see :class:`ForcePulse`).
+    """
     tip = mesh.node_sets["tip"]
     return ForcePulse(nodes=tip, weights=face_node_weights(mesh, tip),
                       force_N=np.asarray(force_N, dtype=float),
@@ -174,7 +319,28 @@ def tip_pulse(mesh, force_N, duration_s, t_start_s=0.0):
 
 
 def cantilever_model(mesh, material, alpha=0.0, beta=0.0, pulses=(), hourglass_coefficient=1.0):
-    """A finger clamped at its root face (all root nodes fixed)."""
+    """A finger clamped at its root face (all ``"root"`` nodes fixed).
+
+    Parameters
+    ----------
+    mesh : Mesh
+        Mesh with a ``"root"`` node set.
+    material : NeoHookean
+        Solid material.
+    alpha : float, optional
+        Mass-proportional damping [1/s], >= 0. Default 0.
+    beta : float, optional
+        Stiffness-proportional damping [s], >= 0. Default 0.
+    pulses : iterable of ForcePulse, optional
+        External force pulses. Default none.
+    hourglass_coefficient : float, optional
+        Q_hg [-], > 0. Default 1.
+
+    Returns
+    -------
+    Model
+        The clamped cantilever.
+    """
     return Model(mesh=mesh, material=material, alpha=alpha, beta=beta,
                  fixed_nodes=mesh.node_sets["root"], pulses=tuple(pulses),
                  hourglass_coefficient=hourglass_coefficient)

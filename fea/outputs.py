@@ -40,7 +40,24 @@ def _json_safe(value):
 
 
 def write_json(path, data):
-    """Write ``data`` as indented JSON (non-finite numbers become null)."""
+    """Write ``data`` as indented JSON, atomically.
+
+    numpy scalars become plain numbers and non-finite numbers (NaN, inf) become null,
+    so the file is strict JSON.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        Output file; parent directories are created. Written to a temporary file in the
+        same directory, then renamed over ``path``.
+    data : dict or list
+        JSON-serialisable data (numpy scalars allowed).
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+    """
     def write(tmp):
         with open(tmp, "w") as fh:
             json.dump(_json_safe(data), fh, indent=2, sort_keys=False, allow_nan=False)
@@ -49,18 +66,61 @@ def write_json(path, data):
 
 
 def write_csv(path, frame):
-    """Write a pandas DataFrame as CSV (column names carry the units)."""
+    """Write a pandas DataFrame as CSV (no index; column names carry the units), atomically.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        Output file; parent directories are created. Written to a temporary file in the
+        same directory, then renamed over ``path``.
+    frame : pandas.DataFrame
+        The table.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+    """
     return _atomic_write(path, lambda tmp: frame.to_csv(tmp, index=False))
 
 
 def write_figure(path, fig):
-    """Save a matplotlib figure."""
+    """Save a matplotlib figure (120 dpi, tight bounding box), atomically.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        Output file; parent directories are created. Written to a temporary file in the
+        same directory, then renamed over ``path``.
+        The suffix chooses the format (default png).
+    fig : matplotlib.figure.Figure
+        The figure.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+    """
     fmt = Path(path).suffix.lstrip(".") or "png"
     return _atomic_write(path, lambda tmp: fig.savefig(tmp, format=fmt, dpi=120, bbox_inches="tight"))
 
 
 def write_text(path, text):
-    """Write a text file (e.g. a markdown report)."""
+    """Write a text file (e.g. a markdown report), atomically.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        Output file; parent directories are created. Written to a temporary file in the
+        same directory, then renamed over ``path``.
+    text : str
+        The content.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+    """
     def write(tmp):
         with open(tmp, "w") as fh:
             fh.write(text)
@@ -68,7 +128,13 @@ def write_text(path, text):
 
 
 def require_parquet():
-    """Raise a one-line InputError unless pandas' Parquet engine (pyarrow) is installed."""
+    """Check that pandas' Parquet engine (pyarrow) is installed.
+
+    Raises
+    ------
+    InputError
+        A one-line message with the install command, if pyarrow cannot be imported.
+    """
     from ccedi.errors import InputError
 
     try:
@@ -78,18 +144,70 @@ def require_parquet():
 
 
 def write_parquet(path, frame):
-    """Write a pandas DataFrame as Parquet (needs pyarrow: ``pip install 'ccedi[parquet]'``)."""
+    """Write a pandas DataFrame as Parquet, atomically (needs ``pip install 'ccedi[parquet]'``).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        Output file; parent directories are created. Written to a temporary file in the
+        same directory, then renamed over ``path``.
+    frame : pandas.DataFrame
+        The table.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    InputError
+        If pyarrow is not installed.
+    """
     require_parquet()
     return _atomic_write(path, lambda tmp: frame.to_parquet(tmp, index=False))
 
 
 def write_table(path, frame):
-    """Write a DataFrame as CSV or Parquet, chosen by the suffix of ``path``."""
+    """Write a DataFrame as Parquet if ``path`` ends in ``.parquet``, else as CSV.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        Output file; parent directories are created. Written to a temporary file in the
+        same directory, then renamed over ``path``.
+    frame : pandas.DataFrame
+        The table.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    InputError
+        For a ``.parquet`` path when pyarrow is not installed.
+    """
     return (write_parquet if Path(path).suffix == ".parquet" else write_csv)(path, frame)
 
 
 def write_pdf_figures(path, images):
-    """A PDF with one A4 page per (PNG path, caption) in ``images``."""
+    """Write a PDF with one A4 page per image, atomically.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        Output file; parent directories are created. Written to a temporary file in the
+        same directory, then renamed over ``path``.
+    images : iterable of (path, str)
+        (PNG file, caption) pairs, one page each, in order.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+    """
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -108,8 +226,21 @@ def write_pdf_figures(path, images):
 
 
 def remove_temporaries(directory):
-    """Delete the temporary files an interrupted writer left under ``directory`` (those of
-    a process killed before its own clean-up could run); returns how many."""
+    """Delete the temporary files an interrupted writer left under ``directory``.
+
+    These are the ``.<name>.*.tmp`` files of a process killed before its own clean-up
+    could run; the search is recursive.
+
+    Parameters
+    ----------
+    directory : str or pathlib.Path
+        Directory to clean.
+
+    Returns
+    -------
+    int
+        Number of files removed.
+    """
     leftovers = [p for p in Path(directory).rglob(".*.tmp") if p.is_file()]
     for p in leftovers:
         p.unlink(missing_ok=True)

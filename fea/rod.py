@@ -39,7 +39,22 @@ from .kernels import FASTMATH
 
 @dataclass(frozen=True)
 class RodSection:
-    """Linear elastic rod of circular cross-section: E [Pa], rho [kg/m^3], diameter [m]."""
+    """Linear elastic rod of circular cross-section.
+
+    Parameters
+    ----------
+    E : float
+        Young's modulus [Pa], > 0.
+    rho : float
+        Density [kg/m^3], > 0.
+    diameter_m : float
+        Section diameter d [m], > 0.
+
+    Raises
+    ------
+    InputError
+        If a value is not a finite number > 0.
+    """
 
     E: float
     rho: float
@@ -64,8 +79,24 @@ class RodSection:
 
 @dataclass(frozen=True)
 class Rod:
-    """A chain of node ids (in order along the rod) with its section. With ``ghost_root``
-    the first node is a clamp ghost (see the module docstring)."""
+    """A chain of node ids, in order along the rod, with its section.
+
+    Parameters
+    ----------
+    nodes : numpy.ndarray
+        At least two distinct node ids, in order (stored as int64).
+    section : RodSection
+        The rod's material and section.
+    ghost_root : bool, optional
+        The first node is a clamp ghost one element behind the root: its element has
+        no mass and the root hinge takes half its Voronoi length (module docstring).
+        Default False.
+
+    Raises
+    ------
+    InputError
+        If ``nodes`` is not a 1-D sequence of at least two distinct ids.
+    """
 
     nodes: np.ndarray
     section: RodSection
@@ -82,10 +113,33 @@ class Rod:
 class RodArrays:
     """Flat arrays of all rods of a model, the form the force kernels take.
 
-    segments (m, 2), rest_length (m,) [m], axial_stiffness EA (m,) [N],
-    hinges (h, 3), bending_stiffness EI / (l_a + l_b) (h,) [N m], hinge_rest (h,) mean
-    rest length [m], radius (h,) [m] and E (h,) [Pa] for stresses,
-    segment_time_step (m,) [s] and hinge_time_step (h,) [s] (critical, before TSSFAC).
+    m is the number of rod elements (segments), h the number of hinges.
+
+    Parameters
+    ----------
+    segments : numpy.ndarray
+        Node-id pairs, shape (m, 2).
+    rest_length : numpy.ndarray
+        Rest lengths l, shape (m,) [m].
+    axial_stiffness : numpy.ndarray
+        EA, shape (m,) [N].
+    segment_time_step : numpy.ndarray
+        Critical axial time step l / sqrt(E / rho), before TSSFAC, shape (m,) [s].
+    segment_E : numpy.ndarray
+        Young's modulus per segment, shape (m,) [Pa] (for stresses).
+    hinges : numpy.ndarray
+        Node-id triples, shape (h, 3).
+    bending_stiffness : numpy.ndarray
+        EI / (l_a + l_b) (EI / l_b at a ghost root), shape (h,) [N m].
+    hinge_time_step : numpy.ndarray
+        Critical bending time step l^2 / (2 sqrt(EI / (rho A))) with l the mean rest
+        length, before TSSFAC, shape (h,) [s].
+    hinge_rest : numpy.ndarray
+        Mean rest length of the two edges (l_a + l_b) / 2, shape (h,) [m].
+    hinge_radius : numpy.ndarray
+        Section radius d / 2 at the hinge, shape (h,) [m] (for stresses).
+    hinge_E : numpy.ndarray
+        Young's modulus at the hinge, shape (h,) [Pa] (for stresses).
     """
 
     segments: np.ndarray
@@ -102,7 +156,25 @@ class RodArrays:
 
 
 def rod_arrays(nodes, rods):
-    """Assemble :class:`RodArrays` from reference positions ``nodes`` (n, 3) and ``rods``."""
+    """Assemble the :class:`RodArrays` of ``rods`` at the reference positions.
+
+    Parameters
+    ----------
+    nodes : numpy.ndarray
+        Reference nodal positions, shape (n, 3) [m].
+    rods : sequence of Rod
+        The rods (may be empty: the arrays are then empty).
+
+    Returns
+    -------
+    RodArrays
+        Segments and hinges of all rods, concatenated in order.
+
+    Raises
+    ------
+    InputError
+        If a rod has a zero-length element (two coincident nodes).
+    """
     seg, l0, EA, dts, Es, hin, kb, dth, lh, rad, Eh = ([] for _ in range(11))
     for rod in rods:
         s = rod.section
@@ -137,7 +209,23 @@ def rod_arrays(nodes, rods):
 
 
 def rod_lumped_mass(nodes, rods):
-    """Nodal masses [kg] of the rods: each element's rho A l split half to each end."""
+    """Lumped nodal masses of the rods.
+
+    Each element's mass rho A l is split half to each end node; a ghost-root element has
+    no mass.
+
+    Parameters
+    ----------
+    nodes : numpy.ndarray
+        Reference nodal positions, shape (n, 3) [m].
+    rods : sequence of Rod
+        The rods.
+
+    Returns
+    -------
+    numpy.ndarray
+        Nodal masses, shape (n,) [kg].
+    """
     m = np.zeros(len(nodes))
     for rod in rods:
         pts = nodes[rod.nodes]
@@ -158,10 +246,35 @@ def _curvature_binormal(e1, e2):
 
 
 def rod_forces_numpy(x, segments, rest_length, axial_stiffness, hinges, bending_stiffness, f):
-    """Reference (pure numpy) rod internal forces, ADDED into ``f`` (n, 3) [N].
+    """Rod internal forces, pure numpy: the reference for :func:`rod_forces_numba`.
 
-    Returns ``(strain_energy [J], status)``; status is the index of the first hinge folded
-    back on itself (turning angle >= 180 deg, d <= 0), else -1.
+    Forces are the exact gradient of the stretching-plus-bending energy U of the module
+    docstring.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Nodal positions, shape (n, 3) [m].
+    segments : numpy.ndarray
+        Rod elements as node-id pairs, shape (m, 2).
+    rest_length : numpy.ndarray
+        Rest lengths l_i, shape (m,) [m].
+    axial_stiffness : numpy.ndarray
+        EA per element, shape (m,) [N].
+    hinges : numpy.ndarray
+        Node-id triples (i, j, k) of consecutive nodes, shape (h, 3).
+    bending_stiffness : numpy.ndarray
+        EI / (l_a + l_b) per hinge (EI / l_1 at a ghost root), shape (h,) [N m].
+    f : numpy.ndarray
+        Nodal forces, shape (n, 3) [N]; the rod internal forces dU/dx are ADDED into it.
+
+    Returns
+    -------
+    strain_energy : float
+        Stretching plus bending energy U [J] (of the segments and hinges processed).
+    status : int
+        -1 when every hinge is valid; else the index of the first hinge folded back on
+        itself (turning angle >= 180 deg, d <= 0), where the computation stops.
     """
     e = x[segments[:, 1]] - x[segments[:, 0]]
     length = np.linalg.norm(e, axis=1)
@@ -190,7 +303,33 @@ def rod_forces_numpy(x, segments, rest_length, axial_stiffness, hinges, bending_
 
 @nb.njit(cache=True, fastmath=FASTMATH)
 def rod_forces_numba(x, segments, rest_length, axial_stiffness, hinges, bending_stiffness, f):
-    """Compiled version of :func:`rod_forces_numpy` (same contract, forces added into f)."""
+    """Rod internal forces, compiled: the same contract as :func:`rod_forces_numpy`.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Nodal positions, shape (n, 3) [m].
+    segments : numpy.ndarray
+        Rod elements as node-id pairs, shape (m, 2).
+    rest_length : numpy.ndarray
+        Rest lengths l_i, shape (m,) [m].
+    axial_stiffness : numpy.ndarray
+        EA per element, shape (m,) [N].
+    hinges : numpy.ndarray
+        Node-id triples (i, j, k) of consecutive nodes, shape (h, 3).
+    bending_stiffness : numpy.ndarray
+        EI / (l_a + l_b) per hinge (EI / l_1 at a ghost root), shape (h,) [N m].
+    f : numpy.ndarray
+        Nodal forces, shape (n, 3) [N]; the rod internal forces dU/dx are ADDED into it.
+
+    Returns
+    -------
+    strain_energy : float
+        Stretching plus bending energy U [J] (of the segments and hinges processed).
+    status : int
+        -1 when every hinge is valid; else the index of the first hinge folded back on
+        itself (turning angle >= 180 deg, d <= 0), where the computation stops.
+    """
     energy = 0.0
     for s in range(segments.shape[0]):
         a = segments[s, 0]
@@ -254,9 +393,24 @@ def rod_forces_numba(x, segments, rest_length, axial_stiffness, hinges, bending_
 
 
 def rod_max_stress(x, arrays: RodArrays):
-    """Upper bound of the largest normal stress in the rods [Pa]: the largest axial stress
-    E |strain| plus the largest bending stress E r |curvature|, with the curvature
-    |kb| / mean rest length at each hinge (uniaxial, so von Mises equals it)."""
+    """Upper bound of the largest normal stress in the rods.
+
+    The largest axial stress E |strain| plus the largest bending stress E r |kappa|, with
+    the curvature kappa = |kb| / mean rest length at each hinge (uniaxial stress, so von
+    Mises equals it).
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Nodal positions, shape (n, 3) [m].
+    arrays : RodArrays
+        The model's rods.
+
+    Returns
+    -------
+    float
+        Stress bound [Pa]; 0 without rods.
+    """
     if len(arrays.segments) == 0:
         return 0.0
     e = x[arrays.segments[:, 1]] - x[arrays.segments[:, 0]]
@@ -273,8 +427,35 @@ def rod_max_stress(x, arrays: RodArrays):
 def straight_rod(length_m, n_elements, section, direction=(0.0, 0.0, 1.0), ghost=True):
     """Nodes and the :class:`Rod` of a straight rod from the origin along ``direction``.
 
-    With ``ghost`` an extra node one element behind the root is added (node 0), so that
-    fixing nodes 0 and 1 clamps the root. Returns (nodes (n, 3) [m], rod, root_ids, tip_id).
+    Parameters
+    ----------
+    length_m : float
+        Rod length [m], > 0.
+    n_elements : int
+        Number of elements, an integer >= 1.
+    section : RodSection
+        Material and section.
+    direction : array_like, optional
+        Rod direction, a non-zero 3-vector (normalised). Default +z.
+    ghost : bool, optional
+        Add a ghost node one element behind the root (node 0), so that fixing nodes 0
+        and 1 clamps the root. Default True.
+
+    Returns
+    -------
+    nodes : numpy.ndarray
+        Nodal positions, shape (n_elements + 1 (+1 with ghost), 3) [m].
+    rod : Rod
+        The rod over all nodes, ``ghost_root = ghost``.
+    root_ids : numpy.ndarray
+        The node ids to fix to clamp the root ([0, 1] with ghost, else [0]).
+    tip_id : int
+        The tip node id.
+
+    Raises
+    ------
+    InputError
+        If ``length_m`` is not > 0 or ``n_elements`` is not an integer >= 1.
     """
     length_m = require_finite_positive("length_m (rod length, m)", length_m)
     if int(n_elements) != n_elements or n_elements < 1:

@@ -20,7 +20,29 @@ from .model import Model, face_node_weights
 
 
 def tangent_stiffness(model: Model, x=None):
-    """Assembled tangent stiffness dF_int/dx (3n x 3n, CSR) [N/m] at positions x (default: reference)."""
+    """Assembled consistent tangent stiffness dF_int/dx of the solid elements.
+
+    Element tangent and neo-Hookean elasticity tensor as in the module docstring;
+    hourglass stiffness included, bulk viscosity (rate dependent) not. Rods, point
+    masses and contact are not included.
+
+    Parameters
+    ----------
+    model : Model
+        The model (solid elements only contribute).
+    x : numpy.ndarray, optional
+        Nodal positions, shape (n, 3) [m]. Default: the reference positions.
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix
+        K, shape (3 n, 3 n) [N/m], DOF index node*3 + direction, no constraints applied.
+
+    Raises
+    ------
+    SolverError
+        If an element is inverted (J <= 0) at ``x``.
+    """
     mesh, g, mat = model.mesh, model.geometry, model.material
     x = mesh.nodes if x is None else x
     F = deformation_gradient(x[mesh.hexes], g)
@@ -43,7 +65,25 @@ def tangent_stiffness(model: Model, x=None):
 
 
 def internal_force(model: Model, x):
-    """Static internal force vector f_int(x) (n, 3) [N]."""
+    """Static internal force vector f_int(x) of the solid elements (zero velocity).
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    x : numpy.ndarray
+        Nodal positions, shape (n, 3) [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        Nodal internal forces, shape (n, 3) [N].
+
+    Raises
+    ------
+    SolverError
+        If an element is inverted (J <= 0) at ``x``.
+    """
     g, mat = model.geometry, model.material
     f = np.zeros_like(x)
     *_, bad = internal_forces_numpy(x, np.zeros_like(x), model.mesh.hexes, g.b, g.volume, g.gamma,
@@ -54,18 +94,57 @@ def internal_force(model: Model, x):
 
 
 def free_dofs(model: Model):
-    """Indices of unconstrained degrees of freedom (node*3 + direction)."""
+    """Indices of the unconstrained degrees of freedom.
+
+    Parameters
+    ----------
+    model : Model
+        The model; its ``fixed_nodes`` have all three DOFs constrained.
+
+    Returns
+    -------
+    numpy.ndarray
+        Sorted DOF indices node*3 + direction (direction 0, 1, 2 = x, y, z).
+    """
     fixed = np.zeros((model.mesh.n_nodes, 3), dtype=bool)
     fixed[model.fixed_nodes] = True
     return np.flatnonzero(~fixed.ravel())
 
 
 def static_solve(model: Model, f_ext, n_increments=2, tol=1e-7, max_iter=30, linear=False):
-    """Equilibrium f_int(x) = f_ext (n, 3) [N] by incremental Newton-Raphson.
+    """Nonlinear static equilibrium f_int(x) = f_ext by incremental Newton-Raphson.
 
-    ``linear=True`` solves K0 u = f_ext once (small-displacement answer).
-    Convergence: ||residual|| <= tol * ||f_ext||, or a Newton correction smaller than
-    tol * ||displacement|| (when the residual has reached its round-off floor). Returns nodal positions x (n, 3) [m].
+    The load is applied in ``n_increments`` equal steps. Convergence of a step:
+    ||residual|| <= tol ||f_ext||, or a Newton correction smaller than
+    tol ||displacement|| (when the residual has reached its round-off floor).
+
+    Parameters
+    ----------
+    model : Model
+        The model (fixed nodes stay at their reference positions).
+    f_ext : array_like
+        External nodal forces, shape (n, 3) [N], finite; forces on fixed DOFs are ignored.
+    n_increments : int, optional
+        Number of load increments. Default 2.
+    tol : float, optional
+        Relative convergence tolerance [-]. Default 1e-7.
+    max_iter : int, optional
+        Newton iterations allowed per increment. Default 30.
+    linear : bool, optional
+        Solve K0 u = f_ext once instead (small-displacement answer). Default False.
+
+    Returns
+    -------
+    numpy.ndarray
+        Equilibrium nodal positions x, shape (n, 3) [m].
+
+    Raises
+    ------
+    InputError
+        If ``f_ext`` does not have the mesh's node shape (n, 3) or is not finite.
+    SolverError
+        If Newton does not converge within ``max_iter`` iterations in an increment, or
+        an element inverts.
     """
     f_ext = np.asarray(f_ext, dtype=float)
     if f_ext.shape != model.mesh.nodes.shape or not np.all(np.isfinite(f_ext)):
@@ -95,8 +174,25 @@ def static_solve(model: Model, f_ext, n_increments=2, tol=1e-7, max_iter=30, lin
 
 
 def tip_deflection(model: Model, force_N, direction=1, linear=False):
-    """Tip deflection [m] (area-weighted mean over the tip face, along ``direction``) under a
-    tip force ``force_N`` [N] along ``direction`` spread uniformly over the tip face."""
+    """Static tip deflection under a tip force spread uniformly over the tip face.
+
+    Parameters
+    ----------
+    model : Model
+        Model whose mesh has a ``"tip"`` node set.
+    force_N : float
+        Total tip force along ``direction`` [N].
+    direction : int, optional
+        0, 1 or 2 (x, y, z) for both the force and the deflection. Default 1 (y, the
+        bending direction of the paper's finger).
+    linear : bool, optional
+        Small-displacement solve instead of the nonlinear one. Default False.
+
+    Returns
+    -------
+    float
+        Area-weighted mean tip displacement along ``direction`` [m].
+    """
     mesh = model.mesh
     tip = mesh.node_sets["tip"]
     w = face_node_weights(mesh, tip)
@@ -107,6 +203,22 @@ def tip_deflection(model: Model, force_N, direction=1, linear=False):
 
 
 def tip_stiffness(model: Model, loads_N=(1.0, 2.0), direction=1):
-    """Equivalent tip stiffness [N/m] as in the paper's Table 1: the mean of F/delta over
-    nonlinear static solves at the given tip loads (1 N and 2 N)."""
+    """Equivalent tip stiffness as in the paper's Table 1.
+
+    The mean of F / delta over nonlinear static solves at the given tip loads.
+
+    Parameters
+    ----------
+    model : Model
+        Model whose mesh has a ``"tip"`` node set.
+    loads_N : sequence of float, optional
+        Tip loads F [N]. Default (1, 2), the paper's 1 N and 2 N.
+    direction : int, optional
+        Load and deflection direction 0, 1 or 2 (x, y, z). Default 1 (y).
+
+    Returns
+    -------
+    float
+        Tip stiffness [N/m].
+    """
     return float(np.mean([F / tip_deflection(model, F, direction) for F in loads_N]))

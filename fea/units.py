@@ -6,10 +6,32 @@ INCH = 0.0254
 
 
 def inch_to_m(length_in):
-    """Length in inches -> metres."""
+    """Convert a length in inches to metres.
+
+    Parameters
+    ----------
+    length_in : float or numpy.ndarray
+        Length [in].
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``length_in * 0.0254`` [m].
+    """
     return length_in * INCH
 
 
 def m_to_inch(length_m):
-    """Length in metres -> inches."""
+    """Convert a length in metres to inches.
+
+    Parameters
+    ----------
+    length_m : float or numpy.ndarray
+        Length [m].
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``length_m / 0.0254`` [in].
+    """
     return length_m / INCH

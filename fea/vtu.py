@@ -15,7 +15,25 @@ from .model import Model
 
 
 def write_vtu(path, model: Model, x=None):
-    """Write the mesh at positions x (default: reference) with displacement and von Mises stress."""
+    """Write the mesh at positions ``x`` as a VTU file for ParaView.
+
+    Point data ``displacement_m`` = x - X [m]; cell data ``von_mises_Pa``, the von Mises
+    stress of the neo-Hookean Cauchy stress [Pa]. Parent directories are created.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        Output file (``.vtu``).
+    model : Model
+        The model whose mesh, element geometry and material are written.
+    x : numpy.ndarray, optional
+        Nodal positions (n, 3) [m]. Default: the reference positions (zero displacement).
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+    """
     mesh = model.mesh
     x = mesh.nodes if x is None else x
     F = deformation_gradient(x[mesh.hexes], model.geometry)
@@ -30,7 +48,26 @@ def write_vtu(path, model: Model, x=None):
 
 
 def write_series(directory, model: Model, result: RunResult, stem="frame"):
-    """Write every snapshot of ``result`` as VTU plus ``<stem>.pvd``; returns the pvd path."""
+    """Write every snapshot of ``result`` as VTU plus a ``<stem>.pvd`` collection.
+
+    ParaView opens the ``.pvd`` file as one animation, each VTU file tagged with its time.
+
+    Parameters
+    ----------
+    directory : str or pathlib.Path
+        Output directory (created if missing).
+    model : Model
+        The model that produced ``result``.
+    result : RunResult
+        Explicit run whose ``snapshots`` ((t [s], x (n, 3) [m]) pairs) are written.
+    stem : str, optional
+        File name stem: ``<stem>_00000.vtu``, ... and ``<stem>.pvd``. Default ``"frame"``.
+
+    Returns
+    -------
+    pathlib.Path
+        The path of the ``.pvd`` collection.
+    """
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     entries = []

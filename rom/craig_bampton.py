@@ -26,8 +26,29 @@ from ccedi.fea.static import free_dofs, tangent_stiffness
 
 
 def fe_matrices(model: Model, x=None):
-    """(K, M, dofs): tangent stiffness [N/m] and lumped mass [kg] on the free DOFs (sparse
-    CSC), and the global DOF index (node * 3 + direction) of each row."""
+    """Tangent stiffness and lumped mass of a model on its free DOFs.
+
+    Parameters
+    ----------
+    model : Model
+        The finite element model (solid elements contribute to K).
+    x : numpy.ndarray, optional
+        Nodal positions (n, 3) [m] at which K is taken. Default: the reference positions.
+
+    Returns
+    -------
+    K : scipy.sparse.csc_matrix
+        Tangent stiffness on the free DOFs, (n_free, n_free) [N/m].
+    M : scipy.sparse.csc_matrix
+        Diagonal lumped mass on the free DOFs, (n_free, n_free) [kg].
+    dofs : numpy.ndarray
+        Global DOF index (node * 3 + direction) of each row, sorted.
+
+    Raises
+    ------
+    SolverError
+        If an element is inverted at ``x``.
+    """
     dofs = free_dofs(model)
     K = tangent_stiffness(model, x)[dofs][:, dofs].tocsc()
     M = sp.diags(np.repeat(model.mass, 3)[dofs]).tocsc()
@@ -36,9 +57,23 @@ def fe_matrices(model: Model, x=None):
 
 @dataclass(frozen=True)
 class CraigBampton:
-    """Reduced matrices K_r, M_r (dense) in coordinates [u_b (n_b), q (n_modes)], the
-    transformation T (n_free x n_r) back to the free DOFs, the global DOF ids of the
-    boundary coordinates and of the free DOFs, and the fixed-interface frequencies [rad/s]."""
+    """A Craig-Bampton reduced model in coordinates z = [u_b (n_b), q (n_modes)].
+
+    Parameters
+    ----------
+    K_r : numpy.ndarray
+        Reduced stiffness T^T K T, dense, symmetric, (n_r, n_r) [N/m in u_b].
+    M_r : numpy.ndarray
+        Reduced mass T^T M T, dense, symmetric, (n_r, n_r) [kg in u_b].
+    T : numpy.ndarray
+        Transformation to the free DOFs, (n_free, n_r), u_free = T z.
+    boundary_dofs : numpy.ndarray
+        Global DOF ids of the boundary coordinates u_b (sorted, unique).
+    free_dofs : numpy.ndarray
+        Global DOF ids of the free DOFs (the rows of T).
+    interface_omega_rad_s : numpy.ndarray
+        Fixed-interface natural frequencies of the kept modes, (n_modes,) [rad/s].
+    """
 
     K_r: np.ndarray
     M_r: np.ndarray
@@ -48,17 +83,66 @@ class CraigBampton:
     interface_omega_rad_s: np.ndarray
 
     def expand(self, z):
-        """Free-DOF displacements (n_free,) from reduced coordinates z (n_r,)."""
+        """Free-DOF displacements from reduced coordinates, u = T z.
+
+        Parameters
+        ----------
+        z : numpy.ndarray
+            Reduced coordinates, (n_r,) (or (n_r, k) for k states).
+
+        Returns
+        -------
+        numpy.ndarray
+            Displacements on the free DOFs, (n_free,) [m].
+        """
         return self.T @ z
 
     def reduce_force(self, f_free):
-        """Reduced load T^T f for a free-DOF load vector f (n_free,)."""
+        """Reduced load T^T f of a free-DOF load vector.
+
+        Parameters
+        ----------
+        f_free : numpy.ndarray
+            Load on the free DOFs, (n_free,) [N].
+
+        Returns
+        -------
+        numpy.ndarray
+            Reduced load, (n_r,).
+        """
         return self.T.T @ f_free
 
 
 def craig_bampton(K, M, dofs, boundary_dofs, n_modes):
-    """Craig-Bampton reduction of (K, M) on ``dofs`` (from :func:`fe_matrices`) with the
-    global DOF ids ``boundary_dofs`` kept and ``n_modes`` fixed-interface modes."""
+    """Craig-Bampton reduction of (K, M) keeping ``boundary_dofs`` and ``n_modes`` modes.
+
+    Constraint modes Psi = -K_ii^-1 K_ib and the ``n_modes`` lowest fixed-interface modes
+    of K_ii Phi = M_ii Phi Omega^2 span the interior (module docstring); ``n_modes = 0``
+    is Guyan condensation.
+
+    Parameters
+    ----------
+    K : scipy.sparse matrix or numpy.ndarray
+        Stiffness on the free DOFs, (n_free, n_free) [N/m] (from :func:`fe_matrices`).
+    M : scipy.sparse matrix or numpy.ndarray
+        Mass on the free DOFs, (n_free, n_free) [kg].
+    dofs : numpy.ndarray
+        Sorted global DOF ids of the rows of K and M.
+    boundary_dofs : array_like
+        Global DOF ids kept as physical coordinates; each must be in ``dofs``.
+    n_modes : int
+        Fixed-interface modes kept, an integer from 0 to the number of interior DOFs.
+
+    Returns
+    -------
+    CraigBampton
+        Reduced matrices, transformation and interface frequencies.
+
+    Raises
+    ------
+    InputError
+        If a boundary DOF is not a free DOF, or ``n_modes`` is out of range.
+    """
     boundary_dofs = np.unique(np.asarray(boundary_dofs, dtype=np.int64))
     pos = np.searchsorted(dofs, boundary_dofs)
     if np.any(pos >= len(dofs)) or np.any(dofs[np.minimum(pos, len(dofs) - 1)] != boundary_dofs):

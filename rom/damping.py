@@ -22,11 +22,24 @@ from ccedi.errors import InputError
 class LogDecrement:
     """Result of :func:`log_decrement`.
 
-    zeta : damping ratio [-]; delta : logarithmic decrement per cycle [-];
-    zeta_ci95 : (low, high) 95 % confidence interval of zeta (nan when only 2 peaks);
-    n_cycles : number of cycles used (peaks - 1); period_s : mean damped period [s];
-    omega_d_rad_s : damped angular frequency 2 pi / period [rad/s];
-    peak_times_s, peak_amplitudes : the peaks used (amplitudes in the units of y).
+    Parameters
+    ----------
+    zeta : float
+        Damping ratio zeta = delta / sqrt(4 pi^2 + delta^2) [-].
+    delta : float
+        Logarithmic decrement per cycle [-].
+    zeta_ci95 : tuple of float
+        (low, high) 95 % confidence interval of zeta; (nan, nan) when only 2 peaks.
+    n_cycles : int
+        Number of cycles used (peaks - 1).
+    period_s : float
+        Mean damped period [s].
+    omega_d_rad_s : float
+        Damped angular frequency 2 pi / period [rad/s].
+    peak_times_s : numpy.ndarray
+        Times of the peaks used [s].
+    peak_amplitudes : numpy.ndarray
+        Peak excursions from the final value (units of y).
     """
 
     zeta: float
@@ -59,14 +72,36 @@ def _validate_signal(t, y):
 def log_decrement(t, y, y_final=None, noise_band=0.01, max_cycles=None):
     """Damping ratio of the dominant mode of a decaying oscillation by log-decrement.
 
-    t : sample times [s]; y : response (any unit), e.g. tip displacement [m].
-    y_final : equilibrium value the response decays to (default: mean of the last 10 %).
-    noise_band : peaks smaller than ``noise_band`` x the largest excursion are ignored [-].
-    max_cycles : use at most this many cycles after the first peak (default: all).
+    One peak per cycle on the side of the largest excursion, from it on; the peak
+    heights are refined by a parabola fit and ln A_k = ln A_0 - delta k is fitted by
+    least squares (module docstring). Peaks constant within their scatter give zeta = 0.
 
-    Raises InputError when fewer than two peaks rise above the noise band: the response
-    does not oscillate (over-damped) and a log-decrement would be meaningless; or when
-    the peaks grow beyond their scatter. Peaks constant within their scatter give zeta = 0.
+    Parameters
+    ----------
+    t : array_like
+        Sample times, 1-D, strictly increasing, finite, at least 8 samples [s].
+    y : array_like
+        Response at ``t`` (any unit), e.g. tip displacement [m].
+    y_final : float, optional
+        Equilibrium value the response decays to. Default: the mean of the last 10 %
+        of the samples.
+    noise_band : float, optional
+        Peaks smaller than ``noise_band`` x the largest excursion are ignored, in
+        [0, 1). Default 0.01.
+    max_cycles : int, optional
+        Use at most this many cycles after the first peak. Default: all.
+
+    Returns
+    -------
+    LogDecrement
+        zeta, delta, its confidence interval and the peaks used.
+
+    Raises
+    ------
+    InputError
+        If the signal is not 1-D finite with at least 8 samples and strictly increasing times; ``noise_band`` is outside [0, 1); the response is constant; fewer
+        than two peaks rise above the noise band (the response does not oscillate); or
+        the peaks grow beyond their scatter.
     """
     t, y = _validate_signal(t, y)
     if not 0.0 <= noise_band < 1.0:
@@ -123,11 +158,25 @@ def _regular_prefix(tp):
 
 
 def half_cycles(r, band):
-    """Half-cycles of an oscillation about zero, with hysteresis: the sign of r only
-    changes when r goes beyond +band or -band, so noise near a zero crossing cannot split
-    a half-cycle. Returns a list of (index array, sign), consecutive signs alternating.
-    A last half-cycle still rising when the record ends is dropped (its largest sample
-    is not a peak)."""
+    """Half-cycles of an oscillation about zero, with hysteresis.
+
+    The sign of r only changes when r goes beyond +band or -band, so noise near a zero
+    crossing cannot split a half-cycle. A last half-cycle still rising when the record
+    ends is dropped (its largest sample is not a peak).
+
+    Parameters
+    ----------
+    r : numpy.ndarray
+        Signal about zero (response minus its final value), 1-D.
+    band : float
+        Hysteresis half-width (units of r), >= 0.
+
+    Returns
+    -------
+    list of (numpy.ndarray, int)
+        (sample indices, sign +1 or -1) of each half-cycle, signs alternating; samples
+        before r first leaves the band belong to none.
+    """
     state = np.where(r > band, 1, np.where(r < -band, -1, 0))
     idx = np.where(state != 0, np.arange(len(r)), 0)
     np.maximum.accumulate(idx, out=idx)
@@ -164,8 +213,19 @@ def _refine_peaks(t, r, lobes):
 
 @dataclass(frozen=True)
 class HalfPower:
-    """Result of :func:`half_power`: zeta [-], natural frequency omega_n [rad/s], the two
-    half-power frequencies (omega_1, omega_2) [rad/s] and the frequency resolution [rad/s]."""
+    """Result of :func:`half_power`.
+
+    Parameters
+    ----------
+    zeta : float
+        Damping ratio [-].
+    omega_n_rad_s : float
+        Natural frequency omega_n [rad/s].
+    half_power_rad_s : tuple of float
+        The half-power frequencies (omega_1, omega_2) [rad/s].
+    resolution_rad_s : float
+        Frequency resolution of the padded spectrum [rad/s].
+    """
 
     zeta: float
     omega_n_rad_s: float
@@ -176,19 +236,41 @@ class HalfPower:
 def half_power(t, y, force=None, pad_factor=16):
     """Damping ratio by the half-power bandwidth of the frequency response.
 
-    y is an impulse response (e.g. tip displacement after a short force pulse), or, with
-    ``force`` (same samples, N), any forced response, from which the frequency response
-    Y(omega)/F(omega) is formed. The record is zero-padded ``pad_factor`` times.
+    ``y`` is an impulse response (e.g. tip displacement after a short force pulse), or,
+    with ``force``, any forced response, from which Y(omega)/F(omega) is formed.
 
     For a single-DOF displacement response |H| = 1 / |omega_n^2 - omega^2 + 2 i zeta
     omega_n omega| the half-power frequencies omega_1 < omega_2 (|H| = |H|_max / sqrt 2)
     satisfy exactly ``(w2^2 - w1^2) / (w1^2 + w2^2) = tan(2 theta)`` with
     ``zeta = sin(theta)``, and ``omega_n^2 = (w1^2 + w2^2) / (2 (1 - 2 zeta^2))``; ccedi
     uses this exact inversion, not the small-damping ``zeta = (w2 - w1) / (2 omega_n)``.
+    The record must be long enough for the response to decay (a few times
+    1/(zeta omega_n)), otherwise truncation widens the peak.
 
-    The record must be long enough for the response to decay (a few times 1/(zeta
-    omega_n)), otherwise truncation widens the peak. Raises InputError when the spectrum
-    has no resonance peak with both half-power points (over-damped or too short a record).
+    Parameters
+    ----------
+    t : array_like
+        Sample times, 1-D, strictly increasing, finite, at least 8 samples [s].
+    y : array_like
+        Response at ``t`` (any unit), e.g. tip displacement [m].
+        Must be uniformly sampled.
+    force : array_like, optional
+        Applied force at the same samples [N]. Default None (``y`` is an impulse
+        response; its last value is subtracted).
+    pad_factor : int, optional
+        Zero-padding factor of the FFT, an integer >= 1. Default 16.
+
+    Returns
+    -------
+    HalfPower
+        zeta, omega_n, the half-power frequencies and the resolution.
+
+    Raises
+    ------
+    InputError
+        If the signal is not 1-D finite with at least 8 samples and strictly increasing times; the sampling is not uniform; ``pad_factor`` is not an integer
+        >= 1; or the spectrum has no resonance peak with both half-power points
+        (over-damped, or too short a record).
     """
     t, y = _validate_signal(t, y)
     dt = np.diff(t)
@@ -224,9 +306,23 @@ def half_power(t, y, force=None, pad_factor=16):
 
 @dataclass(frozen=True)
 class EnvelopeFit:
-    """Result of :func:`envelope_fit`: zeta [-], decay rate sigma = zeta omega_n [1/s],
-    damped frequency omega_d [rad/s], fitted amplitude (units of y), the fitted window
-    (t_start, t_end) [s] and the RMS residual of the fit (units of y)."""
+    """Result of :func:`envelope_fit`.
+
+    Parameters
+    ----------
+    zeta : float
+        Damping ratio sigma / sqrt(sigma^2 + omega_d^2) [-].
+    decay_rate_per_s : float
+        Decay rate sigma = zeta omega_n [1/s].
+    omega_d_rad_s : float
+        Damped angular frequency omega_d [rad/s].
+    amplitude : float
+        Fitted amplitude |A| (units of y).
+    window_s : tuple of float
+        The fitted window (t_start, t_end) [s].
+    rms_residual : float
+        RMS residual of the fit (units of y).
+    """
 
     zeta: float
     decay_rate_per_s: float
@@ -237,17 +333,39 @@ class EnvelopeFit:
 
 
 def envelope_fit(t, y, y_final=None, noise_band=0.02):
-    """Damping ratio from a least-squares fit of an exponentially decaying sinusoid,
+    """Damping ratio from a least-squares fit of an exponentially decaying sinusoid.
 
-        y(t) = y_final + A exp(-sigma (t - t0)) cos(omega_d (t - t0) + phi),
+    ::
 
-    to the record from its largest excursion (time t0) on: the exponential envelope
-    A exp(-sigma t) and the carrier are fitted together, so every sample counts, not just
-    the peaks. Start values come from the zero crossings (omega_d) and the lobe peaks
-    (sigma). ``zeta = sigma / sqrt(sigma^2 + omega_d^2)``.
+        y(t) = y_final + A exp(-sigma (t - t0)) cos(omega_d (t - t0) + phi)
 
-    Raises InputError for a response with fewer than three half-cycles (lobes between
-    zero crossings) reaching ``noise_band`` x its largest excursion (it does not oscillate).
+    is fitted to the record from its largest excursion (time t0) on: envelope and carrier
+    together, so every sample counts, not just the peaks. Start values come from the
+    half-cycle spacing (omega_d) and the lobe peaks (sigma);
+    ``zeta = sigma / sqrt(sigma^2 + omega_d^2)``.
+
+    Parameters
+    ----------
+    t : array_like
+        Sample times, 1-D, strictly increasing, finite, at least 8 samples [s].
+    y : array_like
+        Response at ``t`` (any unit), e.g. tip displacement [m].
+    y_final : float, optional
+        Equilibrium value. Default: the mean of the last 10 % of the samples.
+    noise_band : float, optional
+        Half-cycles not reaching ``noise_band`` x the largest excursion are ignored
+        [-]. Default 0.02.
+
+    Returns
+    -------
+    EnvelopeFit
+        zeta, sigma, omega_d, amplitude, window and residual.
+
+    Raises
+    ------
+    InputError
+        If the signal is not 1-D finite with at least 8 samples and strictly increasing times; the response is constant; fewer than three half-cycles reach the
+        noise band (it does not oscillate); or the fitted envelope does not decay.
     """
     from scipy.optimize import least_squares
 
@@ -286,14 +404,36 @@ def envelope_fit(t, y, y_final=None, noise_band=0.02):
 
 
 def oscillates(t, y, y_final=0.0, noise_band=1e-6):
-    """True when the response, after its largest excursion from ``y_final``, crosses to the
-    other side of ``y_final`` by more than ``noise_band`` x that excursion.
+    """Whether the response overshoots its final value after its largest excursion.
 
-    This is ccedi's definition of "the response oscillates" for the CCEDI critical
-    damping search: an over-damped (or critically damped) impulse response approaches its
-    final value from one side; an under-damped one overshoots it. For noise-free
-    simulations a tiny band (1e-6) resolves damping ratios up to about 0.97; for measured
-    data the band must exceed the noise.
+    True when, after its largest excursion from ``y_final``, the response crosses to the
+    other side of ``y_final`` by more than ``noise_band`` x that excursion. This is
+    ccedi's definition of "the response oscillates" for the CCEDI critical damping
+    search: an over-damped (or critically damped) impulse response approaches its final
+    value from one side; an under-damped one overshoots it. For noise-free simulations a
+    tiny band (1e-6) resolves damping ratios up to about 0.97; for measured data the band
+    must exceed the noise.
+
+    Parameters
+    ----------
+    t : array_like
+        Sample times, 1-D, strictly increasing, finite, at least 8 samples [s].
+    y : array_like
+        Response at ``t`` (any unit), e.g. tip displacement [m].
+    y_final : float, optional
+        The final (equilibrium) value. Default 0.
+    noise_band : float, optional
+        Overshoot threshold relative to the largest excursion [-]. Default 1e-6.
+
+    Returns
+    -------
+    bool
+        True if the response overshoots.
+
+    Raises
+    ------
+    InputError
+        If the signal is not 1-D finite with at least 8 samples and strictly increasing times, or the response never leaves ``y_final``.
     """
     t, y = _validate_signal(t, y)
     r = np.asarray(y) - y_final
@@ -305,10 +445,29 @@ def oscillates(t, y, y_final=0.0, noise_band=1e-6):
 
 
 def noise_level(y):
-    """Standard deviation of white measurement noise on a smooth, finely sampled record,
-    from the median absolute second difference: for noise of std s, the second difference
-    y[i+1] - 2 y[i] + y[i-1] has std sqrt(6) s; the median makes it robust to the signal's
-    own (sparse, large) curvature. Same unit as y."""
+    """Standard deviation of white measurement noise on a smooth, finely sampled record.
+
+    From the median absolute deviation of the second difference: for noise of std s,
+    y[i+1] - 2 y[i] + y[i-1] has std sqrt(6) s; the median makes the estimate robust to
+    the signal's own (sparse, large) curvature::
+
+        s = 1.4826 median(|d2 - median(d2)|) / sqrt(6)
+
+    Parameters
+    ----------
+    y : array_like
+        The record, 1-D, at least 5 samples.
+
+    Returns
+    -------
+    float
+        Noise standard deviation s (units of y).
+
+    Raises
+    ------
+    InputError
+        If ``y`` has fewer than 5 samples.
+    """
     y = np.asarray(y, dtype=float)
     if len(y) < 5:
         raise InputError("noise_level needs at least 5 samples")

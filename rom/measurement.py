@@ -24,8 +24,21 @@ MIN_SAMPLES = 8
 
 @dataclass(frozen=True)
 class MeasuredResponse:
-    """time_s [s], tip_displacement_m [m], force_N [N] or None, where it came from, and
-    reaction_force_N [N] or None."""
+    """A measured impulse response (validated, see the module docstring).
+
+    Parameters
+    ----------
+    time_s : numpy.ndarray
+        Sample times, strictly increasing, (n,) [s].
+    tip_displacement_m : numpy.ndarray
+        Tip displacement, (n,) [m].
+    force_N : numpy.ndarray or None
+        Applied force, (n,) [N], or None when the file has no such column.
+    source : str
+        Where the data came from (file path or ``"<frame>"``).
+    reaction_force_N : numpy.ndarray or None, optional
+        Reaction force at the clamp or object, (n,) [N], or None. Default None.
+    """
 
     time_s: np.ndarray
     tip_displacement_m: np.ndarray
@@ -35,7 +48,27 @@ class MeasuredResponse:
 
 
 def load_response(path):
-    """Read and validate a measured response CSV (see module docstring)."""
+    """Read and validate a measured response CSV.
+
+    Columns ``time_s`` and ``tip_displacement_m`` are required, ``force_N`` and
+    ``reaction_force_N`` optional; lines starting with ``#`` are comments.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The CSV file.
+
+    Returns
+    -------
+    MeasuredResponse
+        The validated response, ``source`` set to the path.
+
+    Raises
+    ------
+    InputError
+        If the file does not exist or is not a readable CSV, or the data fail the
+        checks of :func:`response_from_frame`.
+    """
     path = Path(path)
     if not path.is_file():
         raise InputError(f"measured response file not found: {path}")
@@ -47,7 +80,27 @@ def load_response(path):
 
 
 def response_from_frame(frame, source="<frame>"):
-    """Validate a DataFrame with the measured-response columns."""
+    """Validate a DataFrame with the measured-response columns.
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        With columns ``time_s`` [s] and ``tip_displacement_m`` [m], optionally
+        ``force_N`` and ``reaction_force_N`` [N]; other columns are ignored.
+    source : str, optional
+        Name used in error messages and stored in the result. Default ``"<frame>"``.
+
+    Returns
+    -------
+    MeasuredResponse
+        The validated response.
+
+    Raises
+    ------
+    InputError
+        If a required column is missing, a used column has a missing or non-numeric
+        value, there are fewer than 8 samples, or ``time_s`` is not strictly increasing.
+    """
     missing = [c for c in REQUIRED_COLUMNS if c not in frame.columns]
     if missing:
         raise InputError(f"{source}: missing column(s) {', '.join(missing)}; "
