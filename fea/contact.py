@@ -31,6 +31,7 @@ import numpy as np
 
 from ccedi.errors import InputError, require_finite_positive
 from .kernels import FASTMATH
+from .rotating_frame import rotate, rotate_back
 
 PLANE, ELLIPSE = 0, 1
 NEWTON_ITERATIONS = 12
@@ -163,17 +164,13 @@ def contact_forces(x, nodes, stiffness, kind, params, f_ext, normal, f_normal, o
         else:
             if x[n, 2] < params[6] or x[n, 2] > params[7]:
                 continue
-            dx = x[n, 0] - params[0]
-            dy = x[n, 1] - params[1]
             ca = params[4]
             sa = params[5]
-            u = ca * dx + sa * dy
-            w = -sa * dx + ca * dy
+            u, w = rotate_back(x[n, 0] - params[0], x[n, 1] - params[1], ca, sa)
             if (u / params[2]) ** 2 + (w / params[3]) ** 2 >= 1.0:
                 continue                                    # outside: no contact, skip Newton
             gap, lx, ly = _ellipse_gap(u, w, params[2], params[3])
-            n0 = ca * lx - sa * ly
-            n1 = sa * lx + ca * ly
+            n0, n1 = rotate(lx, ly, ca, sa)
             n2 = 0.0
         if gap >= 0.0:
             continue

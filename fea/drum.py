@@ -39,9 +39,10 @@ from .contact import Contact, RigidEllipse, boundary_nodes
 from ccedi.errors import InputError, require_finite_positive
 from .explicit import run
 from .hex8 import deformation_gradient
-from .material import RUBBER, NeoHookean, cauchy_stress, von_mises
+from .material import RUBBER, NeoHookean, max_von_mises_of
 from .mesh import SEMI_AXES, Mesh, elliptical_cantilever, sm_a_elements_along
 from .model import Model, RotatingNodes
+from .rotating_frame import drum_to_object, frame_velocities
 from .static import free_dofs, tangent_stiffness
 
 AL6061 = NeoHookean(E=69e9, nu=0.33, rho=2700.0)
@@ -133,7 +134,7 @@ def finger_on_drum(setup: DrumSetup, alpha, damping="global"):
     contact = Contact(nodes=boundary_nodes(mesh.hexes), surface=setup.object_surface)
     model = Model(mesh=mesh, material=setup.finger_material, alpha=alpha, rotating=rotating, contact=contact,
                   damping=damping)
-    v0 = setup.omega_rad_s * np.cross(axis, nodes)
+    v0 = frame_velocities(nodes, rotating.center_m, axis, setup.omega_rad_s)
     return model, v0
 
 
@@ -182,7 +183,7 @@ class ObjectStress:
         x = self.model.mesh.nodes + u.reshape(-1, 3)
         F = deformation_gradient(x[self.model.mesh.hexes], self.model.geometry)
         mat = self.model.material
-        return float(von_mises(cauchy_stress(F, mat.mu, mat.lam)).max())
+        return max_von_mises_of(F, mat.mu, mat.lam)
 
 
 def contact_run(setup: DrumSetup, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False,
@@ -310,13 +311,10 @@ def first_contact_angle(setup: DrumSetup, samples=4000):
     model, _ = finger_on_drum(setup, 0.0)
     pts = model.mesh.nodes[model.contact.nodes]
     s = setup.object_surface
-    c = np.asarray(s.center_m)
-    ca, sa = np.cos(s.angle_rad), np.sin(s.angle_rad)
+    obj = s.params()[1]
+    px, py = np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1])
     for dtheta in np.linspace(0.0, 2 * np.pi, samples):
-        cr, sr = np.cos(dtheta), np.sin(dtheta)
-        x = cr * pts[:, 0] - sr * pts[:, 1] - c[0]
-        y = sr * pts[:, 0] + cr * pts[:, 1] - c[1]
-        u, v = ca * x + sa * y, -sa * x + ca * y
+        _, _, u, v = drum_to_object(px, py, np.cos(dtheta), np.sin(dtheta), obj)
         inside = (u / s.a_m) ** 2 + (v / s.b_m) ** 2 < 1.0
         inside &= (pts[:, 2] >= s.z_min_m) & (pts[:, 2] <= s.z_max_m)
         if inside.any():

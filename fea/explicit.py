@@ -22,6 +22,7 @@ force kernel, and run as plain Python with the numpy reference kernel
 (``backend="numpy"``), which the tests compare.
 """
 import time as _time
+from collections import namedtuple
 from dataclasses import dataclass, field
 
 import numba as nb
@@ -31,10 +32,14 @@ import pandas as pd
 from ccedi.errors import InputError, SolverError, require_finite_positive
 from .hex8 import deformation_gradient, internal_forces_numpy
 from .contact import PLANE, STEP_SHRINK, contact_forces, penalty_stiffness
+from .friction import coulomb_friction
 from .kernels import FASTMATH, internal_forces_numba
-from .material import cauchy_stress, von_mises
+from .loads import pulse_forces, pulse_loads
+from .material import max_von_mises_of
 from .model import Model, face_node_weights
+from .prescribed import prescribed_rotation
 from .rod import rod_forces_numba, rod_forces_numpy, rod_max_stress
+from .rotating_frame import RotatingFrame, frame_velocity
 
 TSSFAC = 0.9
 """Time-step scale factor of paper Eq. (5)."""
@@ -43,29 +48,58 @@ TSSFAC = 0.9
 _W_EXT, _E_DAMP, _E_BULK, _KE, _IE, _HG, _E_PENALTY, _W_NORMAL, _W_FRICTION = range(9)
 _OK, _INVERTED, _DIVERGED, _STEP_TOO_LARGE, _FOLDED = 0, 1, 2, 3, 4
 
+# The step loop's data, bundled by role (numba takes each as a heterogeneous tuple).
+State = namedtuple("State", "x v v_new f_int f_int_prev f_ext reaction")
+"""Nodal state (n, 3) each: positions x^n [m], velocities v^{n-1/2} and v^{n+1/2} [m/s],
+internal forces of this and the previous step, external forces [N], support reactions [N]."""
+Nodes = namedtuple("Nodes", "X mass free v_pres")
+"""Reference positions X (n, 3) [m], lumped masses (n,) [kg], free flags (n,) (1.0 free,
+0.0 constrained) and the constrained nodes' prescribed velocities v_pres (n, 3) [m/s]."""
+HexGroup = namedtuple("HexGroup", "hexes b volume gamma kappa")
+"""One-point hexahedra (structure of arrays): connectivity (e, 8), shape-function
+gradients b (e, 8, 3) [1/m], volumes (e,) [m^3], hourglass vectors gamma (e, 4, 8) [-] and
+hourglass stiffnesses kappa (e,) [N/m], as :func:`ccedi.fea.kernels.internal_forces_numba` takes them."""
+SolidMaterial = namedtuple("SolidMaterial", "mu lam rho c")
+"""The hexahedra's neo-Hookean constants: Lame mu, lam [Pa], density [kg/m^3], wave speed [m/s]."""
+RodGroup = namedtuple("RodGroup", "segments rest_length axial_stiffness hinges bending_stiffness dt_crit")
+"""Rod elements as :func:`ccedi.fea.rod.rod_forces_numba` takes them, and their smallest
+critical step dt_crit [s] (inf without rods)."""
+Damping = namedtuple("Damping", "alpha beta relative")
+"""Rayleigh damping alpha [1/s], beta [s]; ``relative``: mass damping of the velocity
+relative to the rotating frame (else of the absolute velocity)."""
+StepControl = namedtuple("StepControl", "dt_user tssfac")
+"""Fixed step dt_user [s] (0.0: CFL-controlled) and the CFL scale factor [-]."""
+ContactGroup = namedtuple("ContactGroup", "nodes k kind params mu normal fn out")
+"""Penalty contact (:func:`ccedi.fea.contact.contact_forces`): slave nodes (s,), penalty
+stiffness (s,) [N/m], surface kind and parameters, friction coefficient [-], per-node
+normal (n, 3) and normal force (n,) [N], and the contact record (8,)."""
+
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def _frame_velocity(x, n, center, axis, omega):
-    """Velocity omega axis x (x_n - c) [m/s] of the rotating frame at node n, as 3 scalars."""
-    d0 = x[n, 0] - center[0]
-    d1 = x[n, 1] - center[1]
-    d2 = x[n, 2] - center[2]
-    return (omega * (axis[1] * d2 - axis[2] * d1), omega * (axis[2] * d0 - axis[0] * d2),
-            omega * (axis[0] * d1 - axis[1] * d0))
+def _stable_step(dte, beta):
+    """Stable step [s] of the CFL step dte [s] lowered for stiffness damping beta [s]."""
+    if beta > 0.0:
+        xi = beta / dte
+        return dte * (np.sqrt(1.0 + xi * xi) - xi)
+    return dte
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def _trial_velocities(v, v_new, x, f_ext, f_int, f_int_prev, v_pres, mass, free, reaction,
-                      alpha, relative, rot_center, rot_axis, rot_omega, Dt, beta_rate):
+def _trial_velocities(state, nodes, damping, frame, Dt, beta_rate):
     """v^{n+1/2} of every node without friction, into v_new; support reactions.
 
     Mass damping acts on v - v_ref, with v_ref = 0 (``global``, absolute velocity) or the
     velocity of the rotating frame at the node, omega axis x (x - c) (``relative``)."""
+    v, v_new, x, f_ext, f_int, f_int_prev, reaction = (state.v, state.v_new, state.x, state.f_ext, state.f_int,
+                                                       state.f_int_prev, state.reaction)
+    mass, free, v_pres = nodes.mass, nodes.free, nodes.v_pres
+    alpha, relative = damping.alpha, damping.relative
+    rot_center, rot_axis, rot_omega = frame.center, frame.axis, frame.omega
     a = 0.5 * alpha * Dt
     inv_den = 1.0 / (1.0 + a)
     for n in range(x.shape[0]):
         m = mass[n]
-        vr0, vr1, vr2 = _frame_velocity(x, n, rot_center, rot_axis, rot_omega) if relative else (0.0, 0.0, 0.0)
+        vr0, vr1, vr2 = frame_velocity(x, n, rot_center, rot_axis, rot_omega) if relative else (0.0, 0.0, 0.0)
         for i in range(3):
             vref = vr0 if i == 0 else (vr1 if i == 1 else vr2)
             fb = beta_rate * (f_int[n, i] - f_int_prev[n, i])
@@ -82,54 +116,20 @@ def _trial_velocities(v, v_new, x, f_ext, f_int, f_int_prev, v_pres, mass, free,
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def _friction(v, v_new, f_ext, mass, free, c_nodes, c_normal, c_fn, mu, alpha, Dt, c_out):
-    """Coulomb friction impulse on the contact nodes (see :mod:`ccedi.fea.contact`): reduce the
-    tangential trial velocity by at most mu f_n Dt / m_eff (slip) or to zero (stick).
-    Adds the friction force to f_ext and its reaction to the surface force c_out[:3];
-    returns (normal work, friction work) of the step [J]."""
-    m_fac = 1.0 + 0.5 * alpha * Dt
-    w_n = 0.0
-    w_f = 0.0
-    for s in range(c_nodes.shape[0]):
-        n = c_nodes[s]
-        fn = c_fn[n]
-        if fn <= 0.0:
-            continue
-        n0 = c_normal[n, 0]
-        n1 = c_normal[n, 1]
-        n2 = c_normal[n, 2]
-        if free[n] > 0.0 and mu > 0.0:
-            vn = v_new[n, 0] * n0 + v_new[n, 1] * n1 + v_new[n, 2] * n2
-            t0 = v_new[n, 0] - vn * n0
-            t1 = v_new[n, 1] - vn * n1
-            t2 = v_new[n, 2] - vn * n2
-            vt = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
-            if vt > 0.0:
-                m_eff = mass[n] * m_fac
-                scale = -min(mu * fn * Dt / m_eff, vt) / vt
-                for i in range(3):
-                    change = scale * (t0 if i == 0 else (t1 if i == 1 else t2))
-                    v_new[n, i] += change
-                    ff = change * m_eff / Dt
-                    f_ext[n, i] += ff
-                    c_out[i] -= ff
-                    w_f += ff * 0.5 * (v[n, i] + v_new[n, i])
-        for i in range(3):
-            w_n += fn * (n0 if i == 0 else (n1 if i == 1 else n2)) * 0.5 * (v[n, i] + v_new[n, i])
-    return Dt * w_n, Dt * w_f
-
-
-@nb.njit(cache=True, fastmath=FASTMATH)
-def _commit(v, v_new, x, f_ext, f_int, f_int_prev, mass, reaction, alpha, relative,
-            rot_center, rot_axis, rot_omega, Dt, dt, beta_rate):
+def _commit(state, nodes, damping, frame, Dt, dt, beta_rate):
     """Move to the new state: x^{n+1} = x^n + dt v^{n+1/2}. Returns the step's external
     work and damping work [J] and twice the kinetic energy at t^n [J]."""
+    v, v_new, x, f_ext, f_int, f_int_prev, reaction = (state.v, state.v_new, state.x, state.f_ext, state.f_int,
+                                                       state.f_int_prev, state.reaction)
+    mass = nodes.mass
+    alpha, relative = damping.alpha, damping.relative
+    rot_center, rot_axis, rot_omega = frame.center, frame.axis, frame.omega
     w_ext = 0.0
     w_damp = 0.0
     ke = 0.0
     for n in range(x.shape[0]):
         m = mass[n]
-        vr0, vr1, vr2 = _frame_velocity(x, n, rot_center, rot_axis, rot_omega) if relative else (0.0, 0.0, 0.0)
+        vr0, vr1, vr2 = frame_velocity(x, n, rot_center, rot_axis, rot_omega) if relative else (0.0, 0.0, 0.0)
         for i in range(3):
             vref = vr0 if i == 0 else (vr1 if i == 1 else vr2)
             fb = beta_rate * (f_int[n, i] - f_int_prev[n, i])
@@ -144,82 +144,64 @@ def _commit(v, v_new, x, f_ext, f_int, f_int_prev, mass, reaction, alpha, relati
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def _prescribed_rotation(nodes, X, x, v_pres, center, axis, angle, dt):
-    """Velocities that carry ``nodes`` to their rigidly rotated reference positions
-    (Rodrigues: c + d cos + (k x d) sin + k (k . d)(1 - cos), d = X - c) in one step."""
-    ct = np.cos(angle)
-    st = np.sin(angle)
-    for r in range(nodes.shape[0]):
-        n = nodes[r]
-        d0 = X[n, 0] - center[0]
-        d1 = X[n, 1] - center[1]
-        d2 = X[n, 2] - center[2]
-        kd = axis[0] * d0 + axis[1] * d1 + axis[2] * d2
-        c0, c1, c2 = _frame_velocity(X, n, center, axis, 1.0)          # k x d
-        v_pres[n, 0] = (center[0] + d0 * ct + c0 * st + axis[0] * kd * (1.0 - ct) - x[n, 0]) / dt
-        v_pres[n, 1] = (center[1] + d1 * ct + c1 * st + axis[1] * kd * (1.0 - ct) - x[n, 1]) / dt
-        v_pres[n, 2] = (center[2] + d2 * ct + c2 * st + axis[2] * kd * (1.0 - ct) - x[n, 2]) / dt
+def _record_energy(energy, w_ext, w_damp, bulk, ke, w_int, w_hg):
+    """Accumulate the step's works [J] into ``energy``; store KE, IE, HG [J] of t^n."""
+    energy[_W_EXT] += w_ext
+    energy[_E_DAMP] += w_damp
+    energy[_E_BULK] += bulk
+    energy[_KE] = 0.5 * ke
+    energy[_IE] = w_int
+    energy[_HG] = w_hg
 
 
-def _advance(forces, rod_forces, contact, t, t_stop, dt_prev, dt_user, tssfac, beta, alpha, relative,
-             x, v, v_new, X, f_int, f_int_prev, f_ext, v_pres, mass, free,
-             pulse_nodes, pulse_forces, pulse_t0, pulse_t1,
-             rot_nodes, rot_center, rot_axis, rot_omega,
-             hexes, b, volume, gamma, kappa, mu, lam, rho, c,
-             segments, rest_length, axial_stiffness, hinges, bending_stiffness, dt_rod,
-             c_nodes, c_k, c_kind, c_params, c_mu, c_normal, c_fn, c_out,
-             energy, reaction):
+def _advance(forces, rod_forces, contact_kernel, t, t_stop, dt_prev, control, damping, state, nodes, hexes,
+             material, rods, loads, frame, contact, energy):
     """Advance until t >= t_stop (the last step is not shortened: cutting a step to land on
     an output time perturbs the highest mode and, repeated, can destabilise a mesh whose
-    CFL estimate is tight). Returns (t, dt_prev, steps, status, info, dt_min_seen)."""
+    CFL estimate is tight). Returns (t, dt_prev, steps, status, info, dt_min_seen).
+
+    ``forces``, ``rod_forces`` and ``contact_kernel`` are the force kernels (compiled or
+    numpy reference); the rest are the groups of :func:`_step_data`."""
+    x, v, f_int, f_ext = state.x, state.v, state.f_int, state.f_ext
+    beta = damping.beta
     steps = 0
     dt_seen = np.inf
     while t < t_stop:
-        dte, w_int, w_hg, p_bulk, bad = forces(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c, f_int)
+        dte, w_int, w_hg, p_bulk, bad = forces(x, v, hexes.hexes, hexes.b, hexes.volume, hexes.gamma, hexes.kappa,
+                                               material.mu, material.lam, material.rho, material.c, f_int)
         if bad >= 0:
             return t, dt_prev, steps, _INVERTED, bad, dt_seen
-        w_rod, folded = rod_forces(x, segments, rest_length, axial_stiffness, hinges, bending_stiffness, f_int)
+        w_rod, folded = rod_forces(x, rods.segments, rods.rest_length, rods.axial_stiffness, rods.hinges,
+                                   rods.bending_stiffness, f_int)
         if folded >= 0:
             return t, dt_prev, steps, _FOLDED, folded, dt_seen
         w_int += w_rod
-        dte = min(dte, dt_rod)
-        dt_stable = dte
-        if beta > 0.0:
-            xi = beta / dte
-            dt_stable = dte * (np.sqrt(1.0 + xi * xi) - xi)
-        if dt_user > 0.0:
-            if dt_user > dt_stable:
+        dt_stable = _stable_step(min(dte, rods.dt_crit), beta)
+        if control.dt_user > 0.0:
+            if control.dt_user > dt_stable:
                 return t, dt_prev, steps, _STEP_TOO_LARGE, 0, dt_stable
-            dt = dt_user
+            dt = control.dt_user
         else:
-            dt = tssfac * dt_stable
+            dt = control.tssfac * dt_stable
         dt_seen = min(dt_seen, dt)
-        f_ext[:, :] = 0.0
-        for p in range(pulse_nodes.shape[0]):
-            if pulse_t0[p] <= t and t < pulse_t1[p]:
-                for i in range(3):
-                    f_ext[pulse_nodes[p], i] += pulse_forces[p, i]
-        if c_nodes.shape[0] > 0:
-            contact(x, c_nodes, c_k, c_kind, c_params, f_ext, c_normal, c_fn, c_out)
-        if rot_nodes.shape[0] > 0:
-            _prescribed_rotation(rot_nodes, X, x, v_pres, rot_center, rot_axis, rot_omega * (t + dt), dt)
+        pulse_forces(f_ext, loads, t)
+        if contact.nodes.shape[0] > 0:
+            contact_kernel(x, contact.nodes, contact.k, contact.kind, contact.params, f_ext, contact.normal,
+                           contact.fn, contact.out)
+        if frame.nodes.shape[0] > 0:
+            prescribed_rotation(frame.nodes, nodes.X, x, nodes.v_pres, frame.center, frame.axis,
+                                frame.omega * (t + dt), dt)
         Dt = 0.5 * (dt_prev + dt)
         beta_rate = beta / dt_prev if (beta > 0.0 and dt_prev > 0.0) else 0.0
-        _trial_velocities(v, v_new, x, f_ext, f_int, f_int_prev, v_pres, mass, free, reaction,
-                          alpha, relative, rot_center, rot_axis, rot_omega, Dt, beta_rate)
-        if c_nodes.shape[0] > 0:
-            w_n, w_f = _friction(v, v_new, f_ext, mass, free, c_nodes, c_normal, c_fn, c_mu, alpha, Dt, c_out)
+        _trial_velocities(state, nodes, damping, frame, Dt, beta_rate)
+        if contact.nodes.shape[0] > 0:
+            w_n, w_f = coulomb_friction(v, state.v_new, f_ext, nodes.mass, nodes.free, contact.nodes,
+                                        contact.normal, contact.fn, contact.mu, damping.alpha, Dt, contact.out)
             energy[_W_NORMAL] += w_n
             energy[_W_FRICTION] += w_f
-            energy[_E_PENALTY] = c_out[3]
-        w_ext, w_damp, ke = _commit(v, v_new, x, f_ext, f_int, f_int_prev, mass, reaction, alpha, relative,
-                                    rot_center, rot_axis, rot_omega, Dt, dt, beta_rate)
-        energy[_W_EXT] += w_ext
-        energy[_E_DAMP] += w_damp
-        energy[_E_BULK] += Dt * p_bulk
-        energy[_KE] = 0.5 * ke
-        energy[_IE] = w_int
-        energy[_HG] = w_hg
+            energy[_E_PENALTY] = contact.out[3]
+        w_ext, w_damp, ke = _commit(state, nodes, damping, frame, Dt, dt, beta_rate)
+        _record_energy(energy, w_ext, w_damp, Dt * p_bulk, ke, w_int, w_hg)
         if not (energy[_KE] < np.inf):       # also catches NaN; survives fast-math
             return t, dt_prev, steps, _DIVERGED, steps, dt_seen
         t += dt
@@ -252,25 +234,27 @@ class RunResult:
     snapshots: list = field(default_factory=list)
 
 
-def _pulse_arrays(pulses):
-    nodes, forces, t0, t1 = [], [], [], []
-    for p in pulses:
-        nodes.append(p.nodes)
-        forces.append(p.weights[:, None] * p.force_N[None, :])
-        t0.append(np.full(len(p.nodes), p.t_start_s))
-        t1.append(np.full(len(p.nodes), p.t_end_s))
-    if not nodes:
-        return np.zeros(0, np.int64), np.zeros((0, 3)), np.zeros(0), np.zeros(0)
-    return np.concatenate(nodes), np.concatenate(forces), np.concatenate(t0), np.concatenate(t1)
-
-
 def max_von_mises(model, x):
-    """Largest von Mises stress [Pa] at nodal positions x: Cauchy stress of the solid
-    elements, and the normal stress bound of the rods (:func:`ccedi.fea.rod.rod_max_stress`)."""
+    """Largest von Mises stress of a model at nodal positions ``x``.
+
+    Parameters
+    ----------
+    model : Model
+        The model (solid elements and rods).
+    x : ndarray, shape (n, 3)
+        Nodal positions [m].
+
+    Returns
+    -------
+    float
+        The larger of the solid elements' largest neo-Hookean Cauchy von Mises stress
+        (:func:`ccedi.fea.material.max_von_mises_of`) and the rods' normal stress bound
+        (:func:`ccedi.fea.rod.rod_max_stress`) [Pa].
+    """
     sigma = rod_max_stress(x, model.rod_arrays)
     if model.mesh.n_elements:
         F = deformation_gradient(x[model.mesh.hexes], model.geometry)
-        sigma = max(sigma, float(von_mises(cauchy_stress(F, model.material.mu, model.material.lam)).max()))
+        sigma = max(sigma, max_von_mises_of(F, model.material.mu, model.material.lam))
     return sigma
 
 
@@ -304,8 +288,8 @@ def _initial_state(name, value, shape):
     return a
 
 
-def _contact_args(model, dt_cfl, backend):
-    """Arrays the step loop takes for the model's contact (empty when there is none)."""
+def _contact_group(model, dt_cfl):
+    """The model's contact as a :data:`ContactGroup` (no slave nodes when it has none)."""
     n = model.mesh.n_nodes
     c = model.contact
     if c is None:
@@ -315,8 +299,50 @@ def _contact_args(model, dt_cfl, backend):
         nodes = np.asarray(c.nodes, dtype=np.int64)
         k = penalty_stiffness(model.mass[nodes], dt_cfl) if c.stiffness is None else np.asarray(c.stiffness, float)
         mu = float(c.surface.mu)
-    fn = contact_forces if backend == "numba" else contact_forces.py_func
-    return fn, (nodes, k, kind, params, mu, np.zeros((n, 3)), np.zeros(n), np.zeros(8))
+    return ContactGroup(nodes, k, kind, params, mu, np.zeros((n, 3)), np.zeros(n), np.zeros(8))
+
+
+def _step_data(model, x, v, dt_user, tssfac, dt_cfl):
+    """The groups the step loop takes, for ``model`` starting from x, v.
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    x, v : ndarray, shape (n, 3)
+        Initial positions [m] and velocities [m/s]; used in place as the state.
+    dt_user : float
+        Fixed step [s], 0.0 for the CFL-controlled step.
+    tssfac : float
+        Scale factor of the CFL step [-].
+    dt_cfl : float
+        Critical step at the start [s] (sets the contact penalty stiffness).
+
+    Returns
+    -------
+    tuple
+        (control, damping, state, nodes, hexes, material, rods, loads, frame, contact), as
+        :func:`_advance` takes them after its kernels and clock.
+    """
+    mesh, g = model.mesh, model.geometry
+    X = mesh.nodes
+    free = np.ones(mesh.n_nodes)
+    free[model.fixed_nodes] = 0.0
+    rot = model.rotating
+    if rot is not None:
+        free[rot.nodes] = 0.0
+        frame = RotatingFrame(rot.nodes, rot.center_m, rot.axis, float(rot.omega_rad_s))
+    else:
+        frame = RotatingFrame(np.zeros(0, np.int64), np.zeros(3), np.array([0.0, 0.0, 1.0]), 0.0)
+    v *= free[:, None]
+    state = State(x, v, *(np.zeros_like(X) for _ in range(5)))
+    nodes = Nodes(X, model.mass, free, np.zeros_like(X))
+    ra = model.rod_arrays
+    return (StepControl(dt_user, tssfac), Damping(model.alpha, model.beta, model.damping == "relative"), state,
+            nodes, HexGroup(mesh.hexes, g.b, g.volume, g.gamma, model.kappa), SolidMaterial(*model.solid_constants),
+            RodGroup(ra.segments, ra.rest_length, ra.axial_stiffness, ra.hinges, ra.bending_stiffness,
+                     rod_time_step(model)),
+            pulse_loads(model.pulses), frame, _contact_group(model, dt_cfl))
 
 
 CONTACT_COLUMNS = ["contact_force_x_N", "contact_force_y_N", "contact_force_z_N", "penalty_energy_J",
@@ -353,7 +379,7 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
         raise InputError(f"n_outputs must be an integer >= 1, got {n_outputs!r}")
     if backend not in ("numba", "numpy"):
         raise InputError(f"backend must be 'numba' or 'numpy', got {backend!r}")
-    mesh, g = model.mesh, model.geometry
+    mesh = model.mesh
     dt_user = 0.0 if dt_s is None else require_finite_positive("dt_s (time step, s)", dt_s)
     dt_cfl = critical_time_step(model)
     if dt_user > dt_cfl:
@@ -364,31 +390,16 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     X = mesh.nodes
     x = X.copy() if x0 is None else _initial_state("x0 (initial positions, m)", x0, X.shape)
     v = np.zeros_like(X) if v0 is None else _initial_state("v0 (initial velocities, m/s)", v0, X.shape)
-    free = np.ones(mesh.n_nodes)
-    free[model.fixed_nodes] = 0.0
-    rot = model.rotating
-    if rot is not None:
-        free[rot.nodes] = 0.0
-        rot_args = (rot.nodes, rot.center_m, rot.axis, float(rot.omega_rad_s))
-    else:
-        rot_args = (np.zeros(0, np.int64), np.zeros(3), np.array([0.0, 0.0, 1.0]), 0.0)
-    v *= free[:, None]
-    pulse_args = _pulse_arrays(model.pulses)
+    groups = _step_data(model, x, v, dt_user, tssfac, dt_cfl)
+    state, contact = groups[2], groups[-1]
     tip = mesh.node_sets[tip_set]
     tip_w = face_node_weights(mesh, tip) if len(tip) > 1 else np.ones(1)
     react_nodes = mesh.node_sets[reaction_set]
-    f_int, f_int_prev, f_ext, v_pres, reaction = (np.zeros_like(X) for _ in range(5))
     energy = np.zeros(9)
-    v_new = np.zeros_like(X)
-    contact, contact_arrays = _contact_args(model, dt_cfl, backend)
-    relative = model.damping == "relative"
     if backend == "numba":
-        advance, forces, rod_forces = _advance_numba, internal_forces_numba, rod_forces_numba
+        advance, kernels = _advance_numba, (internal_forces_numba, rod_forces_numba, contact_forces)
     else:
-        advance, forces, rod_forces = _advance, internal_forces_numpy, rod_forces_numpy
-    ra = model.rod_arrays
-    const = (mesh.hexes, g.b, g.volume, g.gamma, model.kappa, *model.solid_constants,
-             ra.segments, ra.rest_length, ra.axial_stiffness, ra.hinges, ra.bending_stiffness, rod_time_step(model))
+        advance, kernels = _advance, (internal_forces_numpy, rod_forces_numpy, contact_forces.py_func)
 
     rows, snapshots = [], []
     t, dt_prev, steps, dt_min = 0.0, 0.0, 0, np.inf
@@ -398,10 +409,7 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
         from tqdm import tqdm
         times = tqdm(times, unit="output", desc=f"t_end {t_end_s:g} s")
     for i_out, t_out in enumerate(times):
-        t, dt_prev, n, status, info, dt_seen = advance(
-            forces, rod_forces, contact, t, t_out, dt_prev, dt_user, tssfac, model.beta, model.alpha, relative,
-            x, v, v_new, X, f_int, f_int_prev, f_ext, v_pres, model.mass, free, *pulse_args, *rot_args, *const,
-            *contact_arrays, energy, reaction)
+        t, dt_prev, n, status, info, dt_seen = advance(*kernels, t, t_out, dt_prev, *groups, energy)
         steps += n
         dt_min = min(dt_min, dt_seen)
         if status == _INVERTED:
@@ -418,13 +426,13 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
         # central differences move each node linearly over a step
         x_out = x - (t - t_out) * v
         u_tip = tip_w @ (x_out[tip] - X[tip])
-        r = reaction[react_nodes].sum(axis=0)
+        r = state.reaction[react_nodes].sum(axis=0)
         row = (t_out, *u_tip, *r, max_von_mises(model, x_out), *energy[:_E_PENALTY])
         if model.contact is not None:
-            out = contact_arrays[-1]
+            out = contact.out
             row += (*out[:3], energy[_E_PENALTY], *out[4:], energy[_W_NORMAL], energy[_W_FRICTION])
         if output_hook is not None:
-            extra = output_hook(t_out, x_out, f_ext)
+            extra = output_hook(t_out, x_out, state.f_ext)
             row += tuple(extra.values())
         rows.append(row)
         if snapshot_every and (i_out + 1) % snapshot_every == 0:
@@ -438,7 +446,7 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     if output_hook is not None:
         cols += list(extra)
     history = pd.DataFrame(rows, columns=cols)
-    n_elements = mesh.n_elements + len(ra.segments)
+    n_elements = mesh.n_elements + len(model.rod_arrays.segments)
     summary = {"nodes": mesh.n_nodes, "elements": n_elements, "dt_initial_s": dt_first,
                "dt_min_s": float(dt_min), "steps": int(steps), "t_end_s": t_end_s, "t_final_s": t,
                "wall_time_s": wall, "backend": backend, "alpha_per_s": model.alpha, "beta_s": model.beta,

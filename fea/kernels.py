@@ -6,13 +6,10 @@ path the tests compare against); see :mod:`ccedi.fea.hex8` for the formulation.
 import numba as nb
 import numpy as np
 
+from .fastmath import FASTMATH
 from .hex8 import BULK_VISCOSITY_C0, BULK_VISCOSITY_C1, FACES
 
 _FACES = FACES.astype(np.int64)
-
-FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
-"""LLVM fast-math flags for the hot loops: every flag except ``nnan`` and ``ninf``, so that
-the NaN / inverted-element checks are not optimised away."""
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)

@@ -8,14 +8,19 @@ First Piola-Kirchhoff stress::
 
     P = mu (F - F^-T) + lam ln(J) F^-T                           [Pa]
 
-Cauchy stress ``sigma = P F^T / J``. Lame constants from Young's modulus E and
+Cauchy stress ``sigma = P F^T / J = (mu (F F^T - I) + lam ln(J) I) / J``: compiled once
+(:func:`neo_hookean_cauchy`, on one F) for the stress recovery of the FE model
+(:func:`cauchy_von_mises`) and of the reduced model (:mod:`ccedi.rom.superelement`); the
+numpy :func:`cauchy_stress` is its reference. Lame constants from Young's modulus E and
 Poisson's ratio nu: ``mu = E / (2 (1 + nu))``, ``lam = E nu / ((1 + nu)(1 - 2 nu))``.
 """
 from dataclasses import dataclass
 
+import numba as nb
 import numpy as np
 
 from ccedi.errors import InputError, require_finite_positive
+from .fastmath import FASTMATH
 
 
 @dataclass(frozen=True)
@@ -85,7 +90,8 @@ def strain_energy_density(F, mu, lam):
 
 
 def cauchy_stress(F, mu, lam):
-    """Cauchy stress sigma = P F^T / J = (mu (F F^T - I) + lam ln(J) I) / J [Pa]."""
+    """Cauchy stress sigma = P F^T / J = (mu (F F^T - I) + lam ln(J) I) / J [Pa]; the numpy
+    reference of :func:`neo_hookean_cauchy`."""
     J = np.linalg.det(F)
     sigma = mu * (F @ F.swapaxes(-1, -2) - np.eye(3))
     sigma += (lam * np.log(J))[..., None, None] * np.eye(3)
@@ -102,3 +108,96 @@ def von_mises(sigma):
     return np.sqrt(0.5 * ((s[..., 0, 0] - s[..., 1, 1]) ** 2 + (s[..., 1, 1] - s[..., 2, 2]) ** 2
                           + (s[..., 2, 2] - s[..., 0, 0]) ** 2)
                    + 3.0 * (s[..., 0, 1] ** 2 + s[..., 1, 2] ** 2 + s[..., 2, 0] ** 2))
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def neo_hookean_cauchy(F, mu, lam):
+    """Neo-Hookean Cauchy stress of one deformation gradient.
+
+    Parameters
+    ----------
+    F : ndarray, shape (3, 3)
+        Deformation gradient [-].
+    mu, lam : float
+        Lame constants [Pa].
+
+    Returns
+    -------
+    J : float
+        det F [-]; when J <= 0 (inverted) the stresses are NaN.
+    s00, s11, s22, s01, s12, s20 : float
+        Components of sigma = (mu (F F^T - I) + lam ln(J) I) / J [Pa].
+    """
+    J = (F[0, 0] * (F[1, 1] * F[2, 2] - F[1, 2] * F[2, 1])
+         - F[0, 1] * (F[1, 0] * F[2, 2] - F[1, 2] * F[2, 0])
+         + F[0, 2] * (F[1, 0] * F[2, 1] - F[1, 1] * F[2, 0]))
+    if not J > 0.0:
+        return J, np.nan, np.nan, np.nan, np.nan, np.nan, np.nan
+    p = lam * np.log(J) - mu
+    s00 = (mu * (F[0, 0] ** 2 + F[0, 1] ** 2 + F[0, 2] ** 2) + p) / J
+    s11 = (mu * (F[1, 0] ** 2 + F[1, 1] ** 2 + F[1, 2] ** 2) + p) / J
+    s22 = (mu * (F[2, 0] ** 2 + F[2, 1] ** 2 + F[2, 2] ** 2) + p) / J
+    s01 = mu * (F[0, 0] * F[1, 0] + F[0, 1] * F[1, 1] + F[0, 2] * F[1, 2]) / J
+    s12 = mu * (F[1, 0] * F[2, 0] + F[1, 1] * F[2, 1] + F[1, 2] * F[2, 2]) / J
+    s20 = mu * (F[2, 0] * F[0, 0] + F[2, 1] * F[0, 1] + F[2, 2] * F[0, 2]) / J
+    return J, s00, s11, s22, s01, s12, s20
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def von_mises_components(s00, s11, s22, s01, s12, s20):
+    """Equivalent (von Mises) stress of one symmetric stress, paper Eq. (9).
+
+    Parameters
+    ----------
+    s00, s11, s22, s01, s12, s20 : float
+        Stress components [Pa].
+
+    Returns
+    -------
+    float
+        sqrt(((s00-s11)^2 + (s11-s22)^2 + (s22-s00)^2) / 2 + 3 (s01^2 + s12^2 + s20^2)) [Pa].
+    """
+    return np.sqrt(0.5 * ((s00 - s11) ** 2 + (s11 - s22) ** 2 + (s22 - s00) ** 2)
+                   + 3.0 * (s01 * s01 + s12 * s12 + s20 * s20))
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def cauchy_von_mises(F, mu, lam):
+    """Von Mises stress of the neo-Hookean Cauchy stress of each deformation gradient.
+
+    Parameters
+    ----------
+    F : ndarray, shape (e, 3, 3)
+        Deformation gradients [-].
+    mu, lam : float
+        Lame constants [Pa].
+
+    Returns
+    -------
+    ndarray, shape (e,)
+        Von Mises stress [Pa] (:func:`neo_hookean_cauchy`, :func:`von_mises_components`);
+        NaN for an inverted F (J <= 0), as :func:`von_mises` of :func:`cauchy_stress` gives.
+    """
+    out = np.empty(F.shape[0])
+    for e in range(F.shape[0]):
+        J, s00, s11, s22, s01, s12, s20 = neo_hookean_cauchy(F[e], mu, lam)
+        out[e] = von_mises_components(s00, s11, s22, s01, s12, s20)
+    return out
+
+
+def max_von_mises_of(F, mu, lam):
+    """Largest von Mises stress of the neo-Hookean Cauchy stresses of ``F``.
+
+    Parameters
+    ----------
+    F : ndarray, shape (e, 3, 3)
+        Deformation gradients [-].
+    mu, lam : float
+        Lame constants [Pa].
+
+    Returns
+    -------
+    float
+        max over the elements of :func:`cauchy_von_mises` [Pa] (NaN if any is inverted).
+    """
+    return float(cauchy_von_mises(F, mu, lam).max())

@@ -10,7 +10,7 @@ import numpy as np
 
 from .explicit import RunResult
 from .hex8 import deformation_gradient
-from .material import cauchy_stress, von_mises
+from .material import cauchy_von_mises
 from .model import Model
 
 
@@ -37,7 +37,7 @@ def write_vtu(path, model: Model, x=None):
     mesh = model.mesh
     x = mesh.nodes if x is None else x
     F = deformation_gradient(x[mesh.hexes], model.geometry)
-    vm = von_mises(cauchy_stress(F, model.material.mu, model.material.lam))
+    vm = cauchy_von_mises(F, model.material.mu, model.material.lam)
     out = meshio.Mesh(points=x, cells=[("hexahedron", mesh.hexes)],
                       point_data={"displacement_m": x - mesh.nodes},
                       cell_data={"von_mises_Pa": [vm]})

@@ -48,13 +48,17 @@ point's flexibility t J M^-1 J^T t), clipped to mu f_n.
 Central differences: ``v^{n+1/2} = [(1 - alpha dt/2) v^{n-1/2} + dt f / m] / (1 + alpha dt/2)``
 with the damping centred and Coriolis from v^{n-1/2}.
 """
+from collections import namedtuple
+
 import numba as nb
 import numpy as np
 from scipy.linalg import eigh
 
+from ccedi.errors import InputError
 from ccedi.fea.contact import STEP_SHRINK, _ellipse_gap, penalty_stiffness
 from ccedi.fea.explicit import TSSFAC
 from ccedi.fea.kernels import FASTMATH
+from ccedi.fea.rotating_frame import drum_to_object, planar_frame_velocity_along, rotate, rotate_back
 
 # per-output contact record slots
 _FX, _FY, _NPTS, _PX, _PY, _PEN = range(6)
@@ -173,173 +177,461 @@ def _face_point(P, TH, a, xi, side, h, nonlinear, J):
     return qx, qy
 
 
+ChainState = namedtuple("ChainState", "P TH V W")
+"""Station state in the drum frame, updated in place: centres P (n, 2) [m], rotations TH
+(n,) [rad], velocities V (n, 2) [m/s] (half step), angular velocities W (n,) [rad/s]."""
+ChainGroup = namedtuple("ChainGroup", "mass inertia l0 Kn h nonlinear")
+"""The superelement chain: station masses (n,) [kg] and rotary inertias (n,) [kg m^2],
+segment rest lengths (n-1,) [m], natural stiffnesses Kn (n-1, 3, 3) [N, N m], section
+half thickness h [m], co-rotational (True) or linear kinematics."""
+DrumFrame = namedtuple("DrumFrame", "omega theta0 alpha relative")
+"""The drum's rotation rate omega [rad/s] and angle at t = 0 theta0 [rad]; mass damping
+alpha [1/s] of the absolute velocity, or (``relative``) of the velocity in the drum frame."""
+ContactPoints = namedtuple("ContactPoints", "seg xi k mu obj")
+"""Contact points (each on both faces): segment (p,) int, fraction xi along it (p,) [-],
+penalty stiffness (p,) [N/m]; Coulomb coefficient mu [-]; the object (6,): centre x, y
+[m], semi-axes a, b [m], cos and sin of its angle [-]."""
+ChainOutputs = namedtuple("ChainOutputs", "t_out P_out TH_out C_out")
+"""Output times (k,) [s] and the records written at them: station centres (k, n, 2) [m],
+rotations (k, n) [rad], contact record (k, 6) (slots _FX ... _PEN)."""
+ContactWork = namedtuple("ContactWork", "F Mo E J far fn nx ny")
+"""Scratch arrays of a run: station forces (n, 2) [N], moments (n,) [N m], natural
+deformations (n-1, 3), a face point's Jacobian (2, 6), culled segments (n-1,), and per
+face point its normal force (2p,) [N] and drum-frame normal (2p,) each."""
+
+
+def contact_work(n_stations, n_points):
+    """Scratch arrays (:data:`ContactWork`) for a chain of ``n_stations`` and ``n_points``
+    contact points (two face points each).
+
+    Parameters
+    ----------
+    n_stations : int
+        Stations of the chain.
+    n_points : int
+        Contact points along it.
+
+    Returns
+    -------
+    ContactWork
+        Zeroed arrays.
+    """
+    npt = 2 * n_points
+    return ContactWork(np.zeros((n_stations, 2)), np.zeros(n_stations), np.zeros((n_stations - 1, 3)),
+                       np.zeros((2, 6)), np.zeros(n_stations - 1, dtype=np.bool_), np.zeros(npt), np.zeros(npt),
+                       np.zeros(npt))
+
+
 @nb.njit(cache=True, fastmath=FASTMATH)
-def _chain_run(P, TH, V, W, mass, inertia, l0, Kn, h, nonlinear, relative, alpha, omega, theta0,
-               pt_seg, pt_xi, pt_k, mu, obj, dt, t_out, P_out, TH_out, C_out):
-    """Integrate to every time of ``t_out``; states P, TH, V, W are updated in place.
-    Contact points: ``pt_seg`` (segment), ``pt_xi`` (fraction along it), ``pt_k`` (penalty
-    stiffness, N/m), each on both faces (:func:`_face_point`).
+def _station_loads(state, chain, work):
+    """Station forces and moments = minus the internal forces, into work.F, work.Mo."""
+    F, Mo = work.F, work.Mo
+    n = F.shape[0]
+    for i in range(n):
+        F[i, 0] = 0.0
+        F[i, 1] = 0.0
+        Mo[i] = 0.0
+    _internal_forces(state.P, state.TH, chain.l0, chain.Kn, chain.nonlinear, F, Mo, work.E)
+    for i in range(n):
+        F[i, 0] = -F[i, 0]
+        F[i, 1] = -F[i, 1]
+        Mo[i] = -Mo[i]
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _cull_segments(P, chain, obj, cp, sp, far):
+    """Mark in ``far`` the segments that cannot touch the object at drum angle (cp, sp).
+
+    A segment whose points all lie within r of its chord midpoint cannot touch the object
+    when the midpoint is outside the ellipse grown by r (semi-axes a + r, b + r contain
+    the curve parallel to the ellipse at r)."""
+    for a in range(chain.l0.shape[0]):
+        mx = 0.5 * (P[a, 0] + P[a + 1, 0])
+        my = 0.5 * (P[a, 1] + P[a + 1, 1])
+        _, _, u, w = drum_to_object(mx, my, cp, sp, obj)
+        r = 0.75 * chain.l0[a] + 2.0 * chain.h
+        far[a] = (u / (obj[2] + r)) ** 2 + (w / (obj[3] + r)) ** 2 >= 1.0
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _penalty_contact(state, chain, points, cp, sp, work):
+    """Penalty normal forces of the face points on the object, added to the stations.
+
+    Stores each point's normal force and drum-frame normal in work.fn, work.nx, work.ny.
+    Returns the contact record (force on the object x, y [N], force-weighted point sums
+    x, y [N m], force sum [N], deepest penetration [m], active points)."""
+    P, TH = state.P, state.TH
+    F, Mo, J, far, fn = work.F, work.Mo, work.J, work.far, work.fn
+    obj = points.obj
+    fx_sum = 0.0
+    fy_sum = 0.0
+    px_sum = 0.0
+    py_sum = 0.0
+    fn_sum = 0.0
+    pen_max = 0.0
+    n_act = 0
+    for p in range(points.seg.shape[0]):
+        a = points.seg[p]
+        fn[2 * p] = 0.0
+        fn[2 * p + 1] = 0.0
+        if far[a]:
+            continue
+        for j in range(2):
+            pt = 2 * p + j
+            side = 1.0 if j == 0 else -1.0
+            qx, qy = _face_point(P, TH, a, points.xi[p], side, chain.h, chain.nonlinear, J)
+            gx, gy, u, w = drum_to_object(qx, qy, cp, sp, obj)
+            if (u / obj[2]) ** 2 + (w / obj[3]) ** 2 >= 1.0:
+                continue
+            gap, lx, ly = _ellipse_gap(u, w, obj[2], obj[3])
+            if gap >= 0.0:
+                continue
+            ngx, ngy = rotate(lx, ly, obj[4], obj[5])
+            ndx, ndy = rotate_back(ngx, ngy, cp, sp)      # normal in the drum frame
+            f = -points.k[p] * gap
+            fx = f * ndx
+            fy = f * ndy
+            for e in range(2):
+                F[a + e, 0] += J[0, 3 * e] * fx + J[1, 3 * e] * fy
+                F[a + e, 1] += J[0, 3 * e + 1] * fx + J[1, 3 * e + 1] * fy
+                Mo[a + e] += J[0, 3 * e + 2] * fx + J[1, 3 * e + 2] * fy
+            fn[pt] = f
+            work.nx[pt] = ndx
+            work.ny[pt] = ndy
+            fx_sum -= f * ngx
+            fy_sum -= f * ngy
+            px_sum += f * (gx + obj[0])
+            py_sum += f * (gy + obj[1])
+            fn_sum += f
+            pen_max = max(pen_max, -gap)
+            n_act += 1
+    return fx_sum, fy_sum, px_sum, py_sum, fn_sum, pen_max, n_act
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _frame_load(i, state, chain, drum, F, Mo):
+    """Load on station i in the drum frame: station force and moment plus the centripetal
+    and Coriolis forces, and (``global`` damping) the drag of the frame's own motion."""
+    P, V = state.P, state.V
+    m = chain.mass[i]
+    omega, alpha = drum.omega, drum.alpha
+    fx = F[i, 0] + m * omega * (omega * P[i, 0] + 2.0 * V[i, 1])
+    fy = F[i, 1] + m * omega * (omega * P[i, 1] - 2.0 * V[i, 0])
+    mz = Mo[i]
+    if not drum.relative:
+        fx += alpha * m * omega * P[i, 1]
+        fy -= alpha * m * omega * P[i, 0]
+        mz -= alpha * chain.inertia[i] * omega
+    return fx, fy, mz
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _velocity_update(state, chain, drum, work, dt, damp_lo, damp_hi):
+    """Central-difference velocities v^{n+1/2} of the free stations (damping centred)."""
+    V, W = state.V, state.W
+    for i in range(1, chain.mass.shape[0]):
+        fx, fy, mz = _frame_load(i, state, chain, drum, work.F, work.Mo)
+        m = chain.mass[i]
+        V[i, 0] = (damp_lo * V[i, 0] + dt * fx / m) / damp_hi
+        V[i, 1] = (damp_lo * V[i, 1] + dt * fy / m) / damp_hi
+        W[i] = (damp_lo * W[i] + dt * mz / chain.inertia[i]) / damp_hi
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _coulomb_friction(state, chain, drum, points, cp, sp, work, dt, damp_hi, fx_sum, fy_sum):
+    """Friction impulse of every face point in contact on the stations' velocities: the
+    impulse that stops the point's absolute tangential velocity within the step, through
+    its flexibility t J M^-1 J^T t, clipped to mu f_n. Returns the force on the object
+    (fx_sum, fy_sum) [N] with the friction reactions subtracted."""
+    P, TH, V, W = state.P, state.TH, state.V, state.W
+    mass, inertia = chain.mass, chain.inertia
+    J, fn = work.J, work.fn
+    for p in range(points.seg.shape[0]):
+        a = points.seg[p]
+        for j in range(2):
+            pt = 2 * p + j
+            if fn[pt] == 0.0:
+                continue
+            side = 1.0 if j == 0 else -1.0
+            qx, qy = _face_point(P, TH, a, points.xi[p], side, chain.h, chain.nonlinear, J)
+            tx = -work.ny[pt]
+            ty = work.nx[pt]
+            # absolute tangential velocity of the point (drum-frame components),
+            # its generalised direction g = J^T t and flexibility t J M^-1 J^T t
+            vt = planar_frame_velocity_along(qx, qy, tx, ty, drum.omega)
+            flex = 0.0
+            for e in range(2):
+                i = a + e
+                if i == 0:
+                    continue                    # the clamped root station
+                gx_ = J[0, 3 * e] * tx + J[1, 3 * e] * ty
+                gy_ = J[0, 3 * e + 1] * tx + J[1, 3 * e + 1] * ty
+                gr_ = J[0, 3 * e + 2] * tx + J[1, 3 * e + 2] * ty
+                vt += gx_ * V[i, 0] + gy_ * V[i, 1] + gr_ * W[i]
+                flex += (gx_ * gx_ + gy_ * gy_) / mass[i] + gr_ * gr_ / inertia[i]
+            flex *= dt / damp_hi
+            ft = -vt / flex
+            limit = points.mu * fn[pt]
+            if ft > limit:
+                ft = limit
+            elif ft < -limit:
+                ft = -limit
+            g = dt / damp_hi * ft
+            for e in range(2):
+                i = a + e
+                if i == 0:
+                    continue
+                V[i, 0] += g * (J[0, 3 * e] * tx + J[1, 3 * e] * ty) / mass[i]
+                V[i, 1] += g * (J[0, 3 * e + 1] * tx + J[1, 3 * e + 1] * ty) / mass[i]
+                W[i] += g * (J[0, 3 * e + 2] * tx + J[1, 3 * e + 2] * ty) / inertia[i]
+            rx, ry = rotate(tx, ty, cp, sp)
+            fx_sum -= ft * rx
+            fy_sum -= ft * ry
+    return fx_sum, fy_sum
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _drift(state, dt):
+    """Positions x^{n+1} = x^n + dt v^{n+1/2} of the free stations; False on a non-finite state."""
+    P, TH, V, W = state.P, state.TH, state.V, state.W
+    for i in range(1, P.shape[0]):
+        P[i, 0] += dt * V[i, 0]
+        P[i, 1] += dt * V[i, 1]
+        TH[i] += dt * W[i]
+        if not (np.isfinite(P[i, 0]) and np.isfinite(P[i, 1]) and np.isfinite(TH[i])):
+            return False
+    return True
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _record(k, back, state, outputs, record):
+    """Output k: station states moved back by ``back`` [s] to the output time (linear in the
+    step) and the contact record of the last step."""
+    P, TH, V, W = state.P, state.TH, state.V, state.W
+    for i in range(P.shape[0]):
+        outputs.P_out[k, i, 0] = P[i, 0] - back * V[i, 0]
+        outputs.P_out[k, i, 1] = P[i, 1] - back * V[i, 1]
+        outputs.TH_out[k, i] = TH[i] - back * W[i]
+    fx_sum, fy_sum, px_sum, py_sum, fn_sum, pen_max, n_act = record
+    C = outputs.C_out
+    C[k, _FX] = fx_sum
+    C[k, _FY] = fy_sum
+    C[k, _NPTS] = n_act
+    C[k, _PX] = px_sum / fn_sum if fn_sum > 0.0 else 0.0
+    C[k, _PY] = py_sum / fn_sum if fn_sum > 0.0 else 0.0
+    C[k, _PEN] = pen_max
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _chain_run(state, chain, drum, points, dt, outputs, work):
+    """Integrate to every output time; the state is updated in place.
     Returns (status, steps): status 0 ok, 1 non-finite state."""
-    n = mass.shape[0]
-    F = np.zeros((n, 2))
-    Mo = np.zeros(n)
-    E = np.zeros((l0.shape[0], 3))
-    J = np.zeros((2, 6))
-    far = np.zeros(l0.shape[0], dtype=np.bool_)
-    npt = 2 * pt_seg.shape[0]
-    fn = np.zeros(npt)
-    nx_d = np.zeros(npt)
-    ny_d = np.zeros(npt)
-    cx, cy, oa, ob, ca, sa = obj[0], obj[1], obj[2], obj[3], obj[4], obj[5]
-    damp_lo = 1.0 - 0.5 * alpha * dt
-    damp_hi = 1.0 + 0.5 * alpha * dt
+    damp_lo = 1.0 - 0.5 * drum.alpha * dt
+    damp_hi = 1.0 + 0.5 * drum.alpha * dt
+    t_out = outputs.t_out
+    record = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0)
     t = 0.0
     steps = 0
     for k in range(t_out.shape[0]):
         while t < t_out[k] - 1e-12 * dt:
-            for i in range(n):
-                F[i, 0] = 0.0
-                F[i, 1] = 0.0
-                Mo[i] = 0.0
-            _internal_forces(P, TH, l0, Kn, nonlinear, F, Mo, E)
-            for i in range(n):
-                F[i, 0] = -F[i, 0]
-                F[i, 1] = -F[i, 1]
-                Mo[i] = -Mo[i]
-            phi = theta0 + omega * t
+            _station_loads(state, chain, work)
+            phi = drum.theta0 + drum.omega * t
             cp = np.cos(phi)
             sp = np.sin(phi)
-            for a in range(l0.shape[0]):
-                # cull: a segment whose points all lie within r of its chord midpoint cannot
-                # touch the object when the midpoint is outside the ellipse grown by r
-                # (semi-axes a + r, b + r contain the curve parallel to the ellipse at r)
-                mx = 0.5 * (P[a, 0] + P[a + 1, 0])
-                my = 0.5 * (P[a, 1] + P[a + 1, 1])
-                gx = cp * mx - sp * my - cx
-                gy = sp * mx + cp * my - cy
-                u = ca * gx + sa * gy
-                w = -sa * gx + ca * gy
-                r = 0.75 * l0[a] + 2.0 * h
-                far[a] = (u / (oa + r)) ** 2 + (w / (ob + r)) ** 2 >= 1.0
-            fx_sum = 0.0
-            fy_sum = 0.0
-            px_sum = 0.0
-            py_sum = 0.0
-            fn_sum = 0.0
-            pen_max = 0.0
-            n_act = 0
-            for p in range(pt_seg.shape[0]):
-                a = pt_seg[p]
-                fn[2 * p] = 0.0
-                fn[2 * p + 1] = 0.0
-                if far[a]:
-                    continue
-                for j in range(2):
-                    pt = 2 * p + j
-                    side = 1.0 if j == 0 else -1.0
-                    qx, qy = _face_point(P, TH, a, pt_xi[p], side, h, nonlinear, J)
-                    gx = cp * qx - sp * qy - cx
-                    gy = sp * qx + cp * qy - cy
-                    u = ca * gx + sa * gy
-                    w = -sa * gx + ca * gy
-                    if (u / oa) ** 2 + (w / ob) ** 2 >= 1.0:
-                        continue
-                    gap, lx, ly = _ellipse_gap(u, w, oa, ob)
-                    if gap >= 0.0:
-                        continue
-                    ngx = ca * lx - sa * ly
-                    ngy = sa * lx + ca * ly
-                    ndx = cp * ngx + sp * ngy               # normal in the drum frame
-                    ndy = -sp * ngx + cp * ngy
-                    f = -pt_k[p] * gap
-                    fx = f * ndx
-                    fy = f * ndy
-                    for e in range(2):
-                        F[a + e, 0] += J[0, 3 * e] * fx + J[1, 3 * e] * fy
-                        F[a + e, 1] += J[0, 3 * e + 1] * fx + J[1, 3 * e + 1] * fy
-                        Mo[a + e] += J[0, 3 * e + 2] * fx + J[1, 3 * e + 2] * fy
-                    fn[pt] = f
-                    nx_d[pt] = ndx
-                    ny_d[pt] = ndy
-                    fx_sum -= f * ngx
-                    fy_sum -= f * ngy
-                    px_sum += f * (gx + cx)
-                    py_sum += f * (gy + cy)
-                    fn_sum += f
-                    pen_max = max(pen_max, -gap)
-                    n_act += 1
-            for i in range(1, n):
-                m = mass[i]
-                fx = F[i, 0] + m * omega * (omega * P[i, 0] + 2.0 * V[i, 1])
-                fy = F[i, 1] + m * omega * (omega * P[i, 1] - 2.0 * V[i, 0])
-                mz = Mo[i]
-                if not relative:
-                    fx += alpha * m * omega * P[i, 1]
-                    fy -= alpha * m * omega * P[i, 0]
-                    mz -= alpha * inertia[i] * omega
-                V[i, 0] = (damp_lo * V[i, 0] + dt * fx / m) / damp_hi
-                V[i, 1] = (damp_lo * V[i, 1] + dt * fy / m) / damp_hi
-                W[i] = (damp_lo * W[i] + dt * mz / inertia[i]) / damp_hi
-            if mu > 0.0:
-                for p in range(pt_seg.shape[0]):
-                    a = pt_seg[p]
-                    for j in range(2):
-                        pt = 2 * p + j
-                        if fn[pt] == 0.0:
-                            continue
-                        side = 1.0 if j == 0 else -1.0
-                        qx, qy = _face_point(P, TH, a, pt_xi[p], side, h, nonlinear, J)
-                        tx = -ny_d[pt]
-                        ty = nx_d[pt]
-                        # absolute tangential velocity of the point (drum-frame components),
-                        # its generalised direction g = J^T t and flexibility t J M^-1 J^T t
-                        vt = omega * (qx * ty - qy * tx)
-                        flex = 0.0
-                        for e in range(2):
-                            i = a + e
-                            if i == 0:
-                                continue                    # the clamped root station
-                            gx_ = J[0, 3 * e] * tx + J[1, 3 * e] * ty
-                            gy_ = J[0, 3 * e + 1] * tx + J[1, 3 * e + 1] * ty
-                            gr_ = J[0, 3 * e + 2] * tx + J[1, 3 * e + 2] * ty
-                            vt += gx_ * V[i, 0] + gy_ * V[i, 1] + gr_ * W[i]
-                            flex += (gx_ * gx_ + gy_ * gy_) / mass[i] + gr_ * gr_ / inertia[i]
-                        flex *= dt / damp_hi
-                        ft = -vt / flex
-                        limit = mu * fn[pt]
-                        if ft > limit:
-                            ft = limit
-                        elif ft < -limit:
-                            ft = -limit
-                        g = dt / damp_hi * ft
-                        for e in range(2):
-                            i = a + e
-                            if i == 0:
-                                continue
-                            V[i, 0] += g * (J[0, 3 * e] * tx + J[1, 3 * e] * ty) / mass[i]
-                            V[i, 1] += g * (J[0, 3 * e + 1] * tx + J[1, 3 * e + 1] * ty) / mass[i]
-                            W[i] += g * (J[0, 3 * e + 2] * tx + J[1, 3 * e + 2] * ty) / inertia[i]
-                        fx_sum -= ft * (cp * tx - sp * ty)
-                        fy_sum -= ft * (sp * tx + cp * ty)
-            for i in range(1, n):
-                P[i, 0] += dt * V[i, 0]
-                P[i, 1] += dt * V[i, 1]
-                TH[i] += dt * W[i]
-                if not (np.isfinite(P[i, 0]) and np.isfinite(P[i, 1]) and np.isfinite(TH[i])):
-                    return 1, steps
+            _cull_segments(state.P, chain, points.obj, cp, sp, work.far)
+            record = _penalty_contact(state, chain, points, cp, sp, work)
+            _velocity_update(state, chain, drum, work, dt, damp_lo, damp_hi)
+            if points.mu > 0.0:
+                fx_sum, fy_sum = _coulomb_friction(state, chain, drum, points, cp, sp, work, dt, damp_hi,
+                                                   record[0], record[1])
+                record = (fx_sum, fy_sum, record[2], record[3], record[4], record[5], record[6])
+            if not _drift(state, dt):
+                return 1, steps
             t += dt
             steps += 1
-        back = t - t_out[k]                                 # positions at t_out[k]: linear in the step
-        for i in range(n):
-            P_out[k, i, 0] = P[i, 0] - back * V[i, 0]
-            P_out[k, i, 1] = P[i, 1] - back * V[i, 1]
-            TH_out[k, i] = TH[i] - back * W[i]
-        C_out[k, _FX] = fx_sum
-        C_out[k, _FY] = fy_sum
-        C_out[k, _NPTS] = n_act
-        C_out[k, _PX] = px_sum / fn_sum if fn_sum > 0.0 else 0.0
-        C_out[k, _PY] = py_sum / fn_sum if fn_sum > 0.0 else 0.0
-        C_out[k, _PEN] = pen_max
+        _record(k, t - t_out[k], state, outputs, record)
+    return 0, steps
+
+
+def chain_run(state, chain, drum, points, dt, outputs, backend="numba"):
+    """Integrate the chain on the rotating drum to every output time.
+
+    Parameters
+    ----------
+    state : ChainState
+        Initial station state (drum frame), updated in place.
+    chain : ChainGroup
+        The superelement chain (station 0 is clamped to the drum).
+    drum : DrumFrame
+        Rotation and damping.
+    points : ContactPoints
+        Contact points and the object.
+    dt : float
+        Step [s].
+    outputs : ChainOutputs
+        Output times [s] and the arrays that receive the records.
+    backend : {"numba", "numpy"}
+        Compiled kernels, or the plain Python / numpy reference
+        (:func:`chain_run_numpy`, same algorithm, slow).
+
+    Returns
+    -------
+    status : int
+        0 ok, 1 the state became non-finite.
+    steps : int
+        Steps taken.
+    """
+    work = contact_work(chain.mass.shape[0], points.seg.shape[0])
+    if backend == "numba":
+        return _chain_run(state, chain, drum, points, float(dt), outputs, work)
+    if backend == "numpy":
+        return chain_run_numpy(state, chain, drum, points, float(dt), outputs)
+    raise InputError(f"backend must be 'numba' or 'numpy', got {backend!r}")
+
+
+def _internal_forces_numpy(P, TH, chain):
+    """Station forces (n, 2) [N] and moments (n,) [N m] of the chain's section forces
+    (vectorised over the segments, the formulas of :func:`_internal_forces`)."""
+    d = P[1:] - P[:-1]
+    l0 = chain.l0
+    if chain.nonlinear:
+        ln = np.hypot(d[:, 0], d[:, 1])
+        c, sn = d[:, 0] / ln, d[:, 1] / ln
+        psi = np.arctan2(d[:, 1], d[:, 0])
+        e1 = ln - l0
+    else:
+        ln, c, sn = l0, np.ones_like(l0), np.zeros_like(l0)
+        psi = d[:, 1] / ln
+        e1 = d[:, 0] - ln
+    e = np.column_stack([e1, TH[:-1] - psi, TH[1:] - psi])
+    N, Ma, Mb = np.einsum("sij,sj->si", chain.Kn, e).T
+    sh = (Ma + Mb) / ln
+    fa = np.column_stack([-c * N - sn * sh, -sn * N + c * sh])
+    F = np.zeros_like(P)
+    Mo = np.zeros(len(P))
+    F[:-1] += fa
+    F[1:] -= fa
+    Mo[:-1] += Ma
+    Mo[1:] += Mb
+    return F, Mo
+
+
+def chain_run_numpy(state, chain, drum, points, dt, outputs):
+    """Reference of :func:`_chain_run`: the same algorithm in plain Python and numpy (no
+    numba), for the tests. Same arguments and result as :func:`chain_run`.
+
+    Parameters
+    ----------
+    state : ChainState
+        Initial station state (drum frame), updated in place.
+    chain : ChainGroup
+        The superelement chain.
+    drum : DrumFrame
+        Rotation and damping.
+    points : ContactPoints
+        Contact points and the object.
+    dt : float
+        Step [s].
+    outputs : ChainOutputs
+        Output times [s] and the arrays that receive the records.
+
+    Returns
+    -------
+    status, steps : int
+        0 ok or 1 non-finite state; steps taken.
+    """
+    face_point, ellipse_gap = _face_point.py_func, _ellipse_gap.py_func
+    P, TH, V, W = state
+    m, I = chain.mass[1:], chain.inertia[1:]
+    cx, cy, oa, ob, ca, sa = points.obj
+    om, alpha = drum.omega, drum.alpha
+    damp_lo, damp_hi = 1.0 - 0.5 * alpha * dt, 1.0 + 0.5 * alpha * dt
+    Jp = np.zeros((2, 6))
+    t, steps = 0.0, 0
+    record = np.zeros(6)
+    for k, t_k in enumerate(outputs.t_out):
+        while t < t_k - 1e-12 * dt:
+            F, Mo = _internal_forces_numpy(P, TH, chain)
+            F, Mo = -F, -Mo
+            phi = drum.theta0 + om * t
+            cp, sp = np.cos(phi), np.sin(phi)
+            rot = np.array([[cp, -sp], [sp, cp]])            # drum frame -> global
+            mid = 0.5 * (P[:-1] + P[1:]) @ rot.T - [cx, cy]
+            u = ca * mid[:, 0] + sa * mid[:, 1]
+            w = -sa * mid[:, 0] + ca * mid[:, 1]
+            r = 0.75 * chain.l0 + 2.0 * chain.h
+            far = (u / (oa + r)) ** 2 + (w / (ob + r)) ** 2 >= 1.0
+            active = []                                     # (segment, xi, side, f_n, drum-frame normal)
+            f_obj = np.zeros(2)
+            moment, f_sum, pen, n_act = np.zeros(2), 0.0, 0.0, 0
+            for a, xi, kp in zip(points.seg, points.xi, points.k):
+                if far[a]:
+                    continue
+                for side in (1.0, -1.0):
+                    q = np.array(face_point(P, TH, a, xi, side, chain.h, chain.nonlinear, Jp))
+                    g = rot @ q - [cx, cy]
+                    u, w = ca * g[0] + sa * g[1], -sa * g[0] + ca * g[1]
+                    if (u / oa) ** 2 + (w / ob) ** 2 >= 1.0:
+                        continue
+                    gap, lx, ly = ellipse_gap(u, w, oa, ob)
+                    if gap >= 0.0:
+                        continue
+                    n_glob = np.array([ca * lx - sa * ly, sa * lx + ca * ly])
+                    n_drum = rot.T @ n_glob
+                    f = -kp * gap
+                    gen = Jp.T @ (f * n_drum)                   # on [Pa, theta_a, Pb, theta_b]
+                    F[a:a + 2] += gen.reshape(2, 3)[:, :2]
+                    Mo[a:a + 2] += gen.reshape(2, 3)[:, 2]
+                    active.append((a, xi, side, f, n_drum))
+                    f_obj -= f * n_glob
+                    moment += f * (g + [cx, cy])
+                    f_sum += f
+                    pen = max(pen, -gap)
+                    n_act += 1
+            # central differences in the drum frame: centripetal, Coriolis, (global) frame drag
+            fx = F[1:, 0] + m * om * (om * P[1:, 0] + 2.0 * V[1:, 1])
+            fy = F[1:, 1] + m * om * (om * P[1:, 1] - 2.0 * V[1:, 0])
+            mz = Mo[1:].copy()
+            if not drum.relative:
+                fx += alpha * m * om * P[1:, 1]
+                fy -= alpha * m * om * P[1:, 0]
+                mz -= alpha * I * om
+            V[1:, 0] = (damp_lo * V[1:, 0] + dt * fx / m) / damp_hi
+            V[1:, 1] = (damp_lo * V[1:, 1] + dt * fy / m) / damp_hi
+            W[1:] = (damp_lo * W[1:] + dt * mz / I) / damp_hi
+            if points.mu > 0.0:
+                for a, xi, side, f, n_drum in active:
+                    q = np.array(face_point(P, TH, a, xi, side, chain.h, chain.nonlinear, Jp))
+                    tang = np.array([-n_drum[1], n_drum[0]])
+                    g = (tang @ Jp).reshape(2, 3)                # J^T t per end station
+                    vt = om * (q[0] * tang[1] - q[1] * tang[0])
+                    flex = 0.0
+                    for e in range(2):
+                        i = a + e
+                        if i == 0:
+                            continue
+                        vt += g[e, 0] * V[i, 0] + g[e, 1] * V[i, 1] + g[e, 2] * W[i]
+                        flex += (g[e, 0] ** 2 + g[e, 1] ** 2) / chain.mass[i] + g[e, 2] ** 2 / chain.inertia[i]
+                    ft = float(np.clip(-vt / (flex * dt / damp_hi), -points.mu * f, points.mu * f))
+                    for e in range(2):
+                        i = a + e
+                        if i == 0:
+                            continue
+                        V[i] += dt / damp_hi * ft * g[e, :2] / chain.mass[i]
+                        W[i] += dt / damp_hi * ft * g[e, 2] / chain.inertia[i]
+                    f_obj -= ft * (rot @ tang)
+            P[1:] += dt * V[1:]
+            TH[1:] += dt * W[1:]
+            if not (np.isfinite(P).all() and np.isfinite(TH).all()):
+                return 1, steps
+            t += dt
+            steps += 1
+            point = moment / f_sum if f_sum > 0.0 else np.zeros(2)
+            record = np.array([f_obj[0], f_obj[1], n_act, point[0], point[1], pen])
+        back = t - t_k
+        outputs.P_out[k] = P - back * V
+        outputs.TH_out[k] = TH - back * W
+        outputs.C_out[k, [_FX, _FY, _NPTS, _PX, _PY, _PEN]] = record
     return 0, steps
 
 

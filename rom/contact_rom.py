@@ -22,8 +22,9 @@ from ccedi.fea.explicit import TSSFAC, critical_time_step
 from ccedi.fea.model import cantilever_model
 from ccedi.fea.static import static_solve
 from ccedi.fea.contact import penalty_stiffness
-from ccedi.rom.chain_dynamics import (_FX, _FY, _NPTS, _PEN, _PX, _PY, _chain_run, _internal_forces, contact_omega,
-                                contact_point_stiffness, face_points, stable_step)
+from ccedi.rom.chain_dynamics import (_FX, _FY, _NPTS, _PEN, _PX, _PY, ChainGroup, ChainOutputs, ChainState,
+                                      ContactPoints, DrumFrame, _internal_forces, chain_run, contact_omega,
+                                      contact_point_stiffness, face_points, stable_step)
 from ccedi.rom.superelement import (chain_frequencies, fe_tip_stiffness, finger_chain, fit_tip_stiffness, linear_matrices,
                               stress_recovery)
 
@@ -171,10 +172,10 @@ class ReducedContactModel:
         c = np.asarray(obj.center_m, dtype=float)
         obj_params = np.array([c[0], c[1], obj.a_m, obj.b_m, np.cos(obj.angle_rad), np.sin(obj.angle_rad)])
         wall0 = time.perf_counter()
-        status, steps = _chain_run(P, TH, V, W, ch.mass_kg, ch.inertia_kg_m2, ch.segment_length_m,
-                                   ch.natural_stiffness, ch.half_thickness_m, self.nonlinear, damping == "relative",
-                                   float(alpha), s.omega_rad_s, s.theta0_rad, self.pt_seg, self.pt_xi, self.pt_k,
-                                   float(obj.mu), obj_params, self.dt_s, t_out, P_out, TH_out, C_out)
+        status, steps = chain_run(ChainState(P, TH, V, W), self._chain_group(),
+                                  DrumFrame(s.omega_rad_s, s.theta0_rad, float(alpha), damping == "relative"),
+                                  ContactPoints(self.pt_seg, self.pt_xi, self.pt_k, float(obj.mu), obj_params),
+                                  self.dt_s, ChainOutputs(t_out, P_out, TH_out, C_out))
         if status:
             raise SolverError(f"reduced model diverged (non-finite state) at step {steps + 1}")
         stress = self._max_von_mises(P_out, TH_out)
@@ -200,6 +201,12 @@ class ReducedContactModel:
                    "segments": ch.n_segments, "stiffness_scale": ch.stiffness_scale}
         summary.update(contact_timing(history))
         return ContactResponse(history=history, summary=summary)
+
+    def _chain_group(self):
+        """The chain as :data:`ccedi.rom.chain_dynamics.ChainGroup`."""
+        ch = self.chain
+        return ChainGroup(ch.mass_kg, ch.inertia_kg_m2, ch.segment_length_m, ch.natural_stiffness,
+                          ch.half_thickness_m, self.nonlinear)
 
     def _max_von_mises(self, P_out, TH_out):
         """Finger stress [Pa] per output from the station states, zone by zone."""

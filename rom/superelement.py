@@ -44,7 +44,7 @@ from scipy.linalg import eigh
 from ccedi.errors import InputError
 from ccedi.fea.hex8 import deformation_gradient, element_geometry
 from ccedi.fea.kernels import FASTMATH
-from ccedi.fea.material import NeoHookean, cauchy_stress, von_mises
+from ccedi.fea.material import NeoHookean, cauchy_stress, neo_hookean_cauchy, von_mises, von_mises_components
 from ccedi.fea.mesh import Mesh
 from ccedi.fea.model import Model, cantilever_model
 from ccedi.fea.static import tangent_stiffness, tip_deflection
@@ -328,7 +328,8 @@ class StressRecovery:
 
 @nb.njit(cache=True, fastmath=FASTMATH)
 def _max_von_mises(e, zone_of, H, mu, lam, nonlinear):
-    """Compiled :meth:`StressRecovery.max_von_mises` (same formulas, element by element)."""
+    """Compiled :meth:`StressRecovery.max_von_mises` (same formulas, element by element;
+    the neo-Hookean stress is the FE model's, :func:`ccedi.fea.material.neo_hookean_cauchy`)."""
     out = np.zeros(e.shape[0])
     F = np.empty((3, 3))
     for t in range(e.shape[0]):
@@ -340,19 +341,10 @@ def _max_von_mises(e, zone_of, H, mu, lam, nonlinear):
                     F[a, b] = (1.0 if a == b else 0.0) + (e[t, z, 0] * H[el, 0, a, b] + e[t, z, 1] * H[el, 1, a, b]
                                                           + e[t, z, 2] * H[el, 2, a, b])
             if nonlinear:
-                J = (F[0, 0] * (F[1, 1] * F[2, 2] - F[1, 2] * F[2, 1])
-                     - F[0, 1] * (F[1, 0] * F[2, 2] - F[1, 2] * F[2, 0])
-                     + F[0, 2] * (F[1, 0] * F[2, 1] - F[1, 1] * F[2, 0]))
+                J, s00, s11, s22, s01, s12, s20 = neo_hookean_cauchy(F, mu, lam)
                 if not J > 0.0:                           # inverted: no stress to report
                     worst = np.nan
                     break
-                p = lam * np.log(J) - mu
-                s00 = (mu * (F[0, 0] ** 2 + F[0, 1] ** 2 + F[0, 2] ** 2) + p) / J
-                s11 = (mu * (F[1, 0] ** 2 + F[1, 1] ** 2 + F[1, 2] ** 2) + p) / J
-                s22 = (mu * (F[2, 0] ** 2 + F[2, 1] ** 2 + F[2, 2] ** 2) + p) / J
-                s01 = mu * (F[0, 0] * F[1, 0] + F[0, 1] * F[1, 1] + F[0, 2] * F[1, 2]) / J
-                s12 = mu * (F[1, 0] * F[2, 0] + F[1, 1] * F[2, 1] + F[1, 2] * F[2, 2]) / J
-                s20 = mu * (F[2, 0] * F[0, 0] + F[2, 1] * F[0, 1] + F[2, 2] * F[0, 2]) / J
             else:
                 tr = lam * (F[0, 0] + F[1, 1] + F[2, 2] - 3.0)
                 s00 = 2.0 * mu * (F[0, 0] - 1.0) + tr
@@ -361,8 +353,7 @@ def _max_von_mises(e, zone_of, H, mu, lam, nonlinear):
                 s01 = mu * (F[0, 1] + F[1, 0])
                 s12 = mu * (F[1, 2] + F[2, 1])
                 s20 = mu * (F[2, 0] + F[0, 2])
-            vm = np.sqrt(0.5 * ((s00 - s11) ** 2 + (s11 - s22) ** 2 + (s22 - s00) ** 2)
-                         + 3.0 * (s01 * s01 + s12 * s12 + s20 * s20))
+            vm = von_mises_components(s00, s11, s22, s01, s12, s20)
             if vm > worst:
                 worst = vm
         out[t] = worst
