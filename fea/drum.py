@@ -37,6 +37,7 @@ import scipy.sparse.linalg as spla
 
 from .contact import Contact, RigidEllipse, boundary_nodes
 from ccedi.errors import InputError, require_finite_positive
+from ccedi.models import ContactResponse, contact_timing, validate_run_args
 from .explicit import run
 from .hex8 import deformation_gradient
 from .material import RUBBER, NeoHookean, cauchy_stress, von_mises
@@ -223,29 +224,6 @@ def object_side(setup: DrumSetup, point_xy):
     return "front" if along * np.dot(e_theta, u_a) < 0.0 else "rear"
 
 
-def contact_timing(history):
-    """Contact timing and peaks from a contact history (columns of :func:`contact_run`,
-    also written by the reduced model of :mod:`ccedi.rom.contact_rom`): first and last output
-    with contact [s], the contact points there [m], peak reaction force [N] and the
-    largest finger stress [Pa]."""
-    h = history
-    on = h.contact_nodes > 0
-    out = {"max_finger_stress_Pa": float(h.max_von_mises_Pa.max())}
-    if not on.any():
-        out.update({k: None for k in ("contact_start_s", "contact_end_s", "contact_duration_s",
-                                      "first_contact_point_m", "last_contact_point_m")})
-        out.update({"contact_ended": False, "peak_reaction_force_N": 0.0})
-        return out
-    first, last = h[on].iloc[0], h[on].iloc[-1]
-    start, end = float(first.time_s), float(last.time_s)
-    out.update({"contact_start_s": start, "contact_end_s": end, "contact_duration_s": end - start,
-                "contact_ended": bool(end < float(h.time_s.iloc[-1])),
-                "first_contact_point_m": [float(first.contact_point_x_m), float(first.contact_point_y_m)],
-                "last_contact_point_m": [float(last.contact_point_x_m), float(last.contact_point_y_m)],
-                "peak_reaction_force_N": float(h.reaction_force_N.max())})
-    return out
-
-
 def _max_or_none(column):
     """Largest value of a history column, None when it holds no number (e.g. the object
     stress of a run without it)."""
@@ -276,21 +254,19 @@ def contact_summary(setup: DrumSetup, result, model):
     return summary
 
 
-@dataclass
-class ContactResponse:
-    """What a contact model answers: the history (one row per output, columns with
-    units: time_s, reaction_force_N, contact_force_x_N / _y_N, contact_nodes,
-    contact_point_x_m / _y_m, max_penetration_m, max_von_mises_Pa, tip_ux_m, tip_uy_m)
-    and the summary (:func:`contact_timing` keys, wall_time_s, ...)."""
-
-    history: object
-    summary: dict
-
-
 class FullContactModel:
-    """The full explicit FE model of the finger on the drum, behind the interface the
-    reduced model (:class:`ccedi.rom.contact_rom.ReducedContactModel`) shares:
-    ``run(alpha, damping, t_end_s, n_outputs) -> ContactResponse``."""
+    """The full explicit FE model of the finger on the drum, a
+    :class:`ccedi.models.ContactModel` (the reduced one is
+    :class:`ccedi.rom.contact_rom.ReducedContactModel`).
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        Geometry, speeds and materials.
+    object_stress : bool, optional
+        Compute the object's stress at every output (a static solve per output; the
+        ``max_object_von_mises_Pa`` column is NaN without it).
+    """
 
     name = "fea"
 
@@ -299,9 +275,39 @@ class FullContactModel:
         self.object_stress = object_stress
 
     def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
+        """Run the finger over the object (:func:`contact_run`).
+
+        Parameters
+        ----------
+        alpha : float
+            Mass-proportional damping coefficient [1/s].
+        damping : str, optional
+            "global" or "relative".
+        t_end_s : float, optional
+            Simulated time [s].
+        n_outputs : int, optional
+            Output times.
+        progress : bool, optional
+            Show a progress bar.
+
+        Returns
+        -------
+        ccedi.models.ContactResponse
+            History: the core columns and :data:`ccedi.models.FE_CONTACT_EXTRA_COLUMNS`;
+            summary: ``model`` then :func:`contact_summary`.
+
+        Raises
+        ------
+        InputError
+            Invalid arguments (:func:`ccedi.models.validate_run_args`).
+        SolverError
+            The explicit solver cannot continue.
+        """
+        alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs, damping)
         result, model = contact_run(self.setup, alpha, damping=damping, t_end_s=t_end_s, n_outputs=n_outputs,
                                     progress=progress, object_stress=self.object_stress)
-        return ContactResponse(history=result.history, summary=contact_summary(self.setup, result, model))
+        summary = {"model": self.name, **contact_summary(self.setup, result, model)}
+        return ContactResponse(history=result.history, summary=summary)
 
 
 def first_contact_angle(setup: DrumSetup, samples=4000):

@@ -5,6 +5,8 @@ import math
 import numpy as np
 import pandas as pd
 
+from ccedi.models import ImpulseResponse, validate_run_args
+
 from .explicit import TSSFAC, critical_time_step, run
 from .material import RUBBER
 from .mesh import SEMI_AXES, sm_a, sm_b
@@ -55,9 +57,126 @@ def impulse_model(length_in=4.5, alpha=180.0, force_N=1.0, duration_s=0.01, mate
 
 def impulse_response(length_in=4.5, alpha=180.0, force_N=1.0, duration_s=0.01, t_end_s=0.2,
                      n_outputs=400, material=RUBBER, beta=0.0, mesh=None, semi_axes_m=SEMI_AXES):
-    """Tip response of :func:`impulse_model`; returns the solver's RunResult."""
+    """Tip response of :func:`impulse_model` (the solver's result; the model-interface
+    form is :meth:`FullImpulseModel.run` of :func:`finger_impulse_model`).
+
+    Parameters
+    ----------
+    length_in, alpha, force_N, duration_s, material, beta, mesh, semi_axes_m
+        As :func:`impulse_model`.
+    t_end_s : float, optional
+        Simulated time [s].
+    n_outputs : int, optional
+        Output times.
+
+    Returns
+    -------
+    ccedi.fea.explicit.RunResult
+        History (``tip_uy_m`` [m], ``max_von_mises_Pa`` [Pa], ``reaction_y_N`` [N], energies,
+        ...) and summary of the explicit run.
+    """
     model = impulse_model(length_in, alpha, force_N, duration_s, material, beta, mesh, semi_axes_m)
     return run(model, t_end_s, n_outputs=n_outputs)
+
+
+class FullImpulseModel:
+    """The full explicit FE model of an impulse test, a :class:`ccedi.models.ImpulseModel`
+    (reduced by :func:`ccedi.rom.modal.reduce_impulse_model`).
+
+    Parameters
+    ----------
+    model_factory : callable
+        ``model_factory(alpha) -> ccedi.fea.model.Model``: the structure with its tip
+        pulse and mass-proportional damping ``alpha`` [1/s].
+    force_N : float or None
+        The pulse's force [N] along +y (None when unknown).
+    duration_s : float or None
+        How long the force is held [s] (None when unknown).
+    name : str, optional
+        The ``model`` summary key.
+    """
+
+    def __init__(self, model_factory, force_N=None, duration_s=None, name="fea"):
+        self.model_factory = model_factory
+        self.force_N = force_N
+        self.duration_s = duration_s
+        self.name = name
+
+    def fea_model(self, alpha):
+        """The FE model at damping ``alpha`` [1/s].
+
+        Parameters
+        ----------
+        alpha : float
+            Mass-proportional damping coefficient [1/s].
+
+        Returns
+        -------
+        ccedi.fea.model.Model
+        """
+        return self.model_factory(alpha)
+
+    def run(self, alpha, t_end_s, n_outputs=400):
+        """Explicit FE response to the pulse.
+
+        Parameters
+        ----------
+        alpha : float
+            Mass-proportional damping coefficient [1/s].
+        t_end_s : float
+            Simulated time [s].
+        n_outputs : int, optional
+            Output times.
+
+        Returns
+        -------
+        ccedi.models.ImpulseResponse
+            History: the solver's (core ``time_s``, ``tip_uy_m``; extras
+            :data:`ccedi.models.FE_IMPULSE_EXTRA_COLUMNS`); summary: ``model``,
+            ``alpha_per_s`` and the solver's summary (``wall_time_s``, ``steps``, ...).
+
+        Raises
+        ------
+        InputError
+            Invalid arguments (:func:`ccedi.models.validate_run_args`).
+        SolverError
+            The explicit solver cannot continue.
+        """
+        alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs)
+        res = run(self.model_factory(alpha), t_end_s, n_outputs=n_outputs)
+        return ImpulseResponse(history=res.history,
+                               summary={"model": self.name, "alpha_per_s": alpha, **res.summary})
+
+
+def finger_impulse_model(length_in=4.5, force_N=1.0, duration_s=0.01, material=RUBBER, beta=0.0, mesh=None,
+                         semi_axes_m=SEMI_AXES):
+    """The paper's impulse test of the clamped SM-A finger as a :class:`FullImpulseModel`.
+
+    Parameters
+    ----------
+    length_in : float, optional
+        Finger length [in] (when ``mesh`` is None).
+    force_N : float, optional
+        Tip force [N] in the soft direction (+y).
+    duration_s : float, optional
+        How long the force is held [s].
+    material : ccedi.fea.material.NeoHookean, optional
+        Finger material.
+    beta : float, optional
+        Stiffness-proportional damping [s].
+    mesh : ccedi.fea.mesh.Mesh, optional
+        The finger mesh (default: SM-A of ``length_in`` with ``semi_axes_m``), built once.
+    semi_axes_m : tuple, optional
+        Section semi-axes [m].
+
+    Returns
+    -------
+    FullImpulseModel
+    """
+    mesh = sm_a(length_in=length_in, semi_axes_m=semi_axes_m) if mesh is None else mesh
+    return FullImpulseModel(lambda alpha: impulse_model(alpha=alpha, force_N=force_N, duration_s=duration_s,
+                                                        material=material, beta=beta, mesh=mesh),
+                            force_N=force_N, duration_s=duration_s)
 
 
 def _impulse_run(alpha, kwargs):

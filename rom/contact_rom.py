@@ -16,8 +16,9 @@ import time
 import numpy as np
 import pandas as pd
 
-from ccedi.fea.drum import ContactResponse, DrumSetup, contact_timing, finger_mesh, finger_on_drum
-from ccedi.errors import InputError, SolverError, require_finite_positive
+from ccedi.fea.drum import DrumSetup, finger_mesh, finger_on_drum
+from ccedi.models import ContactResponse, contact_timing, validate_run_args
+from ccedi.errors import InputError, SolverError
 from ccedi.fea.explicit import TSSFAC, critical_time_step
 from ccedi.fea.model import cantilever_model
 from ccedi.fea.static import static_solve
@@ -151,14 +152,38 @@ class ReducedContactModel:
                                                      chain.half_thickness_m, chain.station_z_m, self.nonlinear)
             self.dt_s = TSSFAC * 2.0 / self.omega_contact_rad_s
 
-    def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300):
-        """Integrate the chain over the object; returns a :class:`ccedi.fea.drum.ContactResponse`."""
-        alpha = require_finite_positive("alpha (mass-proportional damping, 1/s)", alpha, allow_zero=True)
-        if damping not in ("global", "relative"):
-            raise InputError(f"damping must be 'global' or 'relative', got {damping!r}")
-        t_end_s = require_finite_positive("t_end_s (end time, s)", t_end_s)
-        if int(n_outputs) != n_outputs or n_outputs < 1:
-            raise InputError(f"n_outputs must be an integer >= 1, got {n_outputs!r}")
+    def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
+        """Integrate the chain over the object.
+
+        Parameters
+        ----------
+        alpha : float
+            Mass-proportional damping coefficient [1/s].
+        damping : str, optional
+            "global" (on the absolute velocity) or "relative" (in the drum frame).
+        t_end_s : float, optional
+            Simulated time [s].
+        n_outputs : int, optional
+            Output times, equally spaced after 0.
+        progress : bool, optional
+            Accepted for the :class:`ccedi.models.ContactModel` interface; the chain shows
+            no progress bar (a run takes about a second).
+
+        Returns
+        -------
+        ccedi.models.ContactResponse
+            History: the core columns (:data:`ccedi.models.CONTACT_CORE_COLUMNS`;
+            ``contact_nodes`` counts the contact points in penetration); summary: the core
+            keys and :data:`ccedi.models.ROM_CONTACT_EXTRA_SUMMARY`.
+
+        Raises
+        ------
+        InputError
+            Invalid arguments (:func:`ccedi.models.validate_run_args`).
+        SolverError
+            The chain diverged, or the stress recovery inverted an element.
+        """
+        alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs, damping)
         s, ch = self.setup, self.chain
         n = len(ch.station_z_m)
         P = np.column_stack([s.drum_radius_m + ch.station_z_m, np.zeros(n)])
