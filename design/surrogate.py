@@ -1,6 +1,8 @@
 """A smooth surrogate of the contact ROM's design outputs over the design variables.
 
-The ROM (:class:`ccedi.rom.contact_rom.ReducedContactModel`) is run on a tensor grid of the
+A contact model (:class:`ccedi.models.ContactModel`, built per finger length by a
+``model_factory(setup)``; by default the ROM, :class:`ccedi.rom.contact_rom.ReducedContactModel`,
+:func:`rom_factory`) is run on a tensor grid of the
 design variables (:class:`Variable`: alpha log-spaced, length linear); each output of
 :data:`ccedi.design.objectives.OUTPUTS` is then interpolated by a tensor-product cubic
 B-spline (casadi ``interpolant``, "bspline") in the unit coordinates
@@ -151,16 +153,48 @@ class Surrogate:
         return dict(zip(self.outputs, Y))
 
 
-def run_rom(setup: DrumSetup, points, progress=None):
-    """ROM design outputs at ``points`` [(alpha [1/s], L [m]), ...] as a DataFrame (one
-    row per point, columns alpha_per_s, length_m, :data:`OUTPUTS`, wall_time_s); one
-    ROM build per distinct length."""
+def rom_factory(setup: DrumSetup):
+    """The design's default contact model: the ROM with :func:`ccedi.design.objectives.rom_segments`
+    superelements for the set-up's finger length.
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        The set-up at one design's finger length.
+
+    Returns
+    -------
+    ccedi.rom.contact_rom.ReducedContactModel
+    """
+    return ReducedContactModel(setup, n_segments=rom_segments(setup.finger_length_m))
+
+
+def run_rom(setup: DrumSetup, points, progress=None, model_factory=rom_factory):
+    """Design outputs of a contact model at design points (one model build per length).
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        The base set-up (its finger length is replaced by each point's).
+    points : list of tuple
+        [(alpha [1/s], L [m]), ...].
+    progress : callable, optional
+        ``progress(done, total)`` after every run.
+    model_factory : callable, optional
+        ``model_factory(setup) -> ccedi.models.ContactModel`` (default :func:`rom_factory`,
+        the ROM; e.g. ``lambda s: FullContactModel(s, object_stress=False)`` for the FEA).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per point: alpha_per_s, length_m, :data:`OUTPUTS`, wall_time_s.
+    """
     stress = ObjectStress(setup)
     rows, models = [], {}
     for alpha, L in points:
         if L not in models:
             s = setup_for_length(setup, L)
-            models[L] = (s, ReducedContactModel(s, n_segments=rom_segments(L)))
+            models[L] = (s, model_factory(s))
         s, rom = models[L]
         t0 = time.perf_counter()
         res = rom.run(alpha, t_end_s=GRID_T_END_S, n_outputs=int(round(GRID_T_END_S / OUTPUT_STEP_S)))
@@ -184,16 +218,41 @@ def validation_points(variables, n, seed=6):
     return [tuple(float(v.from_unit(u[i, j])) for j, v in enumerate(variables)) for i in range(n)]
 
 
-def cached_rom_runs(setup: DrumSetup, points, path, progress=None):
-    """:func:`run_rom` results, read from the CSV ``path`` when its sidecar JSON records the
-    same set-up and points, otherwise run and written there (with the sidecar)."""
+def cached_rom_runs(setup: DrumSetup, points, path, progress=None, model_factory=rom_factory):
+    """:func:`run_rom` results, cached in a CSV file.
+
+    Read from the CSV ``path`` when its sidecar JSON records the same set-up, points and
+    model; otherwise run and written there (with the sidecar). The default model leaves
+    the sidecar as it was before the model became an argument (caches stay valid); another
+    factory adds its qualified name under ``model_factory``.
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        The base set-up.
+    points : list of tuple
+        [(alpha [1/s], L [m]), ...].
+    path : pathlib.Path
+        CSV file.
+    progress : callable, optional
+        ``progress(done, total)`` after every run.
+    model_factory : callable, optional
+        ``model_factory(setup) -> ccedi.models.ContactModel`` (default :func:`rom_factory`).
+
+    Returns
+    -------
+    tuple
+        (DataFrame of :func:`run_rom`, True when read from the cache).
+    """
     meta = {"setup": repr(setup), "points": [list(map(float, p)) for p in points],
             "t_end_s": GRID_T_END_S, "output_step_s": OUTPUT_STEP_S, "outputs": list(OUTPUTS),
             "force_window_s": FORCE_WINDOW_S, "residual_window_s": RESIDUAL_WINDOW_S}
+    if model_factory is not rom_factory:
+        meta["model_factory"] = f"{getattr(model_factory, '__module__', '')}.{getattr(model_factory, '__qualname__', repr(model_factory))}"
     sidecar = path.with_suffix(".json")
     if path.exists() and sidecar.exists() and json.loads(sidecar.read_text()) == meta:
         return pd.read_csv(path), True
-    frame = run_rom(setup, points, progress)
+    frame = run_rom(setup, points, progress, model_factory)
     write_csv(path, frame)
     write_json(sidecar, meta)
     return frame, False
