@@ -56,12 +56,30 @@ class Variable:
     log: bool = False
 
     def to_unit(self, x):
-        """u in [-1, 1] for the value(s) ``x`` (numpy or casadi)."""
+        """u in [-1, 1] for the value(s) ``x`` (numpy or casadi).
+
+        Parameters
+        ----------
+        x : float, numpy.ndarray or casadi expression
+
+        Returns
+        -------
+        Same type as ``x``.
+        """
         f = (ca.log if _is_symbolic(x) else np.log) if self.log else (lambda v: v)
         return 2.0 * (f(x) - f(self.lo)) / (f(self.hi) - f(self.lo)) - 1.0
 
     def from_unit(self, u):
-        """The value for unit coordinate(s) ``u`` (inverse of :meth:`to_unit`; numpy or casadi)."""
+        """The value for unit coordinate(s) ``u`` (inverse of :meth:`to_unit`; numpy or casadi).
+
+        Parameters
+        ----------
+        u : float, numpy.ndarray or casadi expression
+
+        Returns
+        -------
+        Same type as ``u``.
+        """
         u = u if _is_symbolic(u) else np.asarray(u, dtype=float)
         if self.log:
             exp = ca.exp if _is_symbolic(u) else np.exp
@@ -69,12 +87,38 @@ class Variable:
         return self.lo + 0.5 * (u + 1.0) * (self.hi - self.lo)
 
     def grid(self, n):
-        """``n`` values from lo to hi, evenly spaced in the surrogate's coordinate."""
+        """``n`` values from lo to hi, evenly spaced in the surrogate's coordinate.
+
+        Parameters
+        ----------
+        n : int
+
+        Returns
+        -------
+        numpy.ndarray
+        """
         return self.from_unit(np.linspace(-1.0, 1.0, n))
 
 
 def design_space(alpha_bounds_per_s=(1.0, 600.0), length_bounds_in=(3.0, 8.0)):
-    """The (alpha [1/s], L [m]) design variables (lengths given in inches)."""
+    """The (alpha [1/s], L [m]) design variables (lengths given in inches).
+
+    Parameters
+    ----------
+    alpha_bounds_per_s : tuple, optional
+        (lo, hi) [1/s].
+    length_bounds_in : tuple, optional
+        (lo, hi) [in].
+
+    Returns
+    -------
+    tuple of Variable
+
+    Raises
+    ------
+    InputError
+        Bounds not 0 < lo < hi.
+    """
     (a_lo, a_hi), (l_lo, l_hi) = alpha_bounds_per_s, length_bounds_in
     if not 0.0 < a_lo < a_hi:
         raise InputError(f"alpha bounds must satisfy 0 < lo < hi [1/s], got {alpha_bounds_per_s}")
@@ -122,7 +166,23 @@ class Surrogate:
     @classmethod
     def fit(cls, variables, grid: pd.DataFrame):
         """Interpolants of every output of :data:`OUTPUTS` through ``grid``, which must be
-        a full tensor grid of the variables (as :func:`grid_points` makes)."""
+        a full tensor grid of the variables (as :func:`grid_points` makes).
+
+        Parameters
+        ----------
+        variables : tuple of Variable
+        grid : pandas.DataFrame
+            :func:`run_rom` rows.
+
+        Returns
+        -------
+        Surrogate
+
+        Raises
+        ------
+        InputError
+            Not a full tensor grid with >= 4 values per variable.
+        """
         levels = [np.unique(grid[v.name].to_numpy()) for v in variables]
         shape = tuple(len(lv) for lv in levels)
         if np.prod(shape) != len(grid) or min(shape) < 4:
@@ -136,18 +196,49 @@ class Surrogate:
         return cls(variables, axes, values)
 
     def expressions(self, xs):
-        """{output: expression} at the variable values ``xs`` (casadi or numpy scalars)."""
+        """{output: expression} at the variable values ``xs`` (casadi or numpy scalars).
+
+        Parameters
+        ----------
+        xs : sequence
+            Variable values (SI).
+
+        Returns
+        -------
+        dict
+        """
         return self.unit_expressions([v.to_unit(x) for v, x in zip(self.variables, xs)])
 
     def unit_expressions(self, us):
         """{output: expression} at the unit coordinates ``us`` of the variables (clamped to
         [-1, 1]: the B-spline is zero outside its knots, and IPOPT may step 1e-8 beyond a
-        bound)."""
+        bound).
+
+        Parameters
+        ----------
+        us : sequence
+            Unit coordinates.
+
+        Returns
+        -------
+        dict
+        """
         u = ca.fmin(ca.fmax(ca.vertcat(*us), -1.0), 1.0)
         return {name: f(u) for name, f in self.interpolants.items()}
 
     def evaluate(self, X):
-        """{output: values} at the points ``X`` (m, n_variables), SI units."""
+        """{output: values} at the points ``X`` (m, n_variables), SI units.
+
+        Parameters
+        ----------
+        X : array_like
+            (m, n_variables) points.
+
+        Returns
+        -------
+        dict
+            {output: (m,) values}.
+        """
         X = np.atleast_2d(np.asarray(X, dtype=float))
         Y = np.array(self.function.map(len(X))(X.T)).reshape(len(self.outputs), len(X))
         return dict(zip(self.outputs, Y))
@@ -208,12 +299,33 @@ def run_rom(setup: DrumSetup, points, progress=None, model_factory=rom_factory):
 
 
 def grid_points(variables, shape):
-    """Tensor grid of the variables, ``shape[i]`` values each (list of tuples)."""
+    """Tensor grid of the variables, ``shape[i]`` values each (list of tuples).
+
+    Parameters
+    ----------
+    variables : tuple of Variable
+    shape : tuple of int
+
+    Returns
+    -------
+    list of tuple
+    """
     return list(itertools.product(*(v.grid(n) for v, n in zip(variables, shape))))
 
 
 def validation_points(variables, n, seed=6):
-    """``n`` points off the grid: uniform random in the unit coordinates (seeded)."""
+    """``n`` points off the grid: uniform random in the unit coordinates (seeded).
+
+    Parameters
+    ----------
+    variables : tuple of Variable
+    n : int
+    seed : int, optional
+
+    Returns
+    -------
+    list of tuple
+    """
     u = np.random.default_rng(seed).uniform(-0.95, 0.95, size=(n, len(variables)))
     return [tuple(float(v.from_unit(u[i, j])) for j, v in enumerate(variables)) for i in range(n)]
 
@@ -260,7 +372,19 @@ def cached_rom_runs(setup: DrumSetup, points, path, progress=None, model_factory
 
 def validation_errors(surrogate: Surrogate, runs: pd.DataFrame):
     """Surrogate against ROM runs off the grid, per output: max and RMS of the error
-    relative to the output's value, |s - r| / |r| (runs with r undefined or zero left out)."""
+    relative to the output's value, |s - r| / |r| (runs with r undefined or zero left out).
+
+    Parameters
+    ----------
+    surrogate : Surrogate
+    runs : pandas.DataFrame
+        :func:`run_rom` rows off the grid.
+
+    Returns
+    -------
+    dict
+        {output: {max_relative_error, rms_relative_error, n_runs}}.
+    """
     X = runs[[v.name for v in surrogate.variables]].to_numpy()
     pred = surrogate.evaluate(X)
     out = {}
