@@ -14,7 +14,19 @@ BREAKAWAY_MARGIN_S = 0.05
 model lets go later."""
 
 
-def _full_fea(setup):
+def full_fea_factory(setup: DrumSetup):
+    """The re-check's default contact model: the full FEA without the per-output object
+    stress (the design outputs compute their own, :class:`ccedi.fea.drum.ObjectStress`).
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        The set-up at the design's finger length.
+
+    Returns
+    -------
+    ccedi.fea.drum.FullContactModel
+    """
     return FullContactModel(setup, object_stress=False)
 
 
@@ -36,13 +48,36 @@ def _check_one(d, setup, objective_outputs, model_factory):
             "relative_error": rel, "wall_time_s": wall}
 
 
-def fea_check(setup: DrumSetup, designs, objective_outputs, model_factory=_full_fea, progress=print,
+def fea_check(setup: DrumSetup, designs, objective_outputs, model_factory=full_fea_factory, progress=print,
               scheduler="serial"):
-    """For each :class:`ccedi.design.optimise.Design`: run ``model_factory(setup at its length)``
-    at its alpha up to the predicted breakaway + margin + 0.5 s and compare; the designs
-    are mapped through :func:`ccedi.fea.distributed.map_runs` (``scheduler``). Returns a list of
-    dicts (``alpha_per_s``, ``length_in``, ``surrogate``, ``fea``, ``relative_error`` per
-    objective, ``wall_time_s``)."""
+    """Re-run recommended designs with a (full) contact model and compare with the surrogate.
+
+    For each design: run ``model_factory(setup at its length)`` at its alpha up to the
+    predicted breakaway + margin + 0.5 s; the designs are mapped through
+    :func:`ccedi.fea.distributed.map_runs` (``scheduler``).
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        The base set-up.
+    designs : list of ccedi.design.optimise.Design
+        Designs with the surrogate's ``outputs``.
+    objective_outputs : sequence of str
+        Outputs compared (plus contact_start_s and max_finger_stress_Pa).
+    model_factory : callable, optional
+        ``model_factory(setup) -> ccedi.models.ContactModel`` (default
+        :func:`full_fea_factory`; any contact model works, e.g. the ROM).
+    progress : callable or None, optional
+        Called with one line per design.
+    scheduler : str, optional
+        :func:`ccedi.fea.distributed.map_runs` scheduler.
+
+    Returns
+    -------
+    list of dict
+        ``alpha_per_s`` [1/s], ``length_in`` [in], ``surrogate``, ``fea`` (the model's
+        outputs), ``relative_error`` (surrogate - full) / full per output, ``wall_time_s`` [s].
+    """
     from functools import partial
 
     from ccedi.fea.distributed import map_runs

@@ -67,24 +67,70 @@ FIT_ALPHA_CR = (3525.0, -1.997)
 
 def rom_segments(length_m):
     """Superelements of the design ROM for a finger of ``length_m`` [m]: round(L / 12 mm),
-    at least 1, at most the SM-A element layers."""
+    at least 1, at most the SM-A element layers.
+
+    Parameters
+    ----------
+    length_m : float
+        Finger length [m].
+
+    Returns
+    -------
+    int
+    """
     return int(min(sm_a_elements_along(length_m), max(1, round(length_m / SEGMENT_LENGTH_M))))
 
 
 def setup_for_length(base: DrumSetup, length_m):
-    """``base`` with the finger length set to ``length_m`` [m]."""
+    """``base`` with the finger length set to ``length_m`` [m].
+
+    Parameters
+    ----------
+    base : DrumSetup
+    length_m : float
+        Finger length [m].
+
+    Returns
+    -------
+    DrumSetup
+    """
     return replace(base, finger_length_m=float(length_m))
 
 
 def run_time_s(contact_end_s):
-    """Simulated time [s] that covers breakaway at ``contact_end_s`` plus the residual window."""
+    """Simulated time [s] that covers breakaway at ``contact_end_s`` plus the residual window.
+
+    Parameters
+    ----------
+    contact_end_s : float
+        Predicted breakaway [s].
+
+    Returns
+    -------
+    float
+        Simulated time [s].
+    """
     return float(contact_end_s) + RESIDUAL_WINDOW_S + 4 * OUTPUT_STEP_S
 
 
 def residual_oscillation_m_s(setup: DrumSetup, history, contact_end_s):
     """RMS tip velocity relative to the rigidly turning finger [m/s] over
     (t_b, t_b + 0.5 s], t_b = ``contact_end_s`` (central differences of the tip lag).
-    None when the history ends before the window does."""
+    None when the history ends before the window does.
+
+    Parameters
+    ----------
+    setup : DrumSetup
+    history : pandas.DataFrame
+        Contact history (core columns of :class:`ccedi.models.ContactResponse`).
+    contact_end_s : float or None
+        Breakaway [s].
+
+    Returns
+    -------
+    float or None
+        RMS velocity [m/s].
+    """
     t = history.time_s.to_numpy()
     if contact_end_s is None or t[-1] < contact_end_s + RESIDUAL_WINDOW_S - 1e-9:
         return None
@@ -94,7 +140,18 @@ def residual_oscillation_m_s(setup: DrumSetup, history, contact_end_s):
 
 
 def averaged_contact_force(history):
-    """25 ms-averaged contact force (fx, fy) [N] per output."""
+    """25 ms-averaged contact force (fx, fy) [N] per output.
+
+    Parameters
+    ----------
+    history : pandas.DataFrame
+        Contact history (core columns).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        (fx, fy) [N].
+    """
     t = history.time_s.to_numpy()
     return (window_mean(t, history.contact_force_x_N.to_numpy(), FORCE_WINDOW_S),
             window_mean(t, history.contact_force_y_N.to_numpy(), FORCE_WINDOW_S))
@@ -108,7 +165,22 @@ def max_object_stress_Pa(object_stress: ObjectStress, history, fx, fy):
     """Largest object von Mises stress [Pa] under the averaged contact force (fx, fy) [N]
     at the force-weighted contact point (x, y, 0), over the outputs with contact where the
     force is at least half its peak: the peak-force output and up to
-    ``OBJECT_STRESS_SAMPLES`` outputs evenly spread over the others."""
+    ``OBJECT_STRESS_SAMPLES`` outputs evenly spread over the others.
+
+    Parameters
+    ----------
+    object_stress : ObjectStress
+        The object's static solver.
+    history : pandas.DataFrame
+        Contact history (core columns).
+    fx, fy : numpy.ndarray
+        Averaged contact force [N] per output.
+
+    Returns
+    -------
+    float
+        Stress [Pa] (0 without contact).
+    """
     f = np.hypot(fx, fy)
     px, py = history.contact_point_x_m.to_numpy(), history.contact_point_y_m.to_numpy()
     on = history.contact_nodes.to_numpy() > 0
@@ -122,7 +194,25 @@ def max_object_stress_Pa(object_stress: ObjectStress, history, fx, fy):
 
 def design_outputs(setup: DrumSetup, history, object_stress: ObjectStress):
     """The :data:`OUTPUTS` of one contact run (dict, SI units; None where undefined,
-    e.g. no contact), plus ``peak_instantaneous_force_N``."""
+    e.g. no contact), plus ``peak_instantaneous_force_N``.
+
+    Reads only the core columns of :class:`ccedi.models.ContactResponse`, so any
+    contact model's history serves.
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        The set-up at the design's length.
+    history : pandas.DataFrame
+        Contact history.
+    object_stress : ObjectStress
+        The object's static solver.
+
+    Returns
+    -------
+    dict
+        :data:`OUTPUTS` and ``peak_instantaneous_force_N``.
+    """
     timing = contact_timing(history)
     fx, fy = averaged_contact_force(history)
     out = {"peak_reaction_force_N": float(np.hypot(fx, fy).max()),
@@ -158,7 +248,25 @@ its measured zeta times our alpha_cr at 6 and 8 in (as ``ccedi damping-fits``)."
 
 def alpha_of_length(mode, length_in):
     """alpha(x) [1/s] of "this rubber" at finger length ``length_in`` [in] (numpy or
-    casadi expression); ``mode`` is "paper" or "fit" (see :data:`ALPHA_OF_LENGTH`)."""
+    casadi expression); ``mode`` is "paper" or "fit" (see :data:`ALPHA_OF_LENGTH`).
+
+    Parameters
+    ----------
+    mode : str
+        "paper" or "fit".
+    length_in : float or casadi expression
+        Finger length [in].
+
+    Returns
+    -------
+    float or casadi expression
+        alpha [1/s].
+
+    Raises
+    ------
+    InputError
+        Unknown ``mode``.
+    """
     if mode not in ALPHA_OF_LENGTH:
         raise InputError(f"alpha-of-length must be one of {sorted(ALPHA_OF_LENGTH)} or 'free', got {mode!r}")
     return _piecewise(length_in, *ALPHA_OF_LENGTH[mode])

@@ -52,7 +52,16 @@ class Design:
     J: float
 
     def as_dict(self, problem):
-        """JSON form: ``alpha_per_s``, ``length_in``, the three objectives by name, J."""
+        """JSON form: ``alpha_per_s``, ``length_in``, the three objectives by name, J.
+
+        Parameters
+        ----------
+        problem : DesignProblem
+
+        Returns
+        -------
+        dict
+        """
         d = {"alpha_per_s": self.alpha_per_s, "length_in": m_to_inch(self.length_m), "J": self.J}
         d.update({name: self.outputs[name] for name in problem.objective_outputs})
         d.update({k: self.outputs[k] for k in ("contact_start_s", "max_finger_stress_Pa")})
@@ -99,13 +108,36 @@ class DesignProblem:
         return (STRESS_MEASURES[self.stress_measure], "contact_duration_s", "residual_oscillation_m_s")
 
     def J(self, outputs, weights=None):
-        """Weighted sum of normalised objectives (numpy or casadi)."""
+        """Weighted sum of normalised objectives (numpy or casadi).
+
+        Parameters
+        ----------
+        outputs : dict
+            Surrogate outputs (numpy or casadi).
+        weights : tuple, optional
+            Objective weights (default: the problem's).
+
+        Returns
+        -------
+        float or casadi expression
+        """
         w = self.weights if weights is None else weights
         return sum(wi * (outputs[k] - self.scale[k][0]) / self.scale[k][1] for wi, k in zip(w, self.objective_outputs))
 
     def candidates(self, n):
         """Brute-force points (m, 2) of (alpha [1/s], L [m]): an n x n grid (uniform in the
-        unit coordinates), or n^2 lengths on alpha = alpha(L) for "this rubber only"."""
+        unit coordinates), or n^2 lengths on alpha = alpha(L) for "this rubber only".
+
+        Parameters
+        ----------
+        n : int
+            Points per variable.
+
+        Returns
+        -------
+        numpy.ndarray
+            (m, 2) points (alpha [1/s], L [m]).
+        """
         va, vl = self.surrogate.variables
         if self.alpha_of_length == "free":
             A, L = np.meshgrid(va.grid(n), vl.grid(n), indexing="ij")
@@ -114,7 +146,19 @@ class DesignProblem:
         return np.column_stack([alpha_of_length(self.alpha_of_length, m_to_inch(L)), L])
 
     def constraint_margins(self, outputs, alpha_per_s=None):
-        """{name: margin} with margin >= 0 when satisfied (numpy or casadi)."""
+        """{name: margin} with margin >= 0 when satisfied (numpy or casadi).
+
+        Parameters
+        ----------
+        outputs : dict
+            Surrogate outputs.
+        alpha_per_s : float, optional
+            alpha [1/s] (for the alpha-of-length constraint).
+
+        Returns
+        -------
+        dict
+        """
         g = {"touches the object (contact duration >= "
              f"{self.min_contact_duration_s:g} s)": outputs["contact_duration_s"] - self.min_contact_duration_s}
         if self.allowable_finger_stress_Pa is not None:
@@ -133,7 +177,23 @@ class DesignProblem:
 def brute_force(problem: DesignProblem, n=None):
     """Best feasible point of :meth:`DesignProblem.candidates` (n x n, default
     ``problem.n_check``). Raises :class:`InputError` naming the constraint(s) no point
-    satisfies."""
+    satisfies.
+
+    Parameters
+    ----------
+    problem : DesignProblem
+    n : int, optional
+        Points per variable.
+
+    Returns
+    -------
+    Design
+
+    Raises
+    ------
+    InputError
+        No candidate is feasible.
+    """
     X = problem.candidates(n or problem.n_check)
     out = problem.surrogate.evaluate(X)
     margins = problem.constraint_margins(out, X[:, 0])

@@ -25,7 +25,20 @@ OSC = "residual_oscillation_m_s"
 
 def pareto_front(problem: DesignProblem, n_points=24, n_starts=4):
     """``n_points`` designs along the (f_c, f_o) front, non-dominated and de-duplicated
-    (as :class:`ccedi.design.optimise.Design`), sorted by f_o."""
+    (as :class:`ccedi.design.optimise.Design`), sorted by f_o.
+
+    Parameters
+    ----------
+    problem : DesignProblem
+    n_points : int, optional
+        Weightings along the front.
+    n_starts : int, optional
+        IPOPT starts per weighting.
+
+    Returns
+    -------
+    list of Design
+    """
     w_s, w_d, _ = problem.weights
     contact = replace(problem, weights=(w_s, w_d, 0.0) if w_s + w_d > 0 else (1.0, 1.0, 0.0))
     quiet = replace(problem, weights=(0.0, 0.0, 1.0))
@@ -55,7 +68,17 @@ def _non_dominated(contact, designs):
 
 def recommended(front, optimum):
     """Three designs to re-check with full FEA: the weighted optimum and the front points
-    nearest to 1/4 and 3/4 of the front's oscillation range (other than the optimum)."""
+    nearest to 1/4 and 3/4 of the front's oscillation range (other than the optimum).
+
+    Parameters
+    ----------
+    front : list of Design
+    optimum : Design
+
+    Returns
+    -------
+    list of Design
+    """
     osc = np.array([d.outputs[OSC] for d in front])
     picks = [optimum]
     for frac in (0.25, 0.75):
@@ -72,7 +95,19 @@ def recommended(front, optimum):
 def plot_front(problem: DesignProblem, front, optimum, checked=()):
     """Left: the front, stress objective against residual oscillation [m/s], coloured by
     contact duration [s]; right: the same designs in (alpha [1/s], L [in]). The chosen
-    design is starred, the FEA-checked ones ringed."""
+    design is starred, the FEA-checked ones ringed.
+
+    Parameters
+    ----------
+    problem : DesignProblem
+    front : list of Design
+    optimum : Design
+    checked : sequence of Design, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -1,6 +1,8 @@
 """A smooth surrogate of the contact ROM's design outputs over the design variables.
 
-The ROM (:class:`ccedi.rom.contact_rom.ReducedContactModel`) is run on a tensor grid of the
+A contact model (:class:`ccedi.models.ContactModel`, built per finger length by a
+``model_factory(setup)``; by default the ROM, :class:`ccedi.rom.contact_rom.ReducedContactModel`,
+:func:`rom_factory`) is run on a tensor grid of the
 design variables (:class:`Variable`: alpha log-spaced, length linear); each output of
 :data:`ccedi.design.objectives.OUTPUTS` is then interpolated by a tensor-product cubic
 B-spline (casadi ``interpolant``, "bspline") in the unit coordinates
@@ -54,12 +56,30 @@ class Variable:
     log: bool = False
 
     def to_unit(self, x):
-        """u in [-1, 1] for the value(s) ``x`` (numpy or casadi)."""
+        """u in [-1, 1] for the value(s) ``x`` (numpy or casadi).
+
+        Parameters
+        ----------
+        x : float, numpy.ndarray or casadi expression
+
+        Returns
+        -------
+        Same type as ``x``.
+        """
         f = (ca.log if _is_symbolic(x) else np.log) if self.log else (lambda v: v)
         return 2.0 * (f(x) - f(self.lo)) / (f(self.hi) - f(self.lo)) - 1.0
 
     def from_unit(self, u):
-        """The value for unit coordinate(s) ``u`` (inverse of :meth:`to_unit`; numpy or casadi)."""
+        """The value for unit coordinate(s) ``u`` (inverse of :meth:`to_unit`; numpy or casadi).
+
+        Parameters
+        ----------
+        u : float, numpy.ndarray or casadi expression
+
+        Returns
+        -------
+        Same type as ``u``.
+        """
         u = u if _is_symbolic(u) else np.asarray(u, dtype=float)
         if self.log:
             exp = ca.exp if _is_symbolic(u) else np.exp
@@ -67,12 +87,38 @@ class Variable:
         return self.lo + 0.5 * (u + 1.0) * (self.hi - self.lo)
 
     def grid(self, n):
-        """``n`` values from lo to hi, evenly spaced in the surrogate's coordinate."""
+        """``n`` values from lo to hi, evenly spaced in the surrogate's coordinate.
+
+        Parameters
+        ----------
+        n : int
+
+        Returns
+        -------
+        numpy.ndarray
+        """
         return self.from_unit(np.linspace(-1.0, 1.0, n))
 
 
 def design_space(alpha_bounds_per_s=(1.0, 600.0), length_bounds_in=(3.0, 8.0)):
-    """The (alpha [1/s], L [m]) design variables (lengths given in inches)."""
+    """The (alpha [1/s], L [m]) design variables (lengths given in inches).
+
+    Parameters
+    ----------
+    alpha_bounds_per_s : tuple, optional
+        (lo, hi) [1/s].
+    length_bounds_in : tuple, optional
+        (lo, hi) [in].
+
+    Returns
+    -------
+    tuple of Variable
+
+    Raises
+    ------
+    InputError
+        Bounds not 0 < lo < hi.
+    """
     (a_lo, a_hi), (l_lo, l_hi) = alpha_bounds_per_s, length_bounds_in
     if not 0.0 < a_lo < a_hi:
         raise InputError(f"alpha bounds must satisfy 0 < lo < hi [1/s], got {alpha_bounds_per_s}")
@@ -120,7 +166,23 @@ class Surrogate:
     @classmethod
     def fit(cls, variables, grid: pd.DataFrame):
         """Interpolants of every output of :data:`OUTPUTS` through ``grid``, which must be
-        a full tensor grid of the variables (as :func:`grid_points` makes)."""
+        a full tensor grid of the variables (as :func:`grid_points` makes).
+
+        Parameters
+        ----------
+        variables : tuple of Variable
+        grid : pandas.DataFrame
+            :func:`run_rom` rows.
+
+        Returns
+        -------
+        Surrogate
+
+        Raises
+        ------
+        InputError
+            Not a full tensor grid with >= 4 values per variable.
+        """
         levels = [np.unique(grid[v.name].to_numpy()) for v in variables]
         shape = tuple(len(lv) for lv in levels)
         if np.prod(shape) != len(grid) or min(shape) < 4:
@@ -134,33 +196,96 @@ class Surrogate:
         return cls(variables, axes, values)
 
     def expressions(self, xs):
-        """{output: expression} at the variable values ``xs`` (casadi or numpy scalars)."""
+        """{output: expression} at the variable values ``xs`` (casadi or numpy scalars).
+
+        Parameters
+        ----------
+        xs : sequence
+            Variable values (SI).
+
+        Returns
+        -------
+        dict
+        """
         return self.unit_expressions([v.to_unit(x) for v, x in zip(self.variables, xs)])
 
     def unit_expressions(self, us):
         """{output: expression} at the unit coordinates ``us`` of the variables (clamped to
         [-1, 1]: the B-spline is zero outside its knots, and IPOPT may step 1e-8 beyond a
-        bound)."""
+        bound).
+
+        Parameters
+        ----------
+        us : sequence
+            Unit coordinates.
+
+        Returns
+        -------
+        dict
+        """
         u = ca.fmin(ca.fmax(ca.vertcat(*us), -1.0), 1.0)
         return {name: f(u) for name, f in self.interpolants.items()}
 
     def evaluate(self, X):
-        """{output: values} at the points ``X`` (m, n_variables), SI units."""
+        """{output: values} at the points ``X`` (m, n_variables), SI units.
+
+        Parameters
+        ----------
+        X : array_like
+            (m, n_variables) points.
+
+        Returns
+        -------
+        dict
+            {output: (m,) values}.
+        """
         X = np.atleast_2d(np.asarray(X, dtype=float))
         Y = np.array(self.function.map(len(X))(X.T)).reshape(len(self.outputs), len(X))
         return dict(zip(self.outputs, Y))
 
 
-def run_rom(setup: DrumSetup, points, progress=None):
-    """ROM design outputs at ``points`` [(alpha [1/s], L [m]), ...] as a DataFrame (one
-    row per point, columns alpha_per_s, length_m, :data:`OUTPUTS`, wall_time_s); one
-    ROM build per distinct length."""
+def rom_factory(setup: DrumSetup):
+    """The design's default contact model: the ROM with :func:`ccedi.design.objectives.rom_segments`
+    superelements for the set-up's finger length.
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        The set-up at one design's finger length.
+
+    Returns
+    -------
+    ccedi.rom.contact_rom.ReducedContactModel
+    """
+    return ReducedContactModel(setup, n_segments=rom_segments(setup.finger_length_m))
+
+
+def run_rom(setup: DrumSetup, points, progress=None, model_factory=rom_factory):
+    """Design outputs of a contact model at design points (one model build per length).
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        The base set-up (its finger length is replaced by each point's).
+    points : list of tuple
+        [(alpha [1/s], L [m]), ...].
+    progress : callable, optional
+        ``progress(done, total)`` after every run.
+    model_factory : callable, optional
+        ``model_factory(setup) -> ccedi.models.ContactModel`` (default :func:`rom_factory`,
+        the ROM; e.g. ``lambda s: FullContactModel(s, object_stress=False)`` for the FEA).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per point: alpha_per_s, length_m, :data:`OUTPUTS`, wall_time_s.
+    """
     stress = ObjectStress(setup)
     rows, models = [], {}
     for alpha, L in points:
         if L not in models:
             s = setup_for_length(setup, L)
-            models[L] = (s, ReducedContactModel(s, n_segments=rom_segments(L)))
+            models[L] = (s, model_factory(s))
         s, rom = models[L]
         t0 = time.perf_counter()
         res = rom.run(alpha, t_end_s=GRID_T_END_S, n_outputs=int(round(GRID_T_END_S / OUTPUT_STEP_S)))
@@ -174,26 +299,72 @@ def run_rom(setup: DrumSetup, points, progress=None):
 
 
 def grid_points(variables, shape):
-    """Tensor grid of the variables, ``shape[i]`` values each (list of tuples)."""
+    """Tensor grid of the variables, ``shape[i]`` values each (list of tuples).
+
+    Parameters
+    ----------
+    variables : tuple of Variable
+    shape : tuple of int
+
+    Returns
+    -------
+    list of tuple
+    """
     return list(itertools.product(*(v.grid(n) for v, n in zip(variables, shape))))
 
 
 def validation_points(variables, n, seed=6):
-    """``n`` points off the grid: uniform random in the unit coordinates (seeded)."""
+    """``n`` points off the grid: uniform random in the unit coordinates (seeded).
+
+    Parameters
+    ----------
+    variables : tuple of Variable
+    n : int
+    seed : int, optional
+
+    Returns
+    -------
+    list of tuple
+    """
     u = np.random.default_rng(seed).uniform(-0.95, 0.95, size=(n, len(variables)))
     return [tuple(float(v.from_unit(u[i, j])) for j, v in enumerate(variables)) for i in range(n)]
 
 
-def cached_rom_runs(setup: DrumSetup, points, path, progress=None):
-    """:func:`run_rom` results, read from the CSV ``path`` when its sidecar JSON records the
-    same set-up and points, otherwise run and written there (with the sidecar)."""
+def cached_rom_runs(setup: DrumSetup, points, path, progress=None, model_factory=rom_factory):
+    """:func:`run_rom` results, cached in a CSV file.
+
+    Read from the CSV ``path`` when its sidecar JSON records the same set-up, points and
+    model; otherwise run and written there (with the sidecar). The default model leaves
+    the sidecar as it was before the model became an argument (caches stay valid); another
+    factory adds its qualified name under ``model_factory``.
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        The base set-up.
+    points : list of tuple
+        [(alpha [1/s], L [m]), ...].
+    path : pathlib.Path
+        CSV file.
+    progress : callable, optional
+        ``progress(done, total)`` after every run.
+    model_factory : callable, optional
+        ``model_factory(setup) -> ccedi.models.ContactModel`` (default :func:`rom_factory`).
+
+    Returns
+    -------
+    tuple
+        (DataFrame of :func:`run_rom`, True when read from the cache).
+    """
     meta = {"setup": repr(setup), "points": [list(map(float, p)) for p in points],
             "t_end_s": GRID_T_END_S, "output_step_s": OUTPUT_STEP_S, "outputs": list(OUTPUTS),
             "force_window_s": FORCE_WINDOW_S, "residual_window_s": RESIDUAL_WINDOW_S}
+    if model_factory is not rom_factory:
+        meta["model_factory"] = f"{getattr(model_factory, '__module__', '')}.{getattr(model_factory, '__qualname__', repr(model_factory))}"
     sidecar = path.with_suffix(".json")
     if path.exists() and sidecar.exists() and json.loads(sidecar.read_text()) == meta:
         return pd.read_csv(path), True
-    frame = run_rom(setup, points, progress)
+    frame = run_rom(setup, points, progress, model_factory)
     write_csv(path, frame)
     write_json(sidecar, meta)
     return frame, False
@@ -201,7 +372,19 @@ def cached_rom_runs(setup: DrumSetup, points, path, progress=None):
 
 def validation_errors(surrogate: Surrogate, runs: pd.DataFrame):
     """Surrogate against ROM runs off the grid, per output: max and RMS of the error
-    relative to the output's value, |s - r| / |r| (runs with r undefined or zero left out)."""
+    relative to the output's value, |s - r| / |r| (runs with r undefined or zero left out).
+
+    Parameters
+    ----------
+    surrogate : Surrogate
+    runs : pandas.DataFrame
+        :func:`run_rom` rows off the grid.
+
+    Returns
+    -------
+    dict
+        {output: {max_relative_error, rms_relative_error, n_runs}}.
+    """
     X = runs[[v.name for v in surrogate.variables]].to_numpy()
     pred = surrogate.evaluate(X)
     out = {}

@@ -35,7 +35,30 @@ def sweep(setup: DrumSetup, alphas=PAPER_ALPHAS, damping="global", t_end_s=1.5, 
           scheduler="serial"):
     """Run every alpha, mapped through :func:`ccedi.fea.distributed.map_runs` (``scheduler``).
     Returns (long history DataFrame with an alpha_per_s column, summaries DataFrame,
-    {alpha: (first-contact positions, last-contact positions)})."""
+    {alpha: (first-contact positions, last-contact positions)}).
+
+    Parameters
+    ----------
+    setup : DrumSetup
+    alphas : sequence of float, optional
+        Damping coefficients [1/s].
+    damping : str, optional
+        "global" or "relative".
+    t_end_s : float, optional
+        Simulated time [s].
+    n_outputs : int, optional
+        Output times.
+    progress : bool, optional
+        Progress bars (serial scheduler only).
+    scheduler : str, optional
+        :func:`ccedi.fea.distributed.map_runs` scheduler.
+
+    Returns
+    -------
+    tuple
+        (history DataFrame of :data:`HISTORY_COLUMNS` with alpha_per_s, summaries
+        DataFrame of :func:`ccedi.fea.drum.contact_summary`, shapes dict).
+    """
     from functools import partial
 
     from .distributed import map_runs
@@ -56,7 +79,17 @@ def _axes(nrows=1, figsize=(7.5, 4.5)):
 
 
 def plot_reaction_force(history):
-    """Fig. 10 analogue: force on the object [N] against time [s], one line per alpha."""
+    """Fig. 10 analogue: force on the object [N] against time [s], one line per alpha.
+
+    Parameters
+    ----------
+    history : pandas.DataFrame
+        Long history with alpha_per_s, time_s and reaction_force_N.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = _axes()
     for a, h in history.groupby("alpha_per_s"):
         ax.plot(h.time_s, h.reaction_force_N, label=f"alpha = {a:g} 1/s")
@@ -69,7 +102,17 @@ def plot_reaction_force(history):
 
 def plot_stresses(history):
     """Fig. 14 analogue: (a) max finger von Mises [kPa], (b) max object von Mises [MPa],
-    (c) reaction force [N] against time [s]."""
+    (c) reaction force [N] against time [s].
+
+    Parameters
+    ----------
+    history : pandas.DataFrame
+        Long history of :func:`sweep`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, (a1, a2, a3) = _axes(3, figsize=(7.5, 9))
     for a, h in history.groupby("alpha_per_s"):
         a1.plot(h.time_s, 1e-3 * h.max_von_mises_Pa, label=f"alpha = {a:g} 1/s")
@@ -86,7 +129,18 @@ def plot_stresses(history):
 
 def plot_contact_shapes(setup: DrumSetup, shapes):
     """Fig. 13 analogue: finger centre lines at first and last contact for each alpha,
-    with the object outline and the drum, in the drum plane [mm]."""
+    with the object outline and the drum, in the drum plane [mm].
+
+    Parameters
+    ----------
+    setup : DrumSetup
+    shapes : dict
+        {alpha: (first-contact positions (n, 3) [m], last-contact positions)}.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -115,7 +169,20 @@ def plot_contact_shapes(setup: DrumSetup, shapes):
 def tip_lag_series_m(setup: DrumSetup, history):
     """How far the finger tip trails the rigidly turning finger [m] (positive = behind,
     along the drum's tangential direction) at every row of a contact history, from its
-    tip displacement columns (the displacement from the tip's initial position)."""
+    tip displacement columns (the displacement from the tip's initial position).
+
+    Parameters
+    ----------
+    setup : DrumSetup
+    history : pandas.DataFrame
+        A contact history with the core columns time_s, tip_ux_m and tip_uy_m (any
+        :class:`ccedi.models.ContactModel`).
+
+    Returns
+    -------
+    numpy.ndarray
+        Lag [m] per row.
+    """
     t = history.time_s.to_numpy()
     r_tip = setup.drum_radius_m + setup.finger_length_m
     th0 = setup.theta0_rad
@@ -127,21 +194,63 @@ def tip_lag_series_m(setup: DrumSetup, history):
 
 def window_mean(t, values, window_s):
     """Centred moving average of ``values`` over ``window_s`` [s] (outputs equally spaced at
-    the step of ``t``; near the ends, the mean of the part of the window inside the record)."""
+    the step of ``t``; near the ends, the mean of the part of the window inside the record).
+
+    Parameters
+    ----------
+    t : numpy.ndarray
+        Times [s], equally spaced.
+    values : numpy.ndarray
+        Values at ``t``.
+    window_s : float
+        Window [s].
+
+    Returns
+    -------
+    numpy.ndarray
+        Averaged values.
+    """
     n = max(1, int(round(window_s / float(np.median(np.diff(t))))))
     kernel = np.ones(n)
     return np.convolve(values, kernel, mode="same") / np.convolve(np.ones_like(values), kernel, mode="same")
 
 
 def tip_lag_m(setup: DrumSetup, history, t_s):
-    """:func:`tip_lag_series_m` at the output nearest ``t_s`` [s]."""
+    """:func:`tip_lag_series_m` at the output nearest ``t_s`` [s].
+
+    Parameters
+    ----------
+    setup : DrumSetup
+    history : pandas.DataFrame
+    t_s : float
+        Time [s].
+
+    Returns
+    -------
+    float
+        Lag [m].
+    """
     k = int(np.argmin(np.abs(history.time_s.to_numpy() - t_s)))
     return float(tip_lag_series_m(setup, history)[k])
 
 
 def contact_report(setup: DrumSetup, global_table, global_history, relative_table=None, relative_history=None):
     """Markdown comparing the global-damping sweep with the paper (section 3.4) and with
-    relative damping. Tables are the summaries of :func:`sweep`; histories the long frames."""
+    relative damping. Tables are the summaries of :func:`sweep`; histories the long frames.
+
+    Parameters
+    ----------
+    setup : DrumSetup
+    global_table, global_history : pandas.DataFrame
+        Summaries and history of the global-damping sweep.
+    relative_table, relative_history : pandas.DataFrame, optional
+        The same for relative damping.
+
+    Returns
+    -------
+    str
+        Markdown.
+    """
     from .drum import PAPER_CONTACT
 
     lines = ["# Finger on the rotating drum: contact study", "",

@@ -37,6 +37,7 @@ import scipy.sparse.linalg as spla
 
 from .contact import Contact, RigidEllipse, boundary_nodes
 from ccedi.errors import InputError, require_finite_positive
+from ccedi.models import ContactResponse, contact_timing, validate_run_args
 from .explicit import run
 from .hex8 import deformation_gradient
 from .material import RUBBER, NeoHookean, max_von_mises_of
@@ -61,7 +62,45 @@ PAPER_CONTACT = {"first_contact_s": {7.5: 0.32, 600.0: 0.57},
 
 @dataclass(frozen=True)
 class DrumSetup:
-    """Geometry, speeds and materials of the rotating-finger test (SI units)."""
+    """Geometry, speeds and materials of the rotating-finger test (SI units).
+
+    Parameters
+    ----------
+    drum_radius_m : float
+        Drum radius [m].
+    finger_length_m : float
+        Finger length [m].
+    omega_rad_s : float
+        Drum speed [rad/s], counter-clockwise seen from +z.
+    object_center_m : tuple
+        Object centre (x, y) [m].
+    object_semi_axes_m : tuple
+        Object semi-axes (along its x, along its y) [m].
+    object_angle_rad : float
+        Object rotation about z [rad].
+    object_thickness_m : float
+        Object plate thickness [m], centred on the finger's mid-plane.
+    sensor_radius_m : float
+        F/T sensor pad radius [m] (the object's clamp in the stress solve).
+    friction : float
+        Coulomb friction coefficient [-].
+    theta0_rad : float
+        Initial finger angle [rad] (:func:`calibrate_initial_angle`).
+    finger_material, object_material : NeoHookean
+        Materials.
+    finger_semi_axes_m : tuple
+        Finger section semi-axes [m].
+    finger_section_elements : int
+        Elements across the finger section.
+    finger_elements_along : int or None
+        Elements along the finger (None: SM-A, ~4 mm).
+
+    Raises
+    ------
+    InputError
+        A non-positive or non-finite size, a bad element count, or an object that
+        overlaps the drum.
+    """
 
     drum_radius_m: float = 0.08255
     finger_length_m: float = 0.2032
@@ -98,6 +137,7 @@ class DrumSetup:
 
     @property
     def object_surface(self):
+        """The object as the contact's rigid ellipse (:class:`ccedi.fea.contact.RigidEllipse`)."""
         h = 0.5 * self.object_thickness_m
         return RigidEllipse(center_m=self.object_center_m, a_m=self.object_semi_axes_m[0],
                             b_m=self.object_semi_axes_m[1], angle_rad=self.object_angle_rad,
@@ -107,7 +147,18 @@ class DrumSetup:
 def finger_frame(theta):
     """Rotation taking finger mesh coordinates (x: wide, y: soft, z: along) to the drum
     frame at angle theta: z -> radial e_r, y -> tangential e_theta, x -> e_theta x e_r
-    (along -z), a proper rotation."""
+    (along -z), a proper rotation.
+
+    Parameters
+    ----------
+    theta : float
+        Drum angle [rad].
+
+    Returns
+    -------
+    numpy.ndarray
+        (3, 3) rotation matrix.
+    """
     er = np.array([np.cos(theta), np.sin(theta), 0.0])
     et = np.array([-np.sin(theta), np.cos(theta), 0.0])
     return np.column_stack([np.cross(et, er), et, er])
@@ -115,7 +166,17 @@ def finger_frame(theta):
 
 def finger_mesh(setup: DrumSetup):
     """The finger's mesh in its own frame (root at z = 0): SM-A (5 x 5 in the section,
-    ~4 mm along) unless ``finger_section_elements`` / ``finger_elements_along`` say otherwise."""
+    ~4 mm along) unless ``finger_section_elements`` / ``finger_elements_along`` say otherwise.
+
+    Parameters
+    ----------
+    setup : DrumSetup
+
+    Returns
+    -------
+    ccedi.fea.mesh.Mesh
+        Node sets ``root`` and ``tip``.
+    """
     L = setup.finger_length_m
     n_along = setup.finger_elements_along or sm_a_elements_along(L)
     return elliptical_cantilever(L, setup.finger_section_elements, n_along, *setup.finger_semi_axes_m)
@@ -123,7 +184,21 @@ def finger_mesh(setup: DrumSetup):
 
 def finger_on_drum(setup: DrumSetup, alpha, damping="global"):
     """The finger model at angle ``setup.theta0_rad``: root face turning with the drum,
-    contact of its surface nodes with the rigid object. Returns (model, v0)."""
+    contact of its surface nodes with the rigid object.
+
+    Parameters
+    ----------
+    setup : DrumSetup
+    alpha : float
+        Mass-proportional damping [1/s].
+    damping : str, optional
+        "global" or "relative".
+
+    Returns
+    -------
+    tuple
+        (ccedi.fea.model.Model, v0: initial nodal velocities (n, 3) [m/s], rigid turning).
+    """
     local = finger_mesh(setup)
     Q = finger_frame(setup.theta0_rad)
     nodes = (local.nodes + [0.0, 0.0, setup.drum_radius_m]) @ Q.T
@@ -140,7 +215,17 @@ def finger_on_drum(setup: DrumSetup, alpha, damping="global"):
 
 @dataclass
 class ObjectStress:
-    """Linear static stress of the object under the finger's contact forces."""
+    """Linear static stress of the object under the finger's contact forces.
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        Object geometry, material and sensor pad.
+    n_section : int, optional
+        Elements across the object's section.
+    n_thickness : int, optional
+        Elements through its thickness.
+    """
 
     setup: DrumSetup
     n_section: int = 12
@@ -171,7 +256,20 @@ class ObjectStress:
     def max_von_mises(self, points, forces):
         """Largest element von Mises stress [Pa] for contact ``forces`` (k, 3) [N] on the
         object at finger-node ``points`` (k, 3) [m] (each lumped to the nearest lateral
-        surface node). Zero without forces."""
+        surface node). Zero without forces.
+
+        Parameters
+        ----------
+        points : numpy.ndarray
+            (k, 3) contact points [m].
+        forces : numpy.ndarray
+            (k, 3) forces on the object [N].
+
+        Returns
+        -------
+        float
+            Largest von Mises stress [Pa].
+        """
         if len(points) == 0:
             return 0.0
         side_xyz = self.model.mesh.nodes[self._side]
@@ -188,10 +286,34 @@ class ObjectStress:
 
 def contact_run(setup: DrumSetup, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False,
                 snapshot_every=0, object_stress=True):
-    """Run the finger over the object. Returns (RunResult, model); the history gains
-    ``reaction_force_N`` (magnitude of the force on the object), ``max_object_von_mises_Pa``
-    and the contact patch along the finger, ``contact_patch_start_m`` /
-    ``contact_patch_end_m`` (distance from the root, NaN without contact)."""
+    """Run the finger over the object (the solver-level form of :class:`FullContactModel`).
+
+    Parameters
+    ----------
+    setup : DrumSetup
+    alpha : float
+        Mass-proportional damping [1/s].
+    damping : str, optional
+        "global" or "relative".
+    t_end_s : float, optional
+        Simulated time [s].
+    n_outputs : int, optional
+        Output times.
+    progress : bool, optional
+        Progress bar.
+    snapshot_every : int, optional
+        Store nodal positions every this many outputs (0: none).
+    object_stress : bool, optional
+        Solve the object's stress at every output.
+
+    Returns
+    -------
+    tuple
+        (ccedi.fea.explicit.RunResult, model). The history gains ``reaction_force_N``
+        (magnitude of the force on the object) [N], ``max_object_von_mises_Pa`` [Pa] and
+        the contact patch along the finger, ``contact_patch_start_m`` /
+        ``contact_patch_end_m`` (distance from the root [m], NaN without contact).
+    """
     model, v0 = finger_on_drum(setup, alpha, damping)
     nodes = model.contact.nodes
     along = (model.mesh.nodes[nodes] @ finger_frame(setup.theta0_rad))[:, 2] - setup.drum_radius_m
@@ -216,35 +338,24 @@ def contact_run(setup: DrumSetup, alpha, damping="global", t_end_s=1.5, n_output
 def object_side(setup: DrumSetup, point_xy):
     """"front" or "rear": the halves of the object on either side of its minor axis; the
     front half is the one the sweep reaches first (the finger moves along e_theta, so it
-    comes from the end of the major axis that points against e_theta at the centre)."""
+    comes from the end of the major axis that points against e_theta at the centre).
+
+    Parameters
+    ----------
+    setup : DrumSetup
+    point_xy : array_like
+        A point (x, y) [m].
+
+    Returns
+    -------
+    str
+        "front" or "rear".
+    """
     c = np.asarray(setup.object_center_m, dtype=float)
     e_theta = np.array([-c[1], c[0]]) / np.hypot(*c)           # direction of finger motion at the object
     u_a = np.array([np.cos(setup.object_angle_rad), np.sin(setup.object_angle_rad)])
     along = float(np.dot(np.asarray(point_xy) - c, u_a))
     return "front" if along * np.dot(e_theta, u_a) < 0.0 else "rear"
-
-
-def contact_timing(history):
-    """Contact timing and peaks from a contact history (columns of :func:`contact_run`,
-    also written by the reduced model of :mod:`ccedi.rom.contact_rom`): first and last output
-    with contact [s], the contact points there [m], peak reaction force [N] and the
-    largest finger stress [Pa]."""
-    h = history
-    on = h.contact_nodes > 0
-    out = {"max_finger_stress_Pa": float(h.max_von_mises_Pa.max())}
-    if not on.any():
-        out.update({k: None for k in ("contact_start_s", "contact_end_s", "contact_duration_s",
-                                      "first_contact_point_m", "last_contact_point_m")})
-        out.update({"contact_ended": False, "peak_reaction_force_N": 0.0})
-        return out
-    first, last = h[on].iloc[0], h[on].iloc[-1]
-    start, end = float(first.time_s), float(last.time_s)
-    out.update({"contact_start_s": start, "contact_end_s": end, "contact_duration_s": end - start,
-                "contact_ended": bool(end < float(h.time_s.iloc[-1])),
-                "first_contact_point_m": [float(first.contact_point_x_m), float(first.contact_point_y_m)],
-                "last_contact_point_m": [float(last.contact_point_x_m), float(last.contact_point_y_m)],
-                "peak_reaction_force_N": float(h.reaction_force_N.max())})
-    return out
 
 
 def _max_or_none(column):
@@ -255,7 +366,21 @@ def _max_or_none(column):
 
 
 def contact_summary(setup: DrumSetup, result, model):
-    """The summary ``ccedi contact`` writes, from a :func:`contact_run`."""
+    """The summary ``ccedi contact`` writes, from a :func:`contact_run`.
+
+    Parameters
+    ----------
+    setup : DrumSetup
+    result : ccedi.fea.explicit.RunResult
+    model : ccedi.fea.model.Model
+        The two of :func:`contact_run`.
+
+    Returns
+    -------
+    dict
+        The core keys of :data:`ccedi.models.CONTACT_CORE_SUMMARY` but ``model`` (which
+        :class:`FullContactModel` adds) and :data:`ccedi.models.FE_CONTACT_EXTRA_SUMMARY`.
+    """
     h = result.history
     summary = {"alpha_per_s": model.alpha, "damping": model.damping, "theta0_rad": setup.theta0_rad,
                "wall_time_s": result.summary["wall_time_s"], "steps": result.summary["steps"]}
@@ -277,21 +402,19 @@ def contact_summary(setup: DrumSetup, result, model):
     return summary
 
 
-@dataclass
-class ContactResponse:
-    """What a contact model answers: the history (one row per output, columns with
-    units: time_s, reaction_force_N, contact_force_x_N / _y_N, contact_nodes,
-    contact_point_x_m / _y_m, max_penetration_m, max_von_mises_Pa, tip_ux_m, tip_uy_m)
-    and the summary (:func:`contact_timing` keys, wall_time_s, ...)."""
-
-    history: object
-    summary: dict
-
-
 class FullContactModel:
-    """The full explicit FE model of the finger on the drum, behind the interface the
-    reduced model (:class:`ccedi.rom.contact_rom.ReducedContactModel`) shares:
-    ``run(alpha, damping, t_end_s, n_outputs) -> ContactResponse``."""
+    """The full explicit FE model of the finger on the drum, a
+    :class:`ccedi.models.ContactModel` (the reduced one is
+    :class:`ccedi.rom.contact_rom.ReducedContactModel`).
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        Geometry, speeds and materials.
+    object_stress : bool, optional
+        Compute the object's stress at every output (a static solve per output; the
+        ``max_object_von_mises_Pa`` column is NaN without it).
+    """
 
     name = "fea"
 
@@ -300,14 +423,61 @@ class FullContactModel:
         self.object_stress = object_stress
 
     def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
+        """Run the finger over the object (:func:`contact_run`).
+
+        Parameters
+        ----------
+        alpha : float
+            Mass-proportional damping coefficient [1/s].
+        damping : str, optional
+            "global" or "relative".
+        t_end_s : float, optional
+            Simulated time [s].
+        n_outputs : int, optional
+            Output times.
+        progress : bool, optional
+            Show a progress bar.
+
+        Returns
+        -------
+        ccedi.models.ContactResponse
+            History: the core columns and :data:`ccedi.models.FE_CONTACT_EXTRA_COLUMNS`;
+            summary: ``model`` then :func:`contact_summary`.
+
+        Raises
+        ------
+        InputError
+            Invalid arguments (:func:`ccedi.models.validate_run_args`).
+        SolverError
+            The explicit solver cannot continue.
+        """
+        alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs, damping)
         result, model = contact_run(self.setup, alpha, damping=damping, t_end_s=t_end_s, n_outputs=n_outputs,
                                     progress=progress, object_stress=self.object_stress)
-        return ContactResponse(history=result.history, summary=contact_summary(self.setup, result, model))
+        summary = {"model": self.name, **contact_summary(self.setup, result, model)}
+        return ContactResponse(history=result.history, summary=summary)
 
 
 def first_contact_angle(setup: DrumSetup, samples=4000):
     """Drum angle change [rad] after which the undeformed finger, turning rigidly from
-    ``setup.theta0_rad``, first touches the object (geometry only)."""
+    ``setup.theta0_rad``, first touches the object (geometry only).
+
+    Parameters
+    ----------
+    setup : DrumSetup
+    samples : int, optional
+        Angles tried over a full turn.
+
+    Returns
+    -------
+    float
+        Angle change [rad].
+
+    Raises
+    ------
+    InputError
+        The finger never reaches the object.
+    """
     model, _ = finger_on_drum(setup, 0.0)
     pts = model.mesh.nodes[model.contact.nodes]
     s = setup.object_surface
@@ -325,7 +495,30 @@ def first_contact_angle(setup: DrumSetup, samples=4000):
 def calibrate_initial_angle(setup: DrumSetup, alpha=7.5, target_s=0.32, iterations=3, tol_s=0.004):
     """theta0 [rad] such that the finger with ``alpha`` first touches the object at
     ``target_s``: start from the rigid-finger geometry, then correct by FE runs
-    (theta0 += omega (t_contact - target)). Returns (theta0, [(theta0, t_contact), ...])."""
+    (theta0 += omega (t_contact - target)).
+
+    Parameters
+    ----------
+    setup : DrumSetup
+    alpha : float, optional
+        Damping of the calibration runs [1/s].
+    target_s : float, optional
+        Wanted first-contact time [s].
+    iterations : int, optional
+        FE corrections at most.
+    tol_s : float, optional
+        Accepted error of the contact time [s].
+
+    Returns
+    -------
+    tuple
+        (theta0 [rad], [(theta0 [rad], t_contact [s]), ...]).
+
+    Raises
+    ------
+    InputError
+        No contact within target_s + 0.1 s.
+    """
     from dataclasses import replace
     theta0 = setup.theta0_rad
     reach = first_contact_angle(replace(setup, theta0_rad=0.0))

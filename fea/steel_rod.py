@@ -26,7 +26,23 @@ def steel_rod_model(alpha=0.0, n_elements=STEEL_ROD["n_elements"], tip_mass_kg=S
                     force_N=STEEL_ROD["force_N"], duration_s=STEEL_ROD["duration_s"]):
     """Clamped steel rod with tip mass and tip impulse (force along +y), as a fea Model.
 
-    Node sets: ``root`` (the two clamped nodes), ``tip`` (the free end, carrying the mass).
+    Parameters
+    ----------
+    alpha : float, optional
+        Mass-proportional damping coefficient [1/s].
+    n_elements : int, optional
+        Rod elements along the length.
+    tip_mass_kg : float, optional
+        Point mass at the free end [kg] (0: none).
+    force_N : float, optional
+        Tip force [N] along +y (0: no pulse).
+    duration_s : float, optional
+        How long the force is held [s].
+
+    Returns
+    -------
+    ccedi.fea.model.Model
+        Node sets: ``root`` (the two clamped nodes), ``tip`` (the free end, carrying the mass).
     """
     section = RodSection(E=STEEL_ROD["E_Pa"], rho=STEEL_ROD["rho_kg_per_m3"], diameter_m=STEEL_ROD["diameter_m"])
     nodes, rod, root, tip = straight_rod(STEEL_ROD["length_m"], n_elements, section)
@@ -39,3 +55,25 @@ def steel_rod_model(alpha=0.0, n_elements=STEEL_ROD["n_elements"], tip_mass_kg=S
     point_masses = {tip: tip_mass_kg} if tip_mass_kg else {}
     return Model(mesh=mesh, material=None, alpha=alpha, fixed_nodes=np.asarray(root), pulses=pulses,
                  rods=(rod,), point_masses=point_masses)
+
+
+def steel_rod_impulse_model(n_elements=STEEL_ROD["n_elements"], tip_mass_kg=STEEL_ROD["tip_mass_kg"],
+                            force_N=STEEL_ROD["force_N"], duration_s=STEEL_ROD["duration_s"]):
+    """The steel rod's impulse test as a :class:`ccedi.models.ImpulseModel`.
+
+    Parameters
+    ----------
+    n_elements, tip_mass_kg, force_N, duration_s
+        As :func:`steel_rod_model`.
+
+    Returns
+    -------
+    ccedi.fea.studies.FullImpulseModel
+        ``run(alpha, t_end_s, n_outputs)`` integrates :func:`steel_rod_model` at ``alpha``;
+        ``tip_uy_m`` is the free end's displacement along the load.
+    """
+    from .studies import FullImpulseModel
+
+    return FullImpulseModel(lambda alpha: steel_rod_model(alpha=alpha, n_elements=n_elements, tip_mass_kg=tip_mass_kg,
+                                                          force_N=force_N, duration_s=duration_s),
+                            force_N=force_N, duration_s=duration_s, name="fea-rod")

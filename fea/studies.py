@@ -5,6 +5,8 @@ import math
 import numpy as np
 import pandas as pd
 
+from ccedi.models import ImpulseResponse, validate_run_args
+
 from .explicit import TSSFAC, critical_time_step, run
 from .material import RUBBER
 from .mesh import SEMI_AXES, sm_a, sm_b
@@ -22,14 +24,46 @@ PAPER_TABLE1 = {
 
 def is_paper_finger(length_in, material, semi_axes_m):
     """True when the finger is the one of the paper's Table 1 (4.5 in, its rubber and section),
-    so that Table 1 applies to it."""
+    so that Table 1 applies to it.
+
+    Parameters
+    ----------
+    length_in : float
+        Finger length [in].
+    material : ccedi.fea.material.NeoHookean
+        Finger material.
+    semi_axes_m : tuple
+        Section semi-axes [m].
+
+    Returns
+    -------
+    bool
+    """
     return length_in == 4.5 and material == RUBBER and tuple(semi_axes_m) == SEMI_AXES
 
 
 def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES):
     """Nodes, elements, stable step (TSSFAC x min dt_e) [us], steps to 0.2 s, step ratio to
     SM-A and tip stiffness [N/m] (nonlinear static, mean over 1 N and 2 N) of SM-A and SM-B
-    with section semi-axes ``semi_axes_m`` [m]."""
+    with section semi-axes ``semi_axes_m`` [m].
+
+    Parameters
+    ----------
+    length_in : float, optional
+        Finger length [in].
+    material : ccedi.fea.material.NeoHookean, optional
+        Finger material.
+    stiffness : bool, optional
+        Also solve the tip stiffness (two nonlinear static solves per mesh).
+    semi_axes_m : tuple, optional
+        Section semi-axes [m].
+
+    Returns
+    -------
+    dict
+        {"SM-A": {...}, "SM-B": {...}} with ``nodes``, ``elements``, ``dt_us``,
+        ``steps_to_0p2s``, ``step_ratio`` and (with ``stiffness``) ``stiffness_N_per_m``.
+    """
     out = {}
     for name, make in (("SM-A", sm_a), ("SM-B", sm_b)):
         model = cantilever_model(make(length_in=length_in, semi_axes_m=semi_axes_m), material)
@@ -47,7 +81,31 @@ def impulse_model(length_in=4.5, alpha=180.0, force_N=1.0, duration_s=0.01, mate
                   mesh=None, semi_axes_m=SEMI_AXES):
     """A clamped SM-A finger (section semi-axes ``semi_axes_m`` [m]; or ``mesh``) loaded by a
     tip force ``force_N`` [N] in the soft direction (+y) held for ``duration_s`` [s]: the
-    paper's impulse test."""
+    paper's impulse test.
+
+    Parameters
+    ----------
+    length_in : float, optional
+        Finger length [in] (when ``mesh`` is None).
+    alpha : float, optional
+        Mass-proportional damping [1/s].
+    force_N : float, optional
+        Tip force [N] along +y.
+    duration_s : float, optional
+        How long the force is held [s].
+    material : ccedi.fea.material.NeoHookean, optional
+        Finger material.
+    beta : float, optional
+        Stiffness-proportional damping [s].
+    mesh : ccedi.fea.mesh.Mesh, optional
+        The finger mesh (default: SM-A of ``length_in``).
+    semi_axes_m : tuple, optional
+        Section semi-axes [m] of the default mesh.
+
+    Returns
+    -------
+    ccedi.fea.model.Model
+    """
     mesh = sm_a(length_in=length_in, semi_axes_m=semi_axes_m) if mesh is None else mesh
     return cantilever_model(mesh, material, alpha=alpha, beta=beta,
                             pulses=[tip_pulse(mesh, [0.0, force_N, 0.0], duration_s)])
@@ -55,9 +113,126 @@ def impulse_model(length_in=4.5, alpha=180.0, force_N=1.0, duration_s=0.01, mate
 
 def impulse_response(length_in=4.5, alpha=180.0, force_N=1.0, duration_s=0.01, t_end_s=0.2,
                      n_outputs=400, material=RUBBER, beta=0.0, mesh=None, semi_axes_m=SEMI_AXES):
-    """Tip response of :func:`impulse_model`; returns the solver's RunResult."""
+    """Tip response of :func:`impulse_model` (the solver's result; the model-interface
+    form is :meth:`FullImpulseModel.run` of :func:`finger_impulse_model`).
+
+    Parameters
+    ----------
+    length_in, alpha, force_N, duration_s, material, beta, mesh, semi_axes_m
+        As :func:`impulse_model`.
+    t_end_s : float, optional
+        Simulated time [s].
+    n_outputs : int, optional
+        Output times.
+
+    Returns
+    -------
+    ccedi.fea.explicit.RunResult
+        History (``tip_uy_m`` [m], ``max_von_mises_Pa`` [Pa], ``reaction_y_N`` [N], energies,
+        ...) and summary of the explicit run.
+    """
     model = impulse_model(length_in, alpha, force_N, duration_s, material, beta, mesh, semi_axes_m)
     return run(model, t_end_s, n_outputs=n_outputs)
+
+
+class FullImpulseModel:
+    """The full explicit FE model of an impulse test, a :class:`ccedi.models.ImpulseModel`
+    (reduced by :func:`ccedi.rom.modal.reduce_impulse_model`).
+
+    Parameters
+    ----------
+    model_factory : callable
+        ``model_factory(alpha) -> ccedi.fea.model.Model``: the structure with its tip
+        pulse and mass-proportional damping ``alpha`` [1/s].
+    force_N : float or None
+        The pulse's force [N] along +y (None when unknown).
+    duration_s : float or None
+        How long the force is held [s] (None when unknown).
+    name : str, optional
+        The ``model`` summary key.
+    """
+
+    def __init__(self, model_factory, force_N=None, duration_s=None, name="fea"):
+        self.model_factory = model_factory
+        self.force_N = force_N
+        self.duration_s = duration_s
+        self.name = name
+
+    def fea_model(self, alpha):
+        """The FE model at damping ``alpha`` [1/s].
+
+        Parameters
+        ----------
+        alpha : float
+            Mass-proportional damping coefficient [1/s].
+
+        Returns
+        -------
+        ccedi.fea.model.Model
+        """
+        return self.model_factory(alpha)
+
+    def run(self, alpha, t_end_s, n_outputs=400):
+        """Explicit FE response to the pulse.
+
+        Parameters
+        ----------
+        alpha : float
+            Mass-proportional damping coefficient [1/s].
+        t_end_s : float
+            Simulated time [s].
+        n_outputs : int, optional
+            Output times.
+
+        Returns
+        -------
+        ccedi.models.ImpulseResponse
+            History: the solver's (core ``time_s``, ``tip_uy_m``; extras
+            :data:`ccedi.models.FE_IMPULSE_EXTRA_COLUMNS`); summary: ``model``,
+            ``alpha_per_s`` and the solver's summary (``wall_time_s``, ``steps``, ...).
+
+        Raises
+        ------
+        InputError
+            Invalid arguments (:func:`ccedi.models.validate_run_args`).
+        SolverError
+            The explicit solver cannot continue.
+        """
+        alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs)
+        res = run(self.model_factory(alpha), t_end_s, n_outputs=n_outputs)
+        return ImpulseResponse(history=res.history,
+                               summary={"model": self.name, "alpha_per_s": alpha, **res.summary})
+
+
+def finger_impulse_model(length_in=4.5, force_N=1.0, duration_s=0.01, material=RUBBER, beta=0.0, mesh=None,
+                         semi_axes_m=SEMI_AXES):
+    """The paper's impulse test of the clamped SM-A finger as a :class:`FullImpulseModel`.
+
+    Parameters
+    ----------
+    length_in : float, optional
+        Finger length [in] (when ``mesh`` is None).
+    force_N : float, optional
+        Tip force [N] in the soft direction (+y).
+    duration_s : float, optional
+        How long the force is held [s].
+    material : ccedi.fea.material.NeoHookean, optional
+        Finger material.
+    beta : float, optional
+        Stiffness-proportional damping [s].
+    mesh : ccedi.fea.mesh.Mesh, optional
+        The finger mesh (default: SM-A of ``length_in`` with ``semi_axes_m``), built once.
+    semi_axes_m : tuple, optional
+        Section semi-axes [m].
+
+    Returns
+    -------
+    FullImpulseModel
+    """
+    mesh = sm_a(length_in=length_in, semi_axes_m=semi_axes_m) if mesh is None else mesh
+    return FullImpulseModel(lambda alpha: impulse_model(alpha=alpha, force_N=force_N, duration_s=duration_s,
+                                                        material=material, beta=beta, mesh=mesh),
+                            force_N=force_N, duration_s=duration_s)
 
 
 def _impulse_run(alpha, kwargs):
@@ -72,7 +247,22 @@ def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), scheduler="serial",
     """Fig. 7 analogue: tip responses for several alpha [1/s], one run per alpha mapped
     through :func:`ccedi.fea.distributed.map_runs` (``scheduler``). Returns (history, summaries):
     a long DataFrame with columns alpha_per_s, time_s, tip_uy_m, max_von_mises_Pa,
-    reaction_y_N and a list of run summaries."""
+    reaction_y_N and a list of run summaries.
+
+    Parameters
+    ----------
+    alphas : sequence of float, optional
+        Damping coefficients [1/s].
+    scheduler : str, optional
+        :func:`ccedi.fea.distributed.map_runs` scheduler.
+    **kwargs
+        Passed to :func:`impulse_response`.
+
+    Returns
+    -------
+    tuple
+        (history DataFrame, list of summaries).
+    """
     from functools import partial
 
     from .distributed import map_runs
@@ -82,7 +272,17 @@ def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), scheduler="serial",
 
 
 def plot_impulse_study(history):
-    """Tip displacement [mm] and max von Mises stress [kPa] against time [s], one line per alpha."""
+    """Tip displacement [mm] and max von Mises stress [kPa] against time [s], one line per alpha.
+
+    Parameters
+    ----------
+    history : pandas.DataFrame
+        The long history of :func:`impulse_study`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -9,9 +9,11 @@ damping ratios are ``zeta_i = alpha / (2 omega_i)`` (paper Eq. 3b).
 * Over-damped structure: search alpha until the simulated impulse response matches the
   measured one in the least-squares sense (:func:`match_alpha`).
 
-Both take a ``simulate(alpha) -> (time_s, tip_displacement_m)`` callable, so the full
-FE model and a reduced model can be swapped (:func:`fe_simulator` builds one from any
-``alpha -> fea.model.Model`` factory). Both report how many simulations they used.
+Both take an impulse model (:class:`ccedi.models.ImpulseModel`: the full FE model,
+:class:`ccedi.fea.studies.FullImpulseModel`, or its modal ROM,
+:class:`ccedi.rom.modal.ModalImpulseModel`) with the run length, or a ready
+``simulate(alpha) -> (time_s, tip_displacement_m)`` callable, so the full and a reduced
+model are swapped with one argument. Both report how many simulations they used.
 """
 from dataclasses import dataclass, field
 
@@ -19,17 +21,37 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from ccedi.errors import InputError, require_finite_positive
+from ccedi.models import impulse_simulator
 
 from .damping import _validate_signal, log_decrement, noise_level, oscillates
 
 
 def fe_simulator(model_factory, t_end_s, n_outputs=400, tip_component="tip_uy_m"):
-    """``simulate(alpha)`` running the explicit FE solver on ``model_factory(alpha)`` for
-    ``t_end_s`` [s] and returning (time_s, tip displacement [m]) at ``n_outputs`` times."""
-    from ccedi.fea.explicit import run
+    """``simulate(alpha)`` of the explicit FE model ``model_factory(alpha)`` (an adapter over
+    :class:`ccedi.fea.studies.FullImpulseModel` for callers of the callable form).
+
+    Parameters
+    ----------
+    model_factory : callable
+        ``alpha -> ccedi.fea.model.Model``.
+    t_end_s : float
+        Simulated time [s].
+    n_outputs : int, optional
+        Output times.
+    tip_component : str, optional
+        History column returned as the displacement.
+
+    Returns
+    -------
+    callable
+        ``simulate(alpha)`` -> (time_s [s], tip displacement [m]).
+    """
+    from ccedi.fea.studies import FullImpulseModel
+
+    model = FullImpulseModel(model_factory)
 
     def simulate(alpha):
-        h = run(model_factory(alpha), t_end_s, n_outputs=n_outputs).history
+        h = model.run(alpha, t_end_s, n_outputs).history
         return h.time_s.values, h[tip_component].values
 
     return simulate
@@ -39,8 +61,16 @@ def fe_simulator(model_factory, t_end_s, n_outputs=400, tip_component="tip_uy_m"
 class CriticalAlpha:
     """Result of :func:`critical_alpha`.
 
-    alpha_cr_per_s : midpoint of the final bracket [1/s]; bracket_per_s : (oscillating,
-    not oscillating) [1/s]; n_runs : simulations used; runs : [(alpha, oscillates), ...].
+    Parameters
+    ----------
+    alpha_cr_per_s : float
+        Midpoint of the final bracket [1/s].
+    bracket_per_s : tuple
+        (oscillating, not oscillating) [1/s].
+    n_runs : int
+        Simulations used.
+    runs : list
+        [(alpha [1/s], oscillates), ...] in the order run.
     """
 
     alpha_cr_per_s: float
@@ -49,7 +79,8 @@ class CriticalAlpha:
     runs: list = field(default_factory=list)
 
 
-def critical_alpha(simulate, alpha_guess, rtol=0.01, bracket=(0.8, 1.1), noise_band=1e-6, max_expand=6):
+def critical_alpha(model, alpha_guess, rtol=0.01, bracket=(0.8, 1.1), noise_band=1e-6, max_expand=6, t_end_s=None,
+                   n_outputs=400):
     """Critical mass-proportional coefficient alpha_cr [1/s] by bisection on "the
     simulated tip response oscillates" (:func:`ccedi.rom.damping.oscillates`: after its
     largest excursion the response crosses its final value, 0 after an impulse, by more
@@ -60,7 +91,37 @@ def critical_alpha(simulate, alpha_guess, rtol=0.01, bracket=(0.8, 1.1), noise_b
     oscillates and the high end does not, then halves it until its width is below
     ``rtol`` x its upper end. The simulation must run long enough for a nearly critical
     response to cross zero (about 12 / omega_1 after the load ends).
+
+    Parameters
+    ----------
+    model : ccedi.models.ImpulseModel or callable
+        The impulse model (full or reduced), run for ``t_end_s`` at ``n_outputs`` times,
+        or a ``simulate(alpha) -> (time_s, tip displacement)`` callable.
+    alpha_guess : float
+        Centre of the first bracket [1/s], > 0.
+    rtol : float, optional
+        Final bracket width relative to its upper end, in (0, 1).
+    bracket : tuple, optional
+        (low, high) factors on ``alpha_guess``, 0 < low < high.
+    noise_band : float, optional
+        Crossing band relative to the largest excursion [-].
+    max_expand : int, optional
+        Widening steps allowed at either end.
+    t_end_s : float, optional
+        Simulated time of every run [s] (required with a model).
+    n_outputs : int, optional
+        Output times of every run (with a model).
+
+    Returns
+    -------
+    CriticalAlpha
+
+    Raises
+    ------
+    InputError
+        Invalid arguments, or no bracket found within ``max_expand`` widenings.
     """
+    simulate = impulse_simulator(model, t_end_s, n_outputs)
     alpha_guess = require_finite_positive("alpha_guess (1/s)", alpha_guess)
     lo, hi = alpha_guess * bracket[0], alpha_guess * bracket[1]
     if not 0.0 < lo < hi:
@@ -98,8 +159,21 @@ def critical_alpha(simulate, alpha_guess, rtol=0.01, bracket=(0.8, 1.1), noise_b
 
 @dataclass(frozen=True)
 class AlphaMatch:
-    """Result of :func:`match_alpha`: alpha [1/s], RMS misfit [m] and RMS misfit relative
-    to the RMS of the measured response [-], simulations used, and every (alpha, misfit)."""
+    """Result of :func:`match_alpha`.
+
+    Parameters
+    ----------
+    alpha_per_s : float
+        Matched alpha [1/s].
+    rms_error_m : float
+        Smallest RMS misfit [m].
+    relative_rms_error : float
+        That misfit over the RMS of the measured response [-].
+    n_runs : int
+        Simulations used.
+    evaluations : list
+        [(alpha [1/s], misfit [m]), ...].
+    """
 
     alpha_per_s: float
     rms_error_m: float
@@ -108,15 +182,40 @@ class AlphaMatch:
     evaluations: list = field(default_factory=list)
 
 
-def match_alpha(simulate, time_s, tip_displacement_m, bounds_per_s, xatol_rel=0.002):
+def match_alpha(model, time_s, tip_displacement_m, bounds_per_s, xatol_rel=0.002, t_end_s=None, n_outputs=400):
     """alpha [1/s] minimising the RMS difference between the simulated and the measured
     tip response on the measured times (bounded Brent search, scipy.optimize).
 
     The simulation is interpolated onto ``time_s`` (which must lie within the simulated
     time span). ``xatol_rel`` is the absolute tolerance on alpha relative to the upper
     bound.
+
+    Parameters
+    ----------
+    model : ccedi.models.ImpulseModel or callable
+        The impulse model (full or reduced) or a ``simulate(alpha)`` callable.
+    time_s, tip_displacement_m : array_like
+        The measured response: times [s] and tip displacement [m].
+    bounds_per_s : tuple
+        (low, high) search bounds on alpha [1/s].
+    xatol_rel : float, optional
+        Tolerance on alpha relative to the upper bound.
+    t_end_s : float, optional
+        Simulated time of a model's runs [s] (default: the last measured time).
+    n_outputs : int, optional
+        Output times of a model's runs.
+
+    Returns
+    -------
+    AlphaMatch
+
+    Raises
+    ------
+    InputError
+        Invalid signal or bounds, or measured times outside the simulated span.
     """
     t, y = _validate_signal(time_s, tip_displacement_m)
+    simulate = impulse_simulator(model, float(t[-1]) if t_end_s is None else t_end_s, n_outputs)
     lo, hi = (require_finite_positive(f"bounds_per_s[{i}] (1/s)", b, allow_zero=True)
               for i, b in enumerate(bounds_per_s))
     if not lo < hi:
@@ -141,9 +240,24 @@ def match_alpha(simulate, time_s, tip_displacement_m, bounds_per_s, xatol_rel=0.
 
 @dataclass(frozen=True)
 class Identification:
-    """Result of :func:`identify`: the CCEDI branch taken ("under-damped" or
-    "over-damped"), alpha [1/s], zeta [-] (measured, or alpha / alpha_cr when
-    over-damped), alpha_cr [1/s] (None when not computed) and simulations used."""
+    """Result of :func:`identify`.
+
+    Parameters
+    ----------
+    regime : str
+        The CCEDI branch taken, "under-damped" or "over-damped".
+    alpha_per_s : float
+        Identified alpha [1/s].
+    zeta : float
+        Damping ratio [-]: measured, or alpha / alpha_cr when over-damped (NaN without
+        alpha_cr).
+    alpha_cr_per_s : float or None
+        Critical alpha [1/s] (None when not computed).
+    n_runs : int
+        Simulations used.
+    detail : dict
+        Branch-specific figures (confidence interval, noise band, misfit, ...).
+    """
 
     regime: str
     alpha_per_s: float
@@ -153,8 +267,8 @@ class Identification:
     detail: dict = field(default_factory=dict)
 
 
-def identify(time_s, tip_displacement_m, simulate, alpha_guess, bounds_per_s=None, noise_band=0.02,
-             critical=None):
+def identify(time_s, tip_displacement_m, model, alpha_guess, bounds_per_s=None, noise_band=0.02,
+             critical=None, t_end_s=None, n_outputs=400):
     """The CCEDI procedure (paper Fig. 2) on a measured impulse response.
 
     If the measured response oscillates (crosses its final value, after its peak, by more
@@ -163,8 +277,38 @@ def identify(time_s, tip_displacement_m, simulate, alpha_guess, bounds_per_s=Non
     ``alpha = zeta alpha_cr`` with alpha_cr from :func:`critical_alpha` (or ``critical``,
     a precomputed CriticalAlpha). Otherwise alpha is matched by :func:`match_alpha`
     within ``bounds_per_s`` (default 0.2 to 10 x ``alpha_guess``).
+
+    Parameters
+    ----------
+    time_s, tip_displacement_m : array_like
+        The measured impulse response: times [s] and tip displacement [m].
+    model : ccedi.models.ImpulseModel or callable
+        The impulse model (full or reduced) or a ``simulate(alpha)`` callable.
+    alpha_guess : float
+        Starting alpha [1/s] (2 omega_1 is a good one).
+    bounds_per_s : tuple, optional
+        Search bounds of the over-damped branch [1/s].
+    noise_band : float, optional
+        Least crossing band relative to the peak [-].
+    critical : CriticalAlpha, optional
+        A precomputed alpha_cr (no search then).
+    t_end_s : float, optional
+        Simulated time of a model's runs [s] (default: the last measured time; the
+        alpha_cr search needs about 12 / omega_1 after the load).
+    n_outputs : int, optional
+        Output times of a model's runs.
+
+    Returns
+    -------
+    Identification
+
+    Raises
+    ------
+    InputError
+        Invalid signal, or a failed alpha_cr bracket.
     """
     t, y = _validate_signal(time_s, tip_displacement_m)
+    simulate = impulse_simulator(model, float(t[-1]) if t_end_s is None else t_end_s, n_outputs)
     final = float(np.mean(y[int(0.9 * len(y)):]))
     peak = float(np.max(np.abs(y - final)))
     band = min(max(noise_band, 5.0 * noise_level(y) / peak), 0.5) if peak > 0 else noise_band
@@ -186,7 +330,23 @@ def identify(time_s, tip_displacement_m, simulate, alpha_guess, bounds_per_s=Non
 
 
 def power_law_fit(x, y):
-    """Least-squares fit of ``y = c x^p`` in log-log space; returns (c, p)."""
+    """Least-squares fit of ``y = c x^p`` in log-log space.
+
+    Parameters
+    ----------
+    x, y : array_like
+        At least two positive pairs.
+
+    Returns
+    -------
+    tuple
+        (c, p).
+
+    Raises
+    ------
+    InputError
+        Fewer than two pairs, unequal lengths or non-positive values.
+    """
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
     if len(x) < 2 or x.shape != y.shape or np.any(x <= 0) or np.any(y <= 0):
@@ -196,13 +356,35 @@ def power_law_fit(x, y):
 
 
 def paper_alpha_cr(length_in):
-    """Paper Eq. (8): alpha_cr = 3120.4 x^-1.983 [1/s], finger length x in inches, 3 <= x <= 8."""
+    """Paper Eq. (8): alpha_cr = 3120.4 x^-1.983 [1/s], finger length x in inches, 3 <= x <= 8.
+
+    Parameters
+    ----------
+    length_in : float or array_like
+        Finger length [in].
+
+    Returns
+    -------
+    numpy.ndarray
+        alpha_cr [1/s].
+    """
     return 3120.4 * np.asarray(length_in, dtype=float) ** -1.983
 
 
 def paper_alpha(length_in):
     """Paper Eq. (7): alpha [1/s] of the rubber fingers against length x [in], 3 <= x <= 8:
-    56.667 x^2 - 705 x + 2205 for x <= 6, -3.75 x + 37.5 above."""
+    56.667 x^2 - 705 x + 2205 for x <= 6, -3.75 x + 37.5 above.
+
+    Parameters
+    ----------
+    length_in : float or array_like
+        Finger length [in].
+
+    Returns
+    -------
+    numpy.ndarray
+        alpha [1/s].
+    """
     x = np.asarray(length_in, dtype=float)
     return np.where(x <= 6.0, 56.667 * x**2 - 705.0 * x + 2205.0, -3.75 * x + 37.5)
 
@@ -210,7 +392,25 @@ def paper_alpha(length_in):
 def piecewise_alpha_fit(length_in, alpha):
     """The form of paper Eq. (7) fitted to four (length [in], alpha [1/s]) points at
     3, 4.5, 6 and 8 in: a quadratic through the first three and a line through the last
-    two. Returns ((a2, a1, a0), (b1, b0))."""
+    two.
+
+    Parameters
+    ----------
+    length_in : array_like
+        Four increasing lengths [in].
+    alpha : array_like
+        Four alphas [1/s].
+
+    Returns
+    -------
+    tuple
+        ((a2, a1, a0), (b1, b0)).
+
+    Raises
+    ------
+    InputError
+        Not four increasing lengths and four alphas.
+    """
     x = np.asarray(length_in, dtype=float)
     a = np.asarray(alpha, dtype=float)
     if x.shape != (4,) or a.shape != (4,) or not np.all(np.diff(x) > 0):

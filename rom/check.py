@@ -31,18 +31,40 @@ from ccedi.fea.contact_study import tip_lag_series_m, window_mean
 from ccedi.fea.drum import DrumSetup, FullContactModel
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import SEMI_AXES
-from ccedi.fea.studies import impulse_model, impulse_response
+from ccedi.fea.studies import finger_impulse_model, impulse_response
 from ccedi.fea.units import m_to_inch
 from ccedi.rom.contact_rom import ReducedContactModel
-from ccedi.rom.modal import fit_to_response, nrmse, tip_modal_rom
+from ccedi.rom.modal import fit_to_response, nrmse, reduce_impulse_model
 
 SMOOTHING_S = 0.025
 """Moving-average window [s] for ``smoothed_peak_force_error``."""
 
 
 def compare_contact(setup: DrumSetup, fea, rom):
-    """Metrics (module docstring) of a reduced :class:`ccedi.fea.drum.ContactResponse` ``rom``
-    against the full one ``fea`` (same output times)."""
+    """Metrics (module docstring) of a reduced contact response against the full one.
+
+    Reads only the core columns and keys of :class:`ccedi.models.ContactResponse`, so any
+    two contact models compare.
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        The set-up both ran.
+    fea, rom : ccedi.models.ContactResponse
+        Full and reduced responses at the same output times.
+
+    Returns
+    -------
+    dict
+        ``nrmse``, ``peak_force_error``, ``smoothed_peak_force_error``,
+        ``contact_start_error_s``, ``contact_end_error_s``, ``max_stress_error``,
+        ``impulse_error``, ``speedup``.
+
+    Raises
+    ------
+    ValueError
+        The output times differ.
+    """
     hf, hr = fea.history, rom.history
     if not np.allclose(hf.time_s, hr.time_s):
         raise ValueError("the two responses must have the same output times")
@@ -70,16 +92,48 @@ def _key_figures(summary):
 
 
 def contact_cases(setup: DrumSetup, alphas=(7.5, 180.0, 600.0), damping="global", t_end_s=1.5, n_outputs=300,
-                  progress=False, contact=None):
-    """Full FEA vs both reduced models for every alpha: a list of case dicts. ``contact``:
-    the ROM's contact model (:class:`ccedi.rom.contact_rom.ReducedContactModel`; None: its default)."""
-    t0 = time.perf_counter()
-    reduced = [ReducedContactModel(setup, nonlinear=True, contact=contact),
-               ReducedContactModel(setup, nonlinear=False, contact=contact)]
-    build = (time.perf_counter() - t0) / 2
+                  progress=False, contact=None, full=None, reduced=None):
+    """Full contact model against reduced ones for every alpha.
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        The set-up.
+    alphas : sequence of float, optional
+        Damping coefficients [1/s].
+    damping : str, optional
+        "global" or "relative".
+    t_end_s : float, optional
+        Simulated time [s].
+    n_outputs : int, optional
+        Output times.
+    progress : bool, optional
+        Progress bar of the full model.
+    contact : str, optional
+        The default ROMs' contact model ("stations" or "face"; None: its default).
+    full : ccedi.models.ContactModel, optional
+        The reference (default :class:`ccedi.fea.drum.FullContactModel` of ``setup``).
+    reduced : sequence of ccedi.models.ContactModel, optional
+        The models checked (default: the co-rotational and the linear
+        :class:`ccedi.rom.contact_rom.ReducedContactModel` with ``contact``).
+
+    Returns
+    -------
+    list of dict
+        One case per alpha and reduced model: ``case``, ``kind``, ``model``,
+        ``alpha_per_s``, the :func:`compare_contact` metrics, ``rom_build_time_s`` [s]
+        (the default ROMs' mean build time; None for given models), ``fea`` and ``rom``
+        key figures.
+    """
+    build = None
+    if reduced is None:
+        t0 = time.perf_counter()
+        reduced = [ReducedContactModel(setup, nonlinear=True, contact=contact),
+                   ReducedContactModel(setup, nonlinear=False, contact=contact)]
+        build = (time.perf_counter() - t0) / 2
     for r in reduced:
         r.run(alphas[0], damping, t_end_s=1e-3, n_outputs=1)          # compile outside the timing
-    full = FullContactModel(setup)
+    full = FullContactModel(setup) if full is None else full
     cases = []
     for alpha in alphas:
         ref = full.run(alpha, damping, t_end_s, n_outputs, progress=progress)
@@ -94,25 +148,57 @@ def contact_cases(setup: DrumSetup, alphas=(7.5, 180.0, 600.0), damping="global"
 
 
 def impulse_cases(alphas=(20.0, 180.0), n_modes=6, force_N=0.1, duration_s=0.01, t_end_s=0.2, n_outputs=400,
-                  material=RUBBER, semi_axes_m=SEMI_AXES):
-    """Full FEA vs the modal ROM for the 4.5-in finger's tip pulse, per alpha (finger of
-    ``material`` with section semi-axes ``semi_axes_m`` [m])."""
-    finger = {"material": material, "semi_axes_m": semi_axes_m}
+                  material=RUBBER, semi_axes_m=SEMI_AXES, full=None):
+    """Full FE impulse model against its modal ROM (before and after the fit), per alpha.
+
+    Parameters
+    ----------
+    alphas : sequence of float, optional
+        Damping coefficients [1/s].
+    n_modes : int, optional
+        Modes of the ROM.
+    force_N : float, optional
+        Tip pulse force [N] (small: the ROM is linear).
+    duration_s : float, optional
+        Pulse length [s].
+    t_end_s : float, optional
+        Simulated time [s].
+    n_outputs : int, optional
+        Output times.
+    material : ccedi.fea.material.NeoHookean, optional
+        Finger material (of the default full model).
+    semi_axes_m : tuple, optional
+        Section semi-axes [m] (of the default full model).
+    full : ccedi.fea.studies.FullImpulseModel, optional
+        The full model (default: the 4.5-in finger of ``material`` and ``semi_axes_m``
+        under ``force_N`` for ``duration_s``); reduced per alpha by
+        :func:`ccedi.rom.modal.reduce_impulse_model`.
+
+    Returns
+    -------
+    list of dict
+        One case per alpha: ``case``, ``kind``, ``model``, ``alpha_per_s``, ``nrmse`` (after
+        the fit), ``nrmse_before_fit``, ``frequency_error``, ``flexibility_share``,
+        ``speedup`` (FE wall time over one ROM evaluation) and None contact metrics.
+    """
+    if full is None:
+        full = finger_impulse_model(force_N=force_N, duration_s=duration_s, material=material,
+                                    semi_axes_m=semi_axes_m)
     impulse_response(t_end_s=1e-3, n_outputs=1)                       # compile outside the timing
     cases = []
     for alpha in alphas:
-        fe = impulse_response(alpha=alpha, force_N=force_N, duration_s=duration_s, t_end_s=t_end_s,
-                              n_outputs=n_outputs, **finger)
+        fe = full.run(alpha, t_end_s, n_outputs)
         t, y = fe.history.time_s.to_numpy(), fe.history.tip_uy_m.to_numpy()
-        rom = tip_modal_rom(impulse_model(alpha=alpha, force_N=force_N, **finger), n_modes=n_modes)
-        fit = fit_to_response(rom, t, y, force_N, duration_s)
+        rom = reduce_impulse_model(full, n_modes=n_modes, alpha=alpha).rom
+        fit = fit_to_response(rom, t, y, full.force_N, full.duration_s)
         repeats = 200
         t0 = time.perf_counter()
         for _ in range(repeats):
-            fit.rom.pulse_response(t, force_N, duration_s)
+            fit.rom.pulse_response(t, full.force_N, full.duration_s)
         per_eval = (time.perf_counter() - t0) / repeats
         share = (rom.gain / rom.omega_rad_s**2) / rom.static_flexibility
-        cases.append({"case": f"impulse, 4.5-in finger, {force_N:g} N for {duration_s:g} s, alpha {alpha:g} 1/s",
+        cases.append({"case": f"impulse, 4.5-in finger, {full.force_N:g} N for {full.duration_s:g} s, "
+                              f"alpha {alpha:g} 1/s",
                       "kind": "impulse", "model": f"modal-{n_modes}", "alpha_per_s": float(alpha),
                       "nrmse": fit.nrmse_after, "nrmse_before_fit": fit.nrmse_before,
                       "frequency_error": (fit.rom.omega_rad_s / rom.omega_rad_s - 1.0).tolist(),

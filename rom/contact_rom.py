@@ -4,9 +4,10 @@
 (:mod:`ccedi.rom.superelement`), fits its bending stiffness to the full FE model's static tip
 stiffness, and runs the chain's explicit dynamics in the drum's rotating frame
 (:mod:`ccedi.rom.chain_dynamics`). It answers the same question as
-:class:`ccedi.fea.drum.FullContactModel`, through the same ``run(alpha, damping, t_end_s,
-n_outputs) -> ContactResponse``, with the same history columns, so a study swaps one
-for the other with one argument.
+:class:`ccedi.fea.drum.FullContactModel`, through the same interface
+(:class:`ccedi.models.ContactModel`: ``run(alpha, damping, t_end_s, n_outputs, progress)
+-> ContactResponse``, with the same core history columns and summary keys), so a study
+swaps one for the other with one argument.
 
 ``nonlinear=True`` is the co-rotational chain (large rotations exact, the nonlinear
 enhancement); ``nonlinear=False`` the linear Craig-Bampton model in the drum frame.
@@ -16,8 +17,9 @@ import time
 import numpy as np
 import pandas as pd
 
-from ccedi.fea.drum import ContactResponse, DrumSetup, contact_timing, finger_mesh, finger_on_drum
-from ccedi.errors import InputError, SolverError, require_finite_positive
+from ccedi.fea.drum import DrumSetup, finger_mesh, finger_on_drum
+from ccedi.models import ContactResponse, contact_timing, validate_run_args
+from ccedi.errors import InputError, SolverError
 from ccedi.fea.explicit import TSSFAC, critical_time_step
 from ccedi.fea.model import cantilever_model
 from ccedi.fea.static import static_solve
@@ -60,7 +62,20 @@ def fe_face_stiffness_per_length(setup: DrumSetup, patch_nodes=FACE_PATCH_NODES)
     to the side, sits 0.33 mm behind, beyond the 50 um the FE penetration reaches. On the
     8-in SM-A finger: k_pen / dz = 5.4e7 N/m^2 alone; with the flattening 4.5e6 (1 node),
     7.1e6 (3-node patch), 4.2e6 (5), 3.4e6 (9) N/m^2, against the station model's
-    2.8e6 N/m^2."""
+    2.8e6 N/m^2.
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        The finger (mesh, material).
+    patch_nodes : int, optional
+        Loaded apex nodes of the flattening solve (:data:`FACE_PATCH_NODES`).
+
+    Returns
+    -------
+    float
+        k' [N/m^2].
+    """
     model, _ = finger_on_drum(setup, 0.0)
     local = finger_mesh(setup)
     zs = np.unique(local.nodes[:, 2])
@@ -99,11 +114,31 @@ def _face_flattening(mesh, material, patch_nodes):
 
 
 class ReducedContactModel:
-    """Superelement-chain ROM of :class:`ccedi.fea.drum.DrumSetup`'s finger.
+    """Superelement-chain ROM of :class:`ccedi.fea.drum.DrumSetup`'s finger, a
+    :class:`ccedi.models.ContactModel`.
 
-    n_segments : superelements along the finger; nonlinear : co-rotational (True) or
-    linear (False) kinematics; fit : scale the bending stiffness to the FE tip stiffness.
+    Parameters
+    ----------
+    setup : DrumSetup
+        Geometry, speeds and materials.
+    n_segments : int, optional
+        Superelements along the finger.
+    nonlinear : bool, optional
+        Co-rotational (True) or linear (False) kinematics.
+    fit : bool, optional
+        Scale the bending stiffness to the FE tip stiffness.
+    contact : str, optional
+        "stations" or "face" (None: ``DEFAULT_CONTACT``), see below.
+    k_per_length : float, optional
+        Face contact stiffness per unit length [N/m^2] (default: the full FE model's).
 
+    Raises
+    ------
+    InputError
+        ``contact`` neither "face" nor "stations".
+
+    Notes
+    -----
     contact : "stations" (default, ``DEFAULT_CONTACT``): points at the stations only,
     penalty rule of :mod:`ccedi.fea.contact` for the station's effective mass, the chain's own
     step (points 12 mm apart, 2.8e6 N/m^2 per length). "face": contact points on both
@@ -152,14 +187,38 @@ class ReducedContactModel:
                                                      chain.half_thickness_m, chain.station_z_m, self.nonlinear)
             self.dt_s = TSSFAC * 2.0 / self.omega_contact_rad_s
 
-    def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300):
-        """Integrate the chain over the object; returns a :class:`ccedi.fea.drum.ContactResponse`."""
-        alpha = require_finite_positive("alpha (mass-proportional damping, 1/s)", alpha, allow_zero=True)
-        if damping not in ("global", "relative"):
-            raise InputError(f"damping must be 'global' or 'relative', got {damping!r}")
-        t_end_s = require_finite_positive("t_end_s (end time, s)", t_end_s)
-        if int(n_outputs) != n_outputs or n_outputs < 1:
-            raise InputError(f"n_outputs must be an integer >= 1, got {n_outputs!r}")
+    def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
+        """Integrate the chain over the object.
+
+        Parameters
+        ----------
+        alpha : float
+            Mass-proportional damping coefficient [1/s].
+        damping : str, optional
+            "global" (on the absolute velocity) or "relative" (in the drum frame).
+        t_end_s : float, optional
+            Simulated time [s].
+        n_outputs : int, optional
+            Output times, equally spaced after 0.
+        progress : bool, optional
+            Accepted for the :class:`ccedi.models.ContactModel` interface; the chain shows
+            no progress bar (a run takes about a second).
+
+        Returns
+        -------
+        ccedi.models.ContactResponse
+            History: the core columns (:data:`ccedi.models.CONTACT_CORE_COLUMNS`;
+            ``contact_nodes`` counts the contact points in penetration); summary: the core
+            keys and :data:`ccedi.models.ROM_CONTACT_EXTRA_SUMMARY`.
+
+        Raises
+        ------
+        InputError
+            Invalid arguments (:func:`ccedi.models.validate_run_args`).
+        SolverError
+            The chain diverged, or the stress recovery inverted an element.
+        """
+        alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs, damping)
         s, ch = self.setup, self.chain
         n = len(ch.station_z_m)
         P = np.column_stack([s.drum_radius_m + ch.station_z_m, np.zeros(n)])

@@ -1,57 +1,172 @@
 """CCEDI on the paper's structures: SM-A rubber fingers of any length and the steel rod.
 
-Simulators (``alpha -> (time_s, tip displacement m)``) for :mod:`ccedi.rom.ccedi`, with run
+Impulse models (:class:`ccedi.models.ImpulseModel`) for :mod:`ccedi.rom.ccedi`, with run
 lengths chosen from the first natural frequency so that a nearly critical response has
-time to cross zero: t_end = load duration + 12 / omega_1.
+time to cross zero: t_end = load duration + 12 / omega_1. The searches take any impulse
+model of the structure (default: the full FE one; e.g. its modal ROM from
+:func:`ccedi.rom.modal.reduce_impulse_model`). The ``*_simulator`` functions are
+adapters giving the ``simulate(alpha) -> (time_s, tip displacement m)`` form.
 """
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import SEMI_AXES, sm_a
 from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import cantilever_model
-from ccedi.fea.steel_rod import STEEL_ROD, steel_rod_model
-from ccedi.fea.studies import impulse_model
+from ccedi.fea.steel_rod import STEEL_ROD, steel_rod_impulse_model
+from ccedi.fea.studies import finger_impulse_model
+from ccedi.models import impulse_simulator
 
-from .ccedi import critical_alpha, fe_simulator, paper_alpha_cr
+from .ccedi import critical_alpha, paper_alpha_cr
 
 SETTLE_PERIODS = 12.0
 """Run length after the load, in units of 1 / omega_1 [-]."""
 
 
 def finger_omega1(length_in, material=RUBBER, semi_axes_m=SEMI_AXES):
-    """First natural frequency [rad/s] of the clamped SM-A finger (soft direction) of
-    ``material`` with section semi-axes ``semi_axes_m`` [m]."""
+    """First natural frequency of the clamped SM-A finger (soft direction).
+
+    Parameters
+    ----------
+    length_in : float
+        Finger length [in].
+    material : ccedi.fea.material.NeoHookean, optional
+        Finger material.
+    semi_axes_m : tuple, optional
+        Section semi-axes [m].
+
+    Returns
+    -------
+    float
+        omega_1 [rad/s].
+    """
     mesh = sm_a(length_in=length_in, semi_axes_m=semi_axes_m)
     return float(natural_frequencies(cantilever_model(mesh, material), 1)[0])
 
 
+def finger_model(length_in, force_N=1.0, duration_s=0.01, material=RUBBER, semi_axes_m=SEMI_AXES):
+    """The full FE impulse model of the SM-A finger (paper section 3.2).
+
+    Parameters
+    ----------
+    length_in : float
+        Finger length [in].
+    force_N : float, optional
+        Tip force [N] (soft direction).
+    duration_s : float, optional
+        How long the force is held [s].
+    material : ccedi.fea.material.NeoHookean, optional
+        Finger material.
+    semi_axes_m : tuple, optional
+        Section semi-axes [m].
+
+    Returns
+    -------
+    ccedi.fea.studies.FullImpulseModel
+    """
+    return finger_impulse_model(force_N=force_N, duration_s=duration_s, material=material,
+                                mesh=sm_a(length_in=length_in, semi_axes_m=semi_axes_m))
+
+
 def finger_simulator(length_in, force_N=1.0, duration_s=0.01, t_end_s=None, n_outputs=400, material=RUBBER,
                      semi_axes_m=SEMI_AXES):
-    """``simulate(alpha)`` for the SM-A finger impulse test (paper section 3.2)."""
-    mesh = sm_a(length_in=length_in, semi_axes_m=semi_axes_m)
+    """``simulate(alpha)`` of :func:`finger_model` (adapter).
+
+    Parameters
+    ----------
+    length_in, force_N, duration_s, material, semi_axes_m
+        As :func:`finger_model`.
+    t_end_s : float, optional
+        Simulated time [s] (default: ``duration_s`` + 12 / omega_1).
+    n_outputs : int, optional
+        Output times.
+
+    Returns
+    -------
+    callable
+        ``simulate(alpha)`` -> (time_s [s], tip displacement [m]).
+    """
+    model = finger_model(length_in, force_N, duration_s, material, semi_axes_m)
     if t_end_s is None:
         t_end_s = duration_s + SETTLE_PERIODS / finger_omega1(length_in, material, semi_axes_m)
-    return fe_simulator(lambda alpha: impulse_model(alpha=alpha, force_N=force_N, duration_s=duration_s,
-                                                    material=material, mesh=mesh), t_end_s, n_outputs)
+    return impulse_simulator(model, t_end_s, n_outputs)
 
 
-def finger_alpha_cr(length_in, rtol=0.01, material=RUBBER, semi_axes_m=SEMI_AXES):
-    """alpha_cr [1/s] of the SM-A finger by bisection, starting from 2 omega_1. Returns
-    (CriticalAlpha, omega_1 [rad/s])."""
+def finger_alpha_cr(length_in, rtol=0.01, material=RUBBER, semi_axes_m=SEMI_AXES, model=None, n_outputs=400):
+    """alpha_cr of the SM-A finger by bisection, starting from 2 omega_1.
+
+    Parameters
+    ----------
+    length_in : float
+        Finger length [in].
+    rtol : float, optional
+        Relative bracket width at the end.
+    material : ccedi.fea.material.NeoHookean, optional
+        Finger material.
+    semi_axes_m : tuple, optional
+        Section semi-axes [m].
+    model : ccedi.models.ImpulseModel, optional
+        The finger's impulse model, full or reduced (default: :func:`finger_model`, 1 N
+        for 10 ms); run for its ``duration_s`` + 12 / omega_1.
+    n_outputs : int, optional
+        Output times per run.
+
+    Returns
+    -------
+    tuple
+        (:class:`ccedi.rom.ccedi.CriticalAlpha`, omega_1 [rad/s]).
+    """
     omega1 = finger_omega1(length_in, material, semi_axes_m)
-    simulate = finger_simulator(length_in, material=material, semi_axes_m=semi_axes_m)
-    return critical_alpha(simulate, 2.0 * omega1, rtol=rtol), omega1
+    model = finger_model(length_in, material=material, semi_axes_m=semi_axes_m) if model is None else model
+    t_end_s = model.duration_s + SETTLE_PERIODS / omega1
+    return critical_alpha(model, 2.0 * omega1, rtol=rtol, t_end_s=t_end_s, n_outputs=n_outputs), omega1
 
 
 def rod_simulator(t_end_s=None, omega1_guess=16.33, n_outputs=800, **kwargs):
-    """``simulate(alpha)`` for the steel rod of paper section 2.2 (tip impulse 0.003 N, 0.2 s)."""
+    """``simulate(alpha)`` of the steel rod of paper section 2.2 (adapter over
+    :func:`ccedi.fea.steel_rod.steel_rod_impulse_model`; tip impulse 0.003 N for 0.2 s).
+
+    Parameters
+    ----------
+    t_end_s : float, optional
+        Simulated time [s] (default: the load duration + 12 / ``omega1_guess``).
+    omega1_guess : float, optional
+        First natural frequency [rad/s] for the default run length.
+    n_outputs : int, optional
+        Output times.
+    **kwargs
+        Passed to :func:`ccedi.fea.steel_rod.steel_rod_impulse_model`.
+
+    Returns
+    -------
+    callable
+        ``simulate(alpha)`` -> (time_s [s], tip displacement [m]).
+    """
     if t_end_s is None:
         t_end_s = STEEL_ROD["duration_s"] + SETTLE_PERIODS / omega1_guess
-    return fe_simulator(lambda alpha: steel_rod_model(alpha=alpha, **kwargs), t_end_s, n_outputs)
+    return impulse_simulator(steel_rod_impulse_model(**kwargs), t_end_s, n_outputs)
 
 
-def rod_alpha_cr(omega1_guess=16.33, rtol=0.01):
-    """alpha_cr [1/s] of the steel rod, starting from 2 omega_1 (the measured 16.33 rad/s)."""
-    return critical_alpha(rod_simulator(omega1_guess=omega1_guess), 2.0 * omega1_guess, rtol=rtol)
+def rod_alpha_cr(omega1_guess=16.33, rtol=0.01, model=None, n_outputs=800):
+    """alpha_cr of the steel rod, starting from 2 omega_1.
+
+    Parameters
+    ----------
+    omega1_guess : float, optional
+        First natural frequency [rad/s] (the measured 16.33 rad/s).
+    rtol : float, optional
+        Relative bracket width at the end.
+    model : ccedi.models.ImpulseModel, optional
+        The rod's impulse model (default: the full FE one); run for its ``duration_s`` +
+        12 / ``omega1_guess``.
+    n_outputs : int, optional
+        Output times per run.
+
+    Returns
+    -------
+    ccedi.rom.ccedi.CriticalAlpha
+    """
+    model = steel_rod_impulse_model() if model is None else model
+    t_end_s = model.duration_s + SETTLE_PERIODS / omega1_guess
+    return critical_alpha(model, 2.0 * omega1_guess, rtol=rtol, t_end_s=t_end_s, n_outputs=n_outputs)
 
 
 def _alpha_cr_row(length_in, rtol, material, semi_axes_m):
@@ -64,11 +179,33 @@ def _alpha_cr_row(length_in, rtol, material, semi_axes_m):
 
 def alpha_cr_table(lengths_in=(3.0, 4.5, 6.0, 8.0), rtol=0.01, scheduler="serial", material=RUBBER,
                    semi_axes_m=SEMI_AXES):
-    """alpha_cr, 2 omega_1 and the paper's Eq. (8) (which holds for the paper's rubber and
-    section only) for each finger length, one length per run of
-    :func:`ccedi.fea.distributed.map_runs` (``scheduler``); a list of dicts."""
+    """alpha_cr, 2 omega_1 and the paper's Eq. (8) for each finger length.
+
+    The paper's Eq. (8) holds for the paper's rubber and section only. One length per
+    run of :func:`ccedi.fea.distributed.map_runs` (``scheduler``).
+
+    Parameters
+    ----------
+    lengths_in : tuple, optional
+        Finger lengths [in].
+    rtol : float, optional
+        Relative bracket width.
+    scheduler : str, optional
+        :func:`ccedi.fea.distributed.map_runs` scheduler.
+    material : ccedi.fea.material.NeoHookean, optional
+        Finger material.
+    semi_axes_m : tuple, optional
+        Section semi-axes [m].
+
+    Returns
+    -------
+    list of dict
+        Per length: ``length_in``, ``alpha_cr_per_s``, ``bracket_per_s``, ``n_runs``,
+        ``omega1_rad_s``, ``two_omega1_per_s``, ``paper_eq8_per_s``.
+    """
     from functools import partial
 
     from ccedi.fea.distributed import map_runs
 
-    return map_runs(partial(_alpha_cr_row, rtol=rtol, material=material, semi_axes_m=semi_axes_m), lengths_in, scheduler, label="alpha_cr")
+    return map_runs(partial(_alpha_cr_row, rtol=rtol, material=material, semi_axes_m=semi_axes_m), lengths_in,
+                    scheduler, label="alpha_cr")

@@ -25,12 +25,15 @@ by bounded least squares against a full FE impulse response, so the surrogate ma
 what the full model does (its lumped-mass explicit dynamics and, at the amplitude of the
 fit, its geometric nonlinearity); the fit's residual is reported.
 """
+import time
 from dataclasses import dataclass, replace
 
 import numpy as np
+import pandas as pd
 from scipy.optimize import least_squares
 
 from ccedi.errors import InputError, require_finite_positive
+from ccedi.models import ImpulseResponse, impulse_simulator, pulse_times, validate_run_args
 from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import Model, face_node_weights
 
@@ -39,8 +42,18 @@ from ccedi.fea.model import Model, face_node_weights
 class ModalROM:
     """N uncoupled Rayleigh-damped modes from one force input to one displacement output.
 
-    omega_rad_s (N,), gain (N,) [m/(N s^2)] (see module docstring), alpha [1/s], beta [s];
-    zeta overrides the Rayleigh ratios when given (a fitted model).
+    Parameters
+    ----------
+    omega_rad_s : numpy.ndarray
+        Natural frequencies (N,) [rad/s].
+    gain : numpy.ndarray
+        Modal gains g_i (N,) [m/(N s^2)] (see the module docstring).
+    alpha : float, optional
+        Mass-proportional damping [1/s].
+    beta : float, optional
+        Stiffness-proportional damping [s].
+    zeta_fitted : numpy.ndarray, optional
+        Damping ratios (N,) [-] that override the Rayleigh ones (a fitted model).
     """
 
     omega_rad_s: np.ndarray
@@ -51,6 +64,7 @@ class ModalROM:
 
     @property
     def n_modes(self):
+        """Number of modes N."""
         return len(self.omega_rad_s)
 
     @property
@@ -61,7 +75,24 @@ class ModalROM:
         return self.alpha / (2.0 * self.omega_rad_s) + self.beta * self.omega_rad_s / 2.0
 
     def with_damping(self, alpha, beta=0.0):
-        """The same modes with Rayleigh damping alpha [1/s], beta [s] (drops fitted zeta)."""
+        """The same modes with Rayleigh damping (drops fitted zeta).
+
+        Parameters
+        ----------
+        alpha : float
+            Mass-proportional damping [1/s], >= 0.
+        beta : float, optional
+            Stiffness-proportional damping [s], >= 0.
+
+        Returns
+        -------
+        ModalROM
+
+        Raises
+        ------
+        InputError
+            Negative or non-finite alpha or beta.
+        """
         return replace(self, alpha=require_finite_positive("alpha (1/s)", alpha, allow_zero=True),
                        beta=require_finite_positive("beta (s)", beta, allow_zero=True), zeta_fitted=None)
 
@@ -71,14 +102,34 @@ class ModalROM:
         return float(np.sum(self.gain / self.omega_rad_s**2))
 
     def pulse_response(self, time_s, force_N, duration_s):
-        """Output at ``time_s`` [s] for a force ``force_N`` [N] held from 0 to ``duration_s``."""
+        """Output for a rectangular force pulse (exact, any damping).
+
+        Parameters
+        ----------
+        time_s : array_like
+            Output times [s].
+        force_N : float
+            Force [N], held from 0 to ``duration_s``.
+        duration_s : float
+            Pulse length [s].
+
+        Returns
+        -------
+        numpy.ndarray
+            Displacement [m] at ``time_s``.
+        """
         t = np.asarray(time_s, dtype=float)
         y = _step(self.omega_rad_s, self.zeta, t) - _step(self.omega_rad_s, self.zeta, t - duration_s)
         return force_N * (self.gain @ y)
 
     def state_space(self):
-        """The model as a python-control StateSpace: state (q_1..q_N, q_1'..q_N'), input
-        force [N], output displacement [m]."""
+        """The model as a python-control state-space system.
+
+        Returns
+        -------
+        control.StateSpace
+            State (q_1..q_N, q_1'..q_N'), input force [N], output displacement [m].
+        """
         import control
 
         n = self.n_modes
@@ -118,10 +169,32 @@ def _step(omega, zeta, t):
 
 def modal_rom(model: Model, n_modes, load_nodes, load_weights, direction=1, output_nodes=None,
               output_weights=None, x=None):
-    """Modal ROM of ``model`` linearised at positions ``x`` (default: reference) from a unit
-    force along ``direction`` (0, 1, 2) shared by ``load_nodes`` with ``load_weights``, to
-    the weighted displacement of ``output_nodes`` along the same direction (default: the
-    load nodes and weights). Damping: the model's alpha and beta."""
+    """Modal ROM of an FE model from a shared unit force to a weighted displacement.
+
+    Parameters
+    ----------
+    model : ccedi.fea.model.Model
+        The FE model (damping: its alpha and beta).
+    n_modes : int
+        Modes kept (the lowest).
+    load_nodes, load_weights : array_like
+        Nodes sharing the unit force and their weights (sum 1).
+    direction : int, optional
+        0, 1 or 2: the force and output direction (x, y, z).
+    output_nodes, output_weights : array_like, optional
+        Output displacement nodes and weights (default: the load nodes and weights).
+    x : numpy.ndarray, optional
+        Positions (n_nodes, 3) [m] to linearise at (default: the reference).
+
+    Returns
+    -------
+    ModalROM
+
+    Raises
+    ------
+    InputError
+        ``n_modes`` not an integer >= 1 or ``direction`` not 0, 1 or 2.
+    """
     if int(n_modes) != n_modes or n_modes < 1:
         raise InputError(f"n_modes must be an integer >= 1, got {n_modes!r}")
     if direction not in (0, 1, 2):
@@ -136,9 +209,25 @@ def modal_rom(model: Model, n_modes, load_nodes, load_weights, direction=1, outp
 
 def tip_modal_rom(model: Model, n_modes=6, direction=1):
     """Modal ROM from a uniform tip-face force to the mean tip displacement (the paper's
-    impulse test), keeping the ``n_modes`` modes with the largest static contribution
-    g_i / omega_i^2 among the lowest 3 x n_modes (modes in the other bending plane or in
-    torsion have no gain here)."""
+    impulse test).
+
+    Keeps the ``n_modes`` modes with the largest static contribution g_i / omega_i^2
+    among the lowest 3 x n_modes (modes in the other bending plane or in torsion have no
+    gain here).
+
+    Parameters
+    ----------
+    model : ccedi.fea.model.Model
+        A clamped finger with a ``tip`` node set.
+    n_modes : int, optional
+        Modes kept.
+    direction : int, optional
+        Force and output direction (1: the soft direction y).
+
+    Returns
+    -------
+    ModalROM
+    """
     tip = model.mesh.node_sets["tip"]
     w = face_node_weights(model.mesh, tip)
     full = modal_rom(model, 3 * n_modes, tip, w, direction)
@@ -148,8 +237,15 @@ def tip_modal_rom(model: Model, n_modes=6, direction=1):
 
 @dataclass(frozen=True)
 class ModalFit:
-    """Result of :func:`fit_to_response`: the fitted ROM and its NRMSE against the data
-    before and after the fit (RMS error over the data's range)."""
+    """Result of :func:`fit_to_response`.
+
+    Parameters
+    ----------
+    rom : ModalROM
+        The fitted ROM.
+    nrmse_before, nrmse_after : float
+        NRMSE [-] against the data before and after the fit (:func:`nrmse`).
+    """
 
     rom: ModalROM
     nrmse_before: float
@@ -157,7 +253,23 @@ class ModalFit:
 
 
 def nrmse(y_model, y_reference):
-    """Root-mean-square difference over the range (max - min) of the reference [-]."""
+    """Root-mean-square difference over the range (max - min) of the reference.
+
+    Parameters
+    ----------
+    y_model, y_reference : array_like
+        Equal-length signals.
+
+    Returns
+    -------
+    float
+        NRMSE [-].
+
+    Raises
+    ------
+    InputError
+        A constant reference.
+    """
     y_reference = np.asarray(y_reference, dtype=float)
     span = float(np.ptp(y_reference))
     if span == 0.0:
@@ -176,7 +288,27 @@ def fit_to_response(rom: ModalROM, time_s, y, force_N, duration_s):
     """Refine omega_i (within +-20 %), zeta_i (> 0) and g_i (within a factor 2) so that
     the pulse response matches ``y`` at ``time_s`` (e.g. a full FE impulse response) in
     the least-squares sense, with a weak prior towards the FE values (``PRIOR_WEIGHT``).
-    Returns a :class:`ModalFit`."""
+
+    Parameters
+    ----------
+    rom : ModalROM
+        Starting model (e.g. :func:`tip_modal_rom`).
+    time_s, y : array_like
+        The response to match: times [s] and displacement [m], 1-D, equal length.
+    force_N : float
+        Pulse force [N].
+    duration_s : float
+        Pulse length [s].
+
+    Returns
+    -------
+    ModalFit
+
+    Raises
+    ------
+    InputError
+        ``time_s`` and ``y`` not 1-D of equal length, or ``y`` constant.
+    """
     t = np.asarray(time_s, dtype=float)
     y = np.asarray(y, dtype=float)
     if t.shape != y.shape or t.ndim != 1:
@@ -202,14 +334,118 @@ def fit_to_response(rom: ModalROM, time_s, y, force_N, duration_s):
                     nrmse_after=nrmse(fitted.pulse_response(t, force_N, duration_s), y))
 
 
+class ModalImpulseModel:
+    """The modal ROM of an impulse test, a :class:`ccedi.models.ImpulseModel` (the reduced
+    counterpart of :class:`ccedi.fea.studies.FullImpulseModel`, from
+    :func:`reduce_impulse_model`).
+
+    Parameters
+    ----------
+    rom : ModalROM
+        The modes; its ``beta`` is kept, alpha is set per run (a fitted zeta is dropped,
+        as :meth:`ModalROM.with_damping` does).
+    force_N : float
+        Pulse force [N].
+    duration_s : float
+        Pulse length [s].
+    name : str, optional
+        The ``model`` summary key (default ``"modal-N"``).
+    """
+
+    def __init__(self, rom: ModalROM, force_N, duration_s, name=None):
+        self.rom = rom
+        self.force_N = float(force_N)
+        self.duration_s = require_finite_positive("duration_s (pulse length, s)", duration_s)
+        self.name = f"modal-{rom.n_modes}" if name is None else name
+
+    def run(self, alpha, t_end_s, n_outputs=400):
+        """Exact modal response to the pulse (:meth:`ModalROM.pulse_response`).
+
+        Parameters
+        ----------
+        alpha : float
+            Mass-proportional damping coefficient [1/s].
+        t_end_s : float
+            Simulated time [s].
+        n_outputs : int, optional
+            Output times.
+
+        Returns
+        -------
+        ccedi.models.ImpulseResponse
+            History: the core columns only; summary: the core keys, ``beta_s`` and
+            ``n_modes``.
+
+        Raises
+        ------
+        InputError
+            Invalid arguments (:func:`ccedi.models.validate_run_args`).
+        """
+        alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs)
+        t0 = time.perf_counter()
+        t = pulse_times(t_end_s, n_outputs)
+        y = self.rom.with_damping(alpha, self.rom.beta).pulse_response(t, self.force_N, self.duration_s)
+        summary = {"model": self.name, "alpha_per_s": alpha, "wall_time_s": time.perf_counter() - t0,
+                   "beta_s": float(self.rom.beta), "n_modes": self.rom.n_modes}
+        return ImpulseResponse(history=pd.DataFrame({"time_s": t, "tip_uy_m": y}), summary=summary)
+
+
+def reduce_impulse_model(full, n_modes=6, alpha=0.0, fit_t_end_s=None, fit_n_outputs=400):
+    """Reductor: the modal ROM of a full FE impulse model, with the same interface.
+
+    Parameters
+    ----------
+    full : ccedi.fea.studies.FullImpulseModel
+        The full model (a clamped finger with a ``tip`` node set; its ``force_N`` and
+        ``duration_s`` must be known).
+    n_modes : int, optional
+        Modes kept (:func:`tip_modal_rom`).
+    alpha : float, optional
+        Damping [1/s] of the FE model the modes are taken from (and of the fit's run).
+    fit_t_end_s : float, optional
+        When given, the modes are refined by :func:`fit_to_response` against a full run
+        of this length [s] at ``alpha``.
+    fit_n_outputs : int, optional
+        Outputs of that run.
+
+    Returns
+    -------
+    ModalImpulseModel
+
+    Raises
+    ------
+    InputError
+        The full model's pulse is unknown.
+    """
+    if full.force_N is None or full.duration_s is None:
+        raise InputError("the full model's pulse (force_N, duration_s) must be known to reduce it")
+    rom = tip_modal_rom(full.fea_model(alpha), n_modes=n_modes)
+    if fit_t_end_s is not None:
+        t, y = full.run(alpha, fit_t_end_s, fit_n_outputs).tip_signal()
+        rom = fit_to_response(rom, t, y, full.force_N, full.duration_s).rom
+    return ModalImpulseModel(rom, full.force_N, full.duration_s)
+
+
 def rom_simulator(rom: ModalROM, force_N, duration_s, t_end_s, n_outputs=400):
-    """``simulate(alpha) -> (time_s, displacement_m)`` of the modal ROM with Rayleigh
-    damping alpha, for a pulse of ``force_N`` [N] held ``duration_s`` [s]: the same
-    interface as :func:`ccedi.rom.ccedi.fe_simulator`, so CCEDI studies can swap the full FE
-    model for the surrogate."""
-    t = np.linspace(0.0, t_end_s, n_outputs + 1)[1:]
+    """``simulate(alpha) -> (time_s, displacement_m)`` of the modal ROM (an adapter over
+    :class:`ModalImpulseModel` for callers of the callable form).
 
-    def simulate(alpha):
-        return t, rom.with_damping(alpha, rom.beta).pulse_response(t, force_N, duration_s)
+    Parameters
+    ----------
+    rom : ModalROM
+        The modes.
+    force_N : float
+        Pulse force [N].
+    duration_s : float
+        Pulse length [s].
+    t_end_s : float
+        Simulated time [s].
+    n_outputs : int, optional
+        Output times.
 
-    return simulate
+    Returns
+    -------
+    callable
+        ``simulate(alpha)`` -> (time_s [s], displacement [m]).
+    """
+    return impulse_simulator(ModalImpulseModel(rom, force_N, duration_s), t_end_s, n_outputs)
