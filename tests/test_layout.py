@@ -2,6 +2,7 @@
 and a command line that answers ``--help`` without compiling anything."""
 import ast
 import os
+import shutil
 import subprocess
 import sys
 import zipfile
@@ -72,8 +73,14 @@ def test_wheel_holds_only_ccedi_and_imports_beside_clashing_files(tmp_path):
     """A wheel built from the tree has ccedi/ and its dist-info at the top, nothing else;
     installed in a fresh venv, ``import ccedi.fea`` works from a directory that holds
     study.py, fea.py and design.py (which would shadow top-level packages of those names)."""
+    tree = tmp_path / "tree"                       # a copy: building writes build/ into the tree it builds
+    tree.mkdir()
+    for name in ("pyproject.toml", "README.md"):
+        shutil.copy(ROOT / name, tree / name)
+    for folder in ("ccedi", *LIBRARIES, "study"):
+        shutil.copytree(ROOT / folder, tree / folder, ignore=shutil.ignore_patterns("__pycache__"))
     wheels = tmp_path / "wheels"
-    subprocess.run([sys.executable, "-m", "pip", "wheel", str(ROOT), "--no-deps", "-q", "-w", str(wheels)],
+    subprocess.run([sys.executable, "-m", "pip", "wheel", str(tree), "--no-deps", "-q", "-w", str(wheels)],
                    check=True, capture_output=True)
     (wheel,) = wheels.glob("ccedi-*.whl")
     tops = {name.split("/")[0] for name in zipfile.ZipFile(wheel).namelist()}
