@@ -51,6 +51,7 @@ def test_ritz_modes_match_euler_bernoulli_and_tip_mass_lowers_them():
     assert ritz.modes(6.1e6, 3, root_stiffness=1e7).omega_rad_s == pytest.approx(modes.omega_rad_s, rel=1e-5)
 
 
+@pytest.mark.slow
 def test_rk4_matches_the_exact_pulse_response():
     modes = CantileverRitz(LENGTH, 1000.0 * AREA, INERTIA).modes(6.1e6)
     t = np.arange(2001) * 1e-3
@@ -62,6 +63,7 @@ def test_rk4_matches_the_exact_pulse_response():
 @pytest.mark.parametrize("effects, kwargs", [({}, {}), ({"tip_mass": {"tip_mass_kg": 0.008}}, {"tip_mass_kg": 0.008}),
                                              ({"root_compliance": {"root_stiffness_N_m_rad": 2.0}},
                                               {"root_stiffness": 2.0})])
+@pytest.mark.slow
 def test_generator_and_calibration_model_agree_on_linear_physics(effects, kwargs):
     """The FE-beam generator and the Ritz model are independent paths to the same beam."""
     t, w = beam_response(Truth(1.0, 4.0, 1.0, effects), LENGTH, 6.1e6 * INERTIA, 1000.0 * AREA, t_end_s=0.5)
@@ -131,6 +133,7 @@ def test_declared_finger_is_what_the_sidecars_say():
     assert meta["finger"] == declared_finger()
 
 
+@pytest.mark.slow
 def test_cli_writes_the_documented_keys_and_the_report(record, tmp_path):
     csv, meta = record
     _write(csv, meta)

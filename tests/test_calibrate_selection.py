@@ -11,6 +11,8 @@ import pytest
 from ccedi.calibrate.experiment import load_experiment
 from ccedi.calibrate.loop import calibrate, summary
 
+pytestmark = pytest.mark.slow          # its fixture calibrates every bundled record (minutes)
+
 DATA = Path(__file__).parents[1] / "data" / "measured"
 MANIFEST = json.loads((DATA / "manifest.json").read_text())["records"]
 AT_NOISE = 1.05

@@ -64,6 +64,7 @@ def _zone_deformations(chain, P, TH, nonlinear):
     return rec, e
 
 
+@pytest.mark.slow
 def test_stress_recovery_matches_the_fe_stress_under_a_tip_load(finger_8in):
     """Linear statics, 10 mN on the tip: the chain's recovered stress (root zone with the
     FE clamp, section forces of the fitted chain) vs the largest FE element stress."""
@@ -102,6 +103,7 @@ def test_corotational_forces_vanish_under_rigid_rotation(finger_8in):
     assert forces[True] < 1e-9 * weight and forces[False] > weight
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("damping", ["global", "relative"])
 def test_rotating_chain_drag_matches_beam_theory(damping):
     """Rotating frame without contact (object far away): global mass damping drags the
@@ -141,17 +143,20 @@ def _assert_within_targets(setup, full, reduced):
     assert m["nrmse"] < 0.02
 
 
+@pytest.mark.slow
 def test_corotational_rom_matches_full_fea_contact(coarse_contact):
     """Acceptance 2 on a mesh cheap enough for the suite, global damping."""
     _assert_within_targets(*coarse_contact[:2], coarse_contact[2][True])
 
 
+@pytest.mark.slow
 def test_corotational_rom_matches_full_fea_contact_with_relative_damping():
     """The same with damping relative to the drum (no drag: earlier contact, 0.31 s)."""
     full = FullContactModel(COARSE, object_stress=False).run(180.0, damping="relative")
     _assert_within_targets(COARSE, full, ReducedContactModel(COARSE, n_segments=13).run(180.0, damping="relative"))
 
 
+@pytest.mark.slow
 def test_linear_rom_misses_the_large_deflection(coarse_contact):
     """Without the enhancement the finger's large rotation is lost: the tip lag is off by
     tens of percent and the contact force by orders of magnitude."""
@@ -160,6 +165,7 @@ def test_linear_rom_misses_the_large_deflection(coarse_contact):
     assert m["nrmse"] > 0.2 and m["peak_force_error"] > 1.0
 
 
+@pytest.mark.slow
 def test_rom_check_cli_writes_the_case_keys(tmp_path):
     out = tmp_path / "rc.json"
     assert main(["rom-check", "--json", str(out), "--alphas", "--impulse-alphas", "180", "--modes", "3"]) == 0
@@ -247,6 +253,7 @@ def test_face_stiffness_is_the_fe_penalty_in_series_with_the_section_flattening(
     assert 1.0 / (k * dz) > 0.9 * _face_flattening(mesh, RUBBER, 1)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("n_segments", [9, 26])
 def test_face_contact_rom_force_and_timing_at_other_segment_counts(coarse_contact, n_segments):
     """Face contact points sit on the FE node planes whatever the segment count: the

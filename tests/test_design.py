@@ -138,6 +138,7 @@ def test_cli_bad_weights(tmp_path, capsys):
     assert "--weights" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_cli_writes_the_documented_keys(tmp_path):
     out = tmp_path / "d.json"
     rc = main(["design", "--weights", "1,1,2", "--grid", "5", "4", "--validation-runs", "2", "--pareto-points", "20",

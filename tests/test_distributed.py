@@ -7,6 +7,7 @@ from ccedi.errors import InputError
 from ccedi.fea.studies import impulse_study
 
 
+@pytest.mark.slow
 def test_alpha_sweep_local_cluster_equals_serial():
     kwargs = dict(alphas=(70.0, 180.0, 400.0), length_in=3.0, t_end_s=0.02, n_outputs=40)
     serial, _ = impulse_study(scheduler="serial", **kwargs)

@@ -38,6 +38,7 @@ def test_critical_time_step_near_paper(mesh_a):
         assert dt_us == pytest.approx(PAPER_DT_US[name], rel=0.25)
 
 
+@pytest.mark.slow
 def test_free_vibration_frequency_matches_euler_bernoulli(mesh_a, released, euler_bernoulli):
     ld, res = free_vibration(mesh_a, released, alpha=0.0)
     assert ld.omega_d_rad_s == pytest.approx(euler_bernoulli["omega1"], rel=0.05)
@@ -49,6 +50,7 @@ def res_model(mesh):
     return cantilever_model(mesh, RUBBER)
 
 
+@pytest.mark.slow
 def test_mass_proportional_damping_ratio(mesh_a, released):
     """Paper Eq. (3b) with beta = 0: zeta_1 = alpha / (2 omega_1)."""
     alpha = 20.0
@@ -58,6 +60,7 @@ def test_mass_proportional_damping_ratio(mesh_a, released):
     assert ld.n_cycles >= 3
 
 
+@pytest.mark.slow
 def test_alpha_180_is_overdamped_with_energy_balance(mesh_a):
     """The paper's over-damped case: after the impulse the tip creeps back without
     overshooting. External work = KE + IE + HG + damping + bulk viscosity within 1 %."""

@@ -31,6 +31,7 @@ def test_vtu_round_trip(tmp_path, model):
     assert pvd.read_text().count("<DataSet") == len(res.snapshots) == 2
 
 
+@pytest.mark.slow
 def test_cli_table1_writes_every_key(tmp_path):
     path = tmp_path / "t1.json"
     assert main(["table1", "--json", str(path)]) == 0

@@ -77,6 +77,7 @@ def undamped_rod_response():
     return run(steel_rod_model(alpha=0.0), 1.4, n_outputs=1400).history
 
 
+@pytest.mark.slow
 def test_steel_rod_first_frequency_matches_paper(undamped_rod_response):
     """Paper section 2.2: 16.33 rad/s for the rod (0.9 g) with its 0.015 g tip mass."""
     h = undamped_rod_response
@@ -86,6 +87,7 @@ def test_steel_rod_first_frequency_matches_paper(undamped_rod_response):
     assert ld.zeta < 1e-3
 
 
+@pytest.mark.slow
 def test_steel_rod_energy_balance(undamped_rod_response):
     h = undamped_rod_response
     assert (h.external_work_J - h.kinetic_energy_J - h.internal_energy_J).abs().max() < 1e-3 * h.external_work_J.max()

@@ -9,6 +9,8 @@ from ccedi.fea.drum import DrumSetup, finger_on_drum
 from ccedi.fea.explicit import run
 from ccedi.fea.material import RUBBER
 
+pytestmark = pytest.mark.slow          # each test runs the rotating finger for about a minute
+
 SETUP = DrumSetup(finger_length_m=0.1143, object_center_m=(5.0, 5.0), theta0_rad=0.0)
 ALPHA = 20.0
 

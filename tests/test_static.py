@@ -23,6 +23,7 @@ def test_tangent_is_derivative_of_internal_force():
     assert np.abs(K - K_fd).max() < 1e-6 * np.abs(K).max()
 
 
+@pytest.mark.slow
 def test_sm_a_tip_stiffness_matches_paper_table1():
     """Paper Table 1: 73.8 N/m for SM-A from tip loads of 1 N and 2 N."""
     k = tip_stiffness(cantilever_model(sm_a(length_in=4.5), RUBBER), (1.0, 2.0))
