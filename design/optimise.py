@@ -44,7 +44,19 @@ _OK = ("Solve_Succeeded", "Solved_To_Acceptable_Level")
 
 @dataclass
 class Design:
-    """One design: variables, surrogate outputs (SI) and the weighted objective J."""
+    """One design: its variables, the surrogate's outputs there and the weighted objective.
+
+    Parameters
+    ----------
+    alpha_per_s : float
+        Mass-proportional damping [1/s].
+    length_m : float
+        Finger length [m].
+    outputs : dict
+        Surrogate outputs at the design, by name (SI units, :data:`ccedi.design.objectives.OUTPUTS`).
+    J : float
+        Weighted normalised objective (dimensionless, module docstring).
+    """
 
     alpha_per_s: float
     length_m: float
@@ -70,7 +82,38 @@ class Design:
 
 @dataclass
 class DesignProblem:
-    """Weighted design problem on ``surrogate`` (see the module docstring)."""
+    """Weighted design problem on ``surrogate`` (see the module docstring).
+
+    Parameters
+    ----------
+    surrogate : ccedi.design.surrogate.Surrogate
+        Interpolants of the design outputs over (alpha, L).
+    weights : tuple of float, optional
+        w_stress, w_duration, w_oscillation, >= 0 and not all zero (normalised to sum 1).
+    stress_measure : {"reaction_force", "object_stress"}, optional
+        The stress objective f_s: peak reaction force [N] or peak object stress [Pa].
+    alpha_of_length : {"free", "paper", "fit"}, optional
+        alpha free, or tied to the length by the paper's Eq. (7) or our fit.
+    allowable_finger_stress_Pa : float, optional
+        Largest finger von Mises stress allowed [Pa] (no limit when None).
+    contact_start_bounds_s : tuple of float, optional
+        Allowed first-contact window (lo, hi) [s], 0 <= lo < hi.
+    min_contact_duration_s : float, optional
+        Shortest contact that counts as touching the object [s].
+    n_check : int, optional
+        Points per axis of the brute-force grid (normalisation and check).
+
+    Attributes
+    ----------
+    scale : dict
+        ``{objective: (min over the grid, range over the grid)}``, the normalisation.
+
+    Raises
+    ------
+    InputError
+        Weights, stress measure, alpha-of-length mode, stress limit or contact window out
+        of range.
+    """
 
     surrogate: Surrogate
     weights: tuple = (1.0, 1.0, 1.0)
@@ -255,10 +298,36 @@ def _starts(problem, n_starts, seed=6):
 
 
 def solve(problem: DesignProblem, n_starts=8, extra=None, starts=None):
-    """Minimise J with IPOPT from ``n_starts`` starts (or the given unit ``starts``) and
-    keep the best converged one. Returns (Design, solver info: status, iterations of the
-    best start and in total, starts converged, wall time [s]). Infeasible requests raise
-    :class:`InputError` (checked on the brute-force grid first)."""
+    """Minimise J with IPOPT from several starts and keep the best converged one.
+
+    Parameters
+    ----------
+    problem : DesignProblem
+        The problem on the surrogate.
+    n_starts : int, optional
+        Starts spread over the unit square (when ``starts`` is not given).
+    extra : callable, optional
+        ``extra(outputs) -> [g]``: more constraints g >= 0 on the casadi outputs (the
+        epsilon constraints of the Pareto front); without it the request is first checked
+        for feasibility on the brute-force grid.
+    starts : sequence of array_like, optional
+        Start points in unit coordinates instead of ``n_starts``.
+
+    Returns
+    -------
+    design : Design
+        The best converged start.
+    info : dict
+        Solver status, iterations of the best start and in total, starts converged,
+        wall time [s].
+
+    Raises
+    ------
+    InputError
+        The request is infeasible (on the grid, or by IPOPT from every start).
+    SolverError
+        No start converged for another reason.
+    """
     if extra is None:
         brute_force(problem)                                    # raises on an infeasible request
     t0 = time.perf_counter()

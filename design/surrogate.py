@@ -47,8 +47,17 @@ def _is_symbolic(x):
 
 @dataclass(frozen=True)
 class Variable:
-    """One design variable: ``name`` (with its unit), bounds [lo, hi] in SI, and whether
-    the surrogate works in its logarithm."""
+    """One design variable of the surrogate.
+
+    Parameters
+    ----------
+    name : str
+        Name with its unit (``alpha_per_s``, ``length_m``).
+    lo, hi : float
+        Bounds in SI units, lo < hi.
+    log : bool, optional
+        The surrogate works in the logarithm of the variable.
+    """
 
     name: str
     lo: float
@@ -150,7 +159,17 @@ class Surrogate:
     ``axes``: the grid's unit coordinates per variable; ``values[name]``: the grid values
     (shape of the grid; undefined entries, e.g. the contact start of a run without
     contact, filled from the nearest defined grid point). :meth:`expressions` gives casadi
-    expressions (exact first and second derivatives), :meth:`evaluate` numpy values."""
+    expressions (exact first and second derivatives), :meth:`evaluate` numpy values.
+
+    Parameters
+    ----------
+    variables : sequence of Variable
+        The design variables, in grid-axis order.
+    axes : sequence of array_like
+        Unit coordinates (in [-1, 1]) of the grid along each variable.
+    values : dict of str to numpy.ndarray
+        Grid values of each output, shaped like the grid, no NaN.
+    """
 
     def __init__(self, variables, axes, values):
         self.variables = tuple(variables)

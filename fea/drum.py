@@ -225,6 +225,11 @@ class ObjectStress:
         Elements across the object's section.
     n_thickness : int, optional
         Elements through its thickness.
+
+    Attributes
+    ----------
+    model : ccedi.fea.model.Model
+        The object's FE model, clamped on its sensor pad (built from ``setup``).
     """
 
     setup: DrumSetup
