@@ -460,10 +460,11 @@ def fe_tip_stiffness(mesh: Mesh, material: NeoHookean):
 def fit_tip_stiffness(chain: FingerChain, k_tip_target):
     """The chain with its bending stiffness scaled to a target tip stiffness.
 
-    ``kappa = k_tip_target / k_tip(chain)`` multiplies the bending block of every K_n
-    (and sqrt(kappa) its axial-bending coupling); the linear tip stiffness, which for the
-    chain's statically determinate cantilever scales with the bending block, then equals
-    ``k_tip_target``.
+    With ``kappa = k_tip_target / k_tip(chain)`` every K_n becomes ``D K_n D``,
+    ``D = diag(1, sqrt(kappa), sqrt(kappa))``: the bending block is multiplied by kappa,
+    the axial-bending coupling by sqrt(kappa), so the bending compliance is divided by
+    kappa. A transverse tip force loads the straight cantilever in bending only, so its
+    linear tip stiffness becomes ``k_tip_target``.
 
     Parameters
     ----------
