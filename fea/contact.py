@@ -41,13 +41,38 @@ STEP_SHRINK = 0.9
 
 @dataclass(frozen=True)
 class RigidPlane:
-    """Half-space boundary through ``point_m`` with outward ``normal``; friction ``mu``."""
+    """Rigid, fixed half-space: points p with (p - p0) . n < 0 are inside.
+
+    Parameters
+    ----------
+    point_m : tuple of 3 float
+        A point p0 on the plane [m].
+    normal : tuple of 3 float
+        Outward normal n (away from the solid side) [-]; normalised by :meth:`params`.
+    mu : float, optional
+        Coulomb friction coefficient [-], >= 0. Default 0 (frictionless).
+
+    Raises
+    ------
+    InputError
+        If ``mu`` is negative or not finite, or ``normal`` is not a finite, non-zero
+        3-vector.
+    """
 
     point_m: tuple
     normal: tuple
     mu: float = 0.0
 
     def params(self):
+        """Kernel form of the plane for :func:`contact_forces`.
+
+        Returns
+        -------
+        kind : int
+            :data:`PLANE`.
+        params : (8,) ndarray
+            ``p0`` (3) [m], unit normal ``n`` (3) [-], then two unused zeros.
+        """
         n = np.asarray(self.normal, dtype=float)
         n = n / np.linalg.norm(n)
         p = np.asarray(self.point_m, dtype=float)
@@ -62,8 +87,34 @@ class RigidPlane:
 
 @dataclass(frozen=True)
 class RigidEllipse:
-    """Elliptical cylinder along global z: centre (x, y) [m], semi-axes a, b [m],
-    rotation ``angle_rad`` of its a-axis from global x, extent ``z_min_m`` to ``z_max_m``."""
+    """Rigid, fixed elliptical cylinder along global z.
+
+    Points (x, y, z) with ``z_min_m <= z <= z_max_m`` and ``u^2/a^2 + w^2/b^2 < 1``, where
+    (u, w) are the in-plane coordinates in the ellipse's own axes, are inside.
+
+    Parameters
+    ----------
+    center_m : tuple of float
+        Centre (x, y) of the ellipse [m] (further entries are ignored).
+    a_m : float
+        Semi-axis along the ellipse's own x axis [m], > 0.
+    b_m : float
+        Semi-axis along the ellipse's own y axis [m], > 0.
+    angle_rad : float, optional
+        Rotation of the a-axis from global x about global z [rad]. Default 0.
+    z_min_m : float, optional
+        Lower end of the cylinder [m]. Default -inf.
+    z_max_m : float, optional
+        Upper end of the cylinder [m], > ``z_min_m``. Default +inf.
+    mu : float, optional
+        Coulomb friction coefficient [-], >= 0. Default 0 (frictionless).
+
+    Raises
+    ------
+    InputError
+        If a semi-axis is not finite and positive, ``mu`` is negative or not finite, or
+        ``z_min_m >= z_max_m``.
+    """
 
     center_m: tuple
     a_m: float
@@ -81,6 +132,16 @@ class RigidEllipse:
             raise InputError(f"z_min_m must be below z_max_m, got {self.z_min_m}, {self.z_max_m}")
 
     def params(self):
+        """Kernel form of the ellipse for :func:`contact_forces`.
+
+        Returns
+        -------
+        kind : int
+            :data:`ELLIPSE`.
+        params : (8,) ndarray
+            Centre x, y [m], semi-axes a, b [m], cos and sin of ``angle_rad`` [-],
+            ``z_min_m``, ``z_max_m`` [m].
+        """
         c = np.asarray(self.center_m, dtype=float)
         return ELLIPSE, np.array([c[0], c[1], self.a_m, self.b_m, np.cos(self.angle_rad),
                                   np.sin(self.angle_rad), self.z_min_m, self.z_max_m])
@@ -88,8 +149,18 @@ class RigidEllipse:
 
 @dataclass(frozen=True)
 class Contact:
-    """Slave ``nodes`` against rigid ``surface`` with penalty stiffness ``stiffness`` (per
-    node, N/m; default from :func:`penalty_stiffness`)."""
+    """Penalty contact of slave nodes against one rigid surface.
+
+    Parameters
+    ----------
+    nodes : (s,) int ndarray
+        Slave node indices.
+    surface : RigidPlane or RigidEllipse
+        The rigid, fixed surface.
+    stiffness : (s,) ndarray or None, optional
+        Penalty stiffness per slave node [N/m]. Default None: chosen by the solver
+        from the nodal masses and the stable step (:func:`penalty_stiffness`).
+    """
 
     nodes: np.ndarray
     surface: object
@@ -97,13 +168,46 @@ class Contact:
 
 
 def penalty_stiffness(mass, dt_cfl):
-    """Per-node penalty stiffness [N/m] that lowers no node's highest frequency by more
-    than the 10 % step margin: k = (1/0.81 - 1) m (2 / dt_cfl)^2 (see module docstring)."""
+    """Per-node penalty stiffness that costs no more than the contact step margin.
+
+    A node of mass m whose highest element frequency is ``w_max = 2 / dt_cfl`` keeps
+    its frequency below ``w_max / STEP_SHRINK`` when::
+
+        k = (1 / STEP_SHRINK^2 - 1) m (2 / dt_cfl)^2     (= (1/0.81 - 1) m w_max^2)
+
+    so the solver running at ``STEP_SHRINK`` x its step stays stable (see the module
+    docstring).
+
+    Parameters
+    ----------
+    mass : float or (s,) array_like
+        Lumped nodal masses [kg].
+    dt_cfl : float
+        Stable (Courant) time step of the mesh without contact [s].
+
+    Returns
+    -------
+    float or (s,) ndarray
+        Penalty stiffness per node [N/m].
+    """
     return (1.0 / STEP_SHRINK**2 - 1.0) * np.asarray(mass) * (2.0 / dt_cfl) ** 2
 
 
 def boundary_nodes(hexes):
-    """Nodes on the boundary of a hexahedral mesh (on faces that belong to one element)."""
+    """Nodes on the boundary of a hexahedral mesh.
+
+    A face is on the boundary when it belongs to exactly one element.
+
+    Parameters
+    ----------
+    hexes : (n_elem, 8) int ndarray
+        Element connectivity (node indices, :data:`ccedi.fea.hex8.FACES` ordering).
+
+    Returns
+    -------
+    (b,) int ndarray
+        Sorted, unique indices of the nodes on boundary faces.
+    """
     from .hex8 import FACES
     faces = np.sort(hexes[:, FACES].reshape(-1, 4), axis=1)
     _, index, counts = np.unique(faces, axis=0, return_index=True, return_counts=True)
@@ -142,12 +246,42 @@ def _ellipse_gap(px, py, a, b):
 
 @nb.njit(cache=True, fastmath=FASTMATH)
 def contact_forces(x, nodes, stiffness, kind, params, f_ext, normal, f_normal, out):
-    """Penalty normal forces of slave ``nodes`` against the rigid surface, ADDED to
-    ``f_ext`` (n, 3) [N]. Writes each active node's outward normal into ``normal`` (n, 3)
-    and its normal force magnitude into ``f_normal`` (n,) (zero when not in contact).
+    """Penalty normal forces of slave nodes against a rigid surface, compiled.
 
-    ``out`` (8,) receives: total force on the surface (3) [N], penalty energy [J], max
-    penetration [m], active node count, force-weighted contact point x, y [m].
+    A slave node at penetration depth d = -gap > 0 (signed distance to the closest
+    surface point, negative inside) receives ``f_n = k d`` along the outward surface
+    normal n; the ellipse's closest point comes from Newton's method (module
+    docstring). Nodes of an ellipse outside its z range, or outside it in plane, are
+    skipped.
+
+    Parameters
+    ----------
+    x : (n_nodes, 3) ndarray
+        Current nodal coordinates [m].
+    nodes : (s,) int ndarray
+        Slave node indices.
+    stiffness : (s,) ndarray
+        Penalty stiffness per slave node [N/m].
+    kind : int
+        Surface kind, :data:`PLANE` or :data:`ELLIPSE`.
+    params : (8,) ndarray
+        Surface parameters from :meth:`RigidPlane.params` or :meth:`RigidEllipse.params`.
+    f_ext : (n_nodes, 3) ndarray
+        External nodal forces [N]; the contact forces are ADDED to it.
+    normal : (n_nodes, 3) ndarray
+        Output: the outward unit normal [-] of each node in contact (other rows are
+        left as they were).
+    f_normal : (n_nodes,) ndarray
+        Output: normal force magnitude of each slave node [N] (zero when not in contact).
+    out : (8,) ndarray
+        Output: total force on the surface (3) [N], penalty energy sum k d^2 / 2 [J],
+        maximum penetration [m], number of nodes in contact, force-weighted contact
+        point x, y [m] (0 when there is no contact).
+
+    Returns
+    -------
+    float
+        Sum of the normal force magnitudes [N].
     """
     for i in range(8):
         out[i] = 0.0

@@ -50,29 +50,136 @@ _OK, _INVERTED, _DIVERGED, _STEP_TOO_LARGE, _FOLDED = 0, 1, 2, 3, 4
 
 # The step loop's data, bundled by role (numba takes each as a heterogeneous tuple).
 State = namedtuple("State", "x v v_new f_int f_int_prev f_ext reaction")
-"""Nodal state (n, 3) each: positions x^n [m], velocities v^{n-1/2} and v^{n+1/2} [m/s],
-internal forces of this and the previous step, external forces [N], support reactions [N]."""
+State.__doc__ = """Nodal state of the step loop, updated in place (every field (n_nodes, 3)).
+
+Attributes
+----------
+x : (n_nodes, 3) ndarray
+    Current positions x^n [m].
+v : (n_nodes, 3) ndarray
+    Half-step velocities v^{n-1/2} [m/s].
+v_new : (n_nodes, 3) ndarray
+    Trial and then final half-step velocities v^{n+1/2} [m/s].
+f_int : (n_nodes, 3) ndarray
+    Internal forces f_int(x^n) of this step [N].
+f_int_prev : (n_nodes, 3) ndarray
+    Internal forces of the previous step [N] (for the stiffness damping beta K v).
+f_ext : (n_nodes, 3) ndarray
+    External forces of this step, pulses plus contact [N].
+reaction : (n_nodes, 3) ndarray
+    Support reactions of the constrained nodes [N] (zero on free nodes).
+"""
 Nodes = namedtuple("Nodes", "X mass free v_pres")
-"""Reference positions X (n, 3) [m], lumped masses (n,) [kg], free flags (n,) (1.0 free,
-0.0 constrained) and the constrained nodes' prescribed velocities v_pres (n, 3) [m/s]."""
+Nodes.__doc__ = """Per-node constants of the step loop and the prescribed velocities.
+
+Attributes
+----------
+X : (n_nodes, 3) ndarray
+    Reference positions [m].
+mass : (n_nodes,) ndarray
+    Lumped nodal masses [kg].
+free : (n_nodes,) ndarray
+    1.0 for a free node, 0.0 for a constrained (fixed or rotating) one.
+v_pres : (n_nodes, 3) ndarray
+    Prescribed velocities of the constrained nodes [m/s] (zero for fixed nodes,
+    updated every step for nodes carried by the rotating frame).
+"""
 HexGroup = namedtuple("HexGroup", "hexes b volume gamma kappa")
-"""One-point hexahedra (structure of arrays): connectivity (e, 8), shape-function
-gradients b (e, 8, 3) [1/m], volumes (e,) [m^3], hourglass vectors gamma (e, 4, 8) [-] and
-hourglass stiffnesses kappa (e,) [N/m], as :func:`ccedi.fea.kernels.internal_forces_numba` takes them."""
+HexGroup.__doc__ = """One-point hexahedra (structure of arrays), as
+:func:`ccedi.fea.kernels.internal_forces_numba` takes them.
+
+Attributes
+----------
+hexes : (n_elem, 8) int ndarray
+    Element connectivity.
+b : (n_elem, 8, 3) ndarray
+    Uniform gradients (reference-volume integrals of the shape-function gradients) [m^2].
+volume : (n_elem,) ndarray
+    Reference element volumes [m^3].
+gamma : (n_elem, 4, 8) ndarray
+    Hourglass shape vectors [-].
+kappa : (n_elem,) ndarray
+    Hourglass stiffness per element [N/m].
+"""
 SolidMaterial = namedtuple("SolidMaterial", "mu lam rho c")
-"""The hexahedra's neo-Hookean constants: Lame mu, lam [Pa], density [kg/m^3], wave speed [m/s]."""
+SolidMaterial.__doc__ = """The hexahedra's neo-Hookean constants.
+
+Attributes
+----------
+mu : float
+    Shear modulus [Pa].
+lam : float
+    First Lame constant [Pa].
+rho : float
+    Mass density [kg/m^3].
+c : float
+    Dilatational wave speed [m/s].
+"""
 RodGroup = namedtuple("RodGroup", "segments rest_length axial_stiffness hinges bending_stiffness dt_crit")
-"""Rod elements as :func:`ccedi.fea.rod.rod_forces_numba` takes them, and their smallest
-critical step dt_crit [s] (inf without rods)."""
+RodGroup.__doc__ = """Rod elements as :func:`ccedi.fea.rod.rod_forces_numba` takes them.
+
+Attributes
+----------
+segments : (m, 2) int ndarray
+    Rod elements as node index pairs.
+rest_length : (m,) ndarray
+    Rest lengths [m].
+axial_stiffness : (m,) ndarray
+    Axial rigidity EA per element [N].
+hinges : (h, 3) int ndarray
+    Node index triples (i, j, k) of consecutive nodes (bending hinges).
+bending_stiffness : (h,) ndarray
+    Bending stiffness EI / (l_a + l_b) per hinge [N m].
+dt_crit : float
+    Smallest critical step of the rods [s] (inf without rods).
+"""
 Damping = namedtuple("Damping", "alpha beta relative")
-"""Rayleigh damping alpha [1/s], beta [s]; ``relative``: mass damping of the velocity
-relative to the rotating frame (else of the absolute velocity)."""
+Damping.__doc__ = """Rayleigh damping ``C = alpha M + beta K``.
+
+Attributes
+----------
+alpha : float
+    Mass-proportional coefficient [1/s].
+beta : float
+    Stiffness-proportional coefficient [s].
+relative : bool
+    True: the mass damping acts on the velocity relative to the rotating frame;
+    False: on the absolute velocity.
+"""
 StepControl = namedtuple("StepControl", "dt_user tssfac")
-"""Fixed step dt_user [s] (0.0: CFL-controlled) and the CFL scale factor [-]."""
+StepControl.__doc__ = """Choice of the time step.
+
+Attributes
+----------
+dt_user : float
+    Fixed step [s]; 0.0 for the CFL-controlled step ``tssfac x`` stable step.
+tssfac : float
+    Scale factor of the CFL step [-] (TSSFAC, times STEP_SHRINK with contact).
+"""
 ContactGroup = namedtuple("ContactGroup", "nodes k kind params mu normal fn out")
-"""Penalty contact (:func:`ccedi.fea.contact.contact_forces`): slave nodes (s,), penalty
-stiffness (s,) [N/m], surface kind and parameters, friction coefficient [-], per-node
-normal (n, 3) and normal force (n,) [N], and the contact record (8,)."""
+ContactGroup.__doc__ = """Penalty contact as :func:`ccedi.fea.contact.contact_forces` and
+:func:`ccedi.fea.friction.coulomb_friction` take it.
+
+Attributes
+----------
+nodes : (s,) int ndarray
+    Slave node indices (empty without contact).
+k : (s,) ndarray
+    Penalty stiffness per slave node [N/m].
+kind : int
+    Surface kind, :data:`ccedi.fea.contact.PLANE` or :data:`ccedi.fea.contact.ELLIPSE`.
+params : (8,) ndarray
+    Surface parameters (:meth:`ccedi.fea.contact.RigidPlane.params`,
+    :meth:`ccedi.fea.contact.RigidEllipse.params`).
+mu : float
+    Coulomb friction coefficient [-].
+normal : (n_nodes, 3) ndarray
+    Work array: outward surface normal at each node in contact [-].
+fn : (n_nodes,) ndarray
+    Work array: normal contact force magnitude of each node [N].
+out : (8,) ndarray
+    Contact record of the last step (see :func:`ccedi.fea.contact.contact_forces`).
+"""
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
@@ -221,10 +328,23 @@ are cached."""
 class RunResult:
     """Output of :func:`run`.
 
-    history : DataFrame, one row per output time, columns with units in their names.
-    summary : dict (nodes, elements, dt_initial_s, dt_min_s, steps, wall_time_s, ...).
-    x : final nodal positions (n, 3) [m]; v : final half-step velocities [m/s].
-    snapshots : list of (time_s, positions) when requested.
+    Parameters
+    ----------
+    history : pandas.DataFrame
+        One row per output time, columns with units in their names (``time_s``,
+        ``tip_ux_m`` ..., ``reaction_x_N`` ..., ``max_von_mises_Pa``, the energy terms
+        [J], :data:`CONTACT_COLUMNS` with contact, and the output hook's columns).
+    summary : dict
+        Run statistics: ``nodes``, ``elements``, ``dt_initial_s``, ``dt_min_s``,
+        ``steps``, ``t_end_s``, ``t_final_s``, ``wall_time_s``, ``backend``,
+        ``alpha_per_s``, ``beta_s``, ``ns_per_element_cycle``.
+    x : (n_nodes, 3) ndarray
+        Final nodal positions [m], at ``summary["t_final_s"]``.
+    v : (n_nodes, 3) ndarray
+        Final half-step velocities [m/s].
+    snapshots : list of (float, ndarray), optional
+        ``(time_s, positions (n_nodes, 3) [m])`` every ``snapshot_every`` outputs;
+        empty by default.
     """
 
     history: pd.DataFrame
@@ -259,14 +379,47 @@ def max_von_mises(model, x):
 
 
 def rod_time_step(model):
-    """Smallest critical step of the rod elements [s] (inf without rods), see :mod:`ccedi.fea.rod`."""
+    """Smallest critical step of the rod elements, see :mod:`ccedi.fea.rod`.
+
+    Parameters
+    ----------
+    model : Model
+        The model; its ``rod_arrays`` give the segment and hinge critical steps.
+
+    Returns
+    -------
+    float
+        min over segments and hinges of their critical steps [s] (inf without rods).
+    """
     r = model.rod_arrays
     return float(min(np.min(r.segment_time_step, initial=np.inf), np.min(r.hinge_time_step, initial=np.inf)))
 
 
 def critical_time_step(model, x=None, v=None):
-    """Smallest element critical step min_e dt_e (paper Eq. 6) [s] at positions x
-    (default: reference), before the TSSFAC scale factor."""
+    """Smallest critical step of the model, before the TSSFAC scale factor.
+
+    ``min(min_e dt_e, rod step)`` with the element step of paper Eq. (6),
+    ``dt_e = Le / (Q + sqrt(Q^2 + c^2))`` (Q from the bulk viscosity, zero at rest).
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    x : (n_nodes, 3) ndarray, optional
+        Nodal positions [m]. Default: the reference positions.
+    v : (n_nodes, 3) ndarray, optional
+        Nodal velocities [m/s] (enter the bulk viscosity). Default: zero.
+
+    Returns
+    -------
+    float
+        Critical time step [s].
+
+    Raises
+    ------
+    SolverError
+        If an element is inverted (J <= 0) at ``x``.
+    """
     x = model.mesh.nodes if x is None else x
     v = np.zeros_like(x) if v is None else v
     g = model.geometry
@@ -355,22 +508,64 @@ contact point [m], work of the normal and friction contact forces on the body [J
 
 def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_set="tip",
         reaction_set="root", snapshot_every=0, x0=None, v0=None, progress=False, output_hook=None):
-    """Integrate ``model`` from rest (or x0, v0) to ``t_end_s`` [s].
+    """Integrate ``model`` with central differences from rest (or x0, v0) to ``t_end_s``.
 
-    dt_s : fixed step [s] (default: CFL-controlled, TSSFAC x min dt_e, every step; times
-    0.9 more when the model has contact, see :mod:`ccedi.fea.contact`).
-    progress : show a progress bar (tqdm) over the output times.
-    output_hook : optional ``hook(t_out, x_out, f_ext) -> dict`` called at every output
-    with the interpolated positions and the external nodal forces of the last step
-    (pulses and contact); its dict values become extra history columns.
-    backend : ``"numba"`` (compiled) or ``"numpy"`` (pure-numpy reference, slow).
-    Records ``n_outputs`` evenly spaced rows: tip displacement (area-weighted mean over
-    ``tip_set``), reaction force summed over ``reaction_set``, max von Mises stress and
-    the energy terms. Steps are never shortened to hit an output time: positions (and
-    the displacement and stress derived from them) are interpolated to the output time,
-    exactly, since central differences move nodes linearly within a step; energies and
-    reactions are those of the step that reaches it (at most one step later). The final
-    state ``x, v`` is at ``summary["t_final_s"]`` (>= t_end_s, by less than one step).
+    Solves ``M a + (alpha M + beta K) v + f_int(x) = f_ext`` with the update of the
+    module docstring. Records ``n_outputs`` evenly spaced rows: tip displacement
+    (area-weighted mean over ``tip_set``), reaction force summed over
+    ``reaction_set``, max von Mises stress and the energy terms. Steps are never
+    shortened to hit an output time: positions (and the displacement and stress derived
+    from them) are interpolated to the output time, exactly, since central differences
+    move nodes linearly within a step; energies and reactions are those of the step
+    that reaches it (at most one step later). The final state ``x, v`` is at
+    ``summary["t_final_s"]`` (>= t_end_s, by less than one step).
+
+    Parameters
+    ----------
+    model : Model
+        The finite element model (mesh, material, supports, loads, contact, damping).
+    t_end_s : float
+        End time [s], > 0.
+    n_outputs : int, optional
+        Number of output rows, >= 1, at ``t_end_s k / n_outputs``. Default 400.
+    dt_s : float, optional
+        Fixed step [s], at most the CFL limit. Default None: CFL-controlled,
+        TSSFAC x min dt_e recomputed every step (times 0.9 more when the model has
+        contact, see :mod:`ccedi.fea.contact`).
+    backend : {"numba", "numpy"}, optional
+        ``"numba"`` (compiled, default) or ``"numpy"`` (pure-numpy reference, slow).
+    tip_set : str, optional
+        Node set whose area-weighted mean displacement is recorded. Default ``"tip"``.
+    reaction_set : str, optional
+        Node set whose summed support reaction is recorded. Default ``"root"``.
+    snapshot_every : int, optional
+        Keep the positions every this many outputs in ``snapshots`` (0: none, default).
+    x0 : (n_nodes, 3) array_like, optional
+        Initial positions [m]. Default: the reference positions.
+    v0 : (n_nodes, 3) array_like, optional
+        Initial velocities [m/s] (zeroed on constrained nodes). Default: zero.
+    progress : bool, optional
+        Show a progress bar (tqdm) over the output times. Default False.
+    output_hook : callable, optional
+        ``hook(t_out, x_out, f_ext) -> dict`` called at every output with the
+        interpolated positions [m] and the external nodal forces of the last step
+        (pulses and contact) [N]; its dict values become extra history columns.
+
+    Returns
+    -------
+    RunResult
+        History, summary, final state and snapshots.
+
+    Raises
+    ------
+    InputError
+        If ``model`` is not a :class:`ccedi.fea.model.Model`, ``t_end_s`` or ``dt_s`` is
+        not finite and positive, ``n_outputs`` is not an integer >= 1, ``backend`` is
+        unknown, ``dt_s`` exceeds the CFL limit, or ``x0``/``v0`` are not finite arrays
+        of the mesh's node shape.
+    SolverError
+        If an element inverts, a rod hinge folds back on itself, the solution diverges
+        or the mesh deforms so that a fixed ``dt_s`` exceeds the stable step.
     """
     if not isinstance(model, Model):
         raise InputError("model must be a fea.model.Model")

@@ -14,12 +14,69 @@ _FACES = FACES.astype(np.int64)
 
 @nb.njit(cache=True, fastmath=FASTMATH)
 def internal_forces_numba(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c, f):
-    """Nodal internal forces into ``f`` (n, 3) [N]; returns
-    ``(dt_min, strain_energy, hourglass_energy, bulk_viscous_power, status)``.
+    """Internal nodal forces of one-point (uniform-gradient) hexahedra, compiled.
 
+    For each element e with reference volume V0 and uniform gradients b_k the kernel
+    forms the deformation gradient and its rate::
+
+        F = (1/V0) sum_k x_k b_k^T,        Fdot = (1/V0) sum_k v_k b_k^T,
+
+    the volumetric strain rate ``e_v = tr(Fdot F^-1)``, the bulk-viscosity pressure
+    ``q = rho Le (C0 Le e_v^2 - C1 c e_v)`` (compression only, ``e_v < 0``), the
+    neo-Hookean first Piola-Kirchhoff stress with that pressure
+    ``P = mu F + (lam ln J - mu - q J) F^-T`` and the nodal force::
+
+        f_k = P b_k + kappa sum_a gamma_ak q_a,        q_a = sum_k gamma_ak x_k.
+
+    The element's critical step is ``Le / (Q + sqrt(Q^2 + c^2))`` with
+    ``Q = C1 c + C0 Le (-e_v)`` and the characteristic length ``Le = J V0 / A_max``
+    (current volume over the largest face area, A = |d1 x d2| / 2 of the face diagonals).
     The 3x3 tensors F, Fdot, F^-1 and P live in scalar locals (registers) rather than
     small arrays, which is what makes this loop fast; the algebra is line for line
-    :func:`ccedi.fea.hex8.internal_forces_numpy`."""
+    :func:`ccedi.fea.hex8.internal_forces_numpy`.
+
+    Parameters
+    ----------
+    x : (n_nodes, 3) ndarray
+        Current nodal coordinates [m].
+    v : (n_nodes, 3) ndarray
+        Nodal velocities [m/s] (for the bulk viscosity).
+    hexes : (n_elem, 8) int ndarray
+        Element connectivity (node indices).
+    b : (n_elem, 8, 3) ndarray
+        Uniform gradients b_k = integral of grad N_k over the reference element [m^2].
+    volume : (n_elem,) ndarray
+        Reference element volumes V0 [m^3].
+    gamma : (n_elem, 4, 8) ndarray
+        Hourglass shape vectors gamma_ak [-].
+    kappa : (n_elem,) ndarray
+        Hourglass stiffness per element [N/m].
+    mu : float
+        Shear modulus [Pa].
+    lam : float
+        First Lame constant [Pa].
+    rho : float
+        Mass density [kg/m^3].
+    c : float
+        Dilatational wave speed [m/s].
+    f : (n_nodes, 3) ndarray
+        Output: overwritten with the internal nodal forces [N].
+
+    Returns
+    -------
+    dt_min : float
+        Smallest element critical time step [s] (``inf`` for no elements).
+    strain_energy : float
+        Stored elastic energy sum_e V0 W(F) [J].
+    hourglass_energy : float
+        Hourglass energy sum_e kappa/2 sum_a |q_a|^2 [J].
+    bulk_viscous_power : float
+        Power dissipated by the bulk viscosity [W].
+    status : int
+        -1 when every element has J > 0; else the index of the first inverted element
+        (J <= 0), in which case the other values are 0 and ``f`` holds only the partial
+        sum of the elements before it (to be discarded).
+    """
     f[:, :] = 0.0
     ne = hexes.shape[0]
     dt_min = np.inf; w_s = 0.0; w_hg = 0.0; p_b = 0.0

@@ -7,8 +7,22 @@ import numpy as np
 from .kernels import FASTMATH
 
 PulseLoads = namedtuple("PulseLoads", "nodes forces t_start t_end")
-"""Pulse loads flattened to one row per loaded node: ``nodes`` (p,) int, ``forces`` (p, 3)
-[N], active for ``t_start <= t < t_end`` (p,) [s]."""
+PulseLoads.__doc__ = """Force pulses flattened to one row per loaded node (built by :func:`pulse_loads`).
+
+Row p applies ``forces[p]`` to node ``nodes[p]`` while ``t_start[p] <= t < t_end[p]``
+(:func:`pulse_forces`); a node loaded by several pulses has several rows.
+
+Attributes
+----------
+nodes : (p,) int ndarray
+    Loaded node of each row.
+forces : (p, 3) ndarray
+    Force on that node while the pulse is on [N].
+t_start : (p,) ndarray
+    Time the pulse switches on [s] (inclusive).
+t_end : (p,) ndarray
+    Time the pulse switches off [s] (exclusive).
+"""
 
 
 def pulse_loads(pulses):

@@ -29,9 +29,17 @@ class NeoHookean:
 
     Parameters
     ----------
-    E : Young's modulus [Pa], > 0.
-    nu : Poisson's ratio [-], in (-1, 0.5).
-    rho : mass density [kg/m^3], > 0.
+    E : float
+        Young's modulus [Pa], > 0.
+    nu : float
+        Poisson's ratio [-], in (-1, 0.5).
+    rho : float
+        Mass density [kg/m^3], > 0.
+
+    Raises
+    ------
+    InputError
+        If E or rho is not finite and positive, or nu is not a real number in (-1, 0.5).
     """
 
     E: float
@@ -75,14 +83,48 @@ RUBBER = NeoHookean(E=6.1e6, nu=0.49, rho=1000.0)
 
 
 def first_piola(F, mu, lam):
-    """First Piola-Kirchhoff stress P [Pa] for deformation gradients ``F`` of shape (..., 3, 3)."""
+    """First Piola-Kirchhoff stress of the neo-Hookean solid.
+
+    ``P = mu (F - F^-T) + lam ln(J) F^-T`` with ``J = det F``.
+
+    Parameters
+    ----------
+    F : (..., 3, 3) ndarray
+        Deformation gradients [-], with det F > 0.
+    mu : float
+        Shear modulus [Pa].
+    lam : float
+        First Lame constant [Pa].
+
+    Returns
+    -------
+    (..., 3, 3) ndarray
+        First Piola-Kirchhoff stress P [Pa] (NaN where det F <= 0).
+    """
     J = np.linalg.det(F)
     FinvT = np.linalg.inv(F).swapaxes(-1, -2)
     return mu * (F - FinvT) + (lam * np.log(J))[..., None, None] * FinvT
 
 
 def strain_energy_density(F, mu, lam):
-    """Neo-Hookean strain energy per unit reference volume W(F) [J/m^3]."""
+    """Neo-Hookean strain energy per unit reference volume.
+
+    ``W(F) = mu/2 (tr(F^T F) - 3) - mu ln J + lam/2 (ln J)^2`` with ``J = det F``.
+
+    Parameters
+    ----------
+    F : (..., 3, 3) ndarray
+        Deformation gradients [-], with det F > 0.
+    mu : float
+        Shear modulus [Pa].
+    lam : float
+        First Lame constant [Pa].
+
+    Returns
+    -------
+    (...,) ndarray
+        Strain energy density W(F) [J/m^3] (NaN where det F <= 0).
+    """
     J = np.linalg.det(F)
     lnJ = np.log(J)
     I1 = np.einsum("...ij,...ij->...", F, F)
@@ -90,8 +132,24 @@ def strain_energy_density(F, mu, lam):
 
 
 def cauchy_stress(F, mu, lam):
-    """Cauchy stress sigma = P F^T / J = (mu (F F^T - I) + lam ln(J) I) / J [Pa]; the numpy
-    reference of :func:`neo_hookean_cauchy`."""
+    """Neo-Hookean Cauchy stress; the numpy reference of :func:`neo_hookean_cauchy`.
+
+    ``sigma = P F^T / J = (mu (F F^T - I) + lam ln(J) I) / J`` with ``J = det F``.
+
+    Parameters
+    ----------
+    F : (..., 3, 3) ndarray
+        Deformation gradients [-], with det F > 0.
+    mu : float
+        Shear modulus [Pa].
+    lam : float
+        First Lame constant [Pa].
+
+    Returns
+    -------
+    (..., 3, 3) ndarray
+        Cauchy (true) stress sigma [Pa] (NaN where det F <= 0).
+    """
     J = np.linalg.det(F)
     sigma = mu * (F @ F.swapaxes(-1, -2) - np.eye(3))
     sigma += (lam * np.log(J))[..., None, None] * np.eye(3)
@@ -99,10 +157,21 @@ def cauchy_stress(F, mu, lam):
 
 
 def von_mises(sigma):
-    """Equivalent (von Mises) stress of Cauchy stresses (..., 3, 3), paper Eq. (9) [Pa].
+    """Equivalent (von Mises) stress, paper Eq. (9).
 
-    sqrt(((s1-s2)^2 + (s2-s3)^2 + (s3-s1)^2) / 2), written in components so no
-    eigen-decomposition is needed.
+    ``sqrt(((s1-s2)^2 + (s2-s3)^2 + (s3-s1)^2) / 2)`` of the principal stresses, written
+    in components, ``sqrt(((s00-s11)^2 + (s11-s22)^2 + (s22-s00)^2) / 2
+    + 3 (s01^2 + s12^2 + s20^2))``, so no eigen-decomposition is needed.
+
+    Parameters
+    ----------
+    sigma : (..., 3, 3) ndarray
+        Symmetric Cauchy stresses [Pa].
+
+    Returns
+    -------
+    (...,) ndarray
+        Von Mises stress [Pa].
     """
     s = sigma
     return np.sqrt(0.5 * ((s[..., 0, 0] - s[..., 1, 1]) ** 2 + (s[..., 1, 1] - s[..., 2, 2]) ** 2

@@ -18,9 +18,23 @@ import numpy as np
 from .kernels import FASTMATH
 
 RotatingFrame = namedtuple("RotatingFrame", "nodes center axis omega")
-"""A frame turning at ``omega`` [rad/s] about the unit ``axis`` (3,) through ``center``
-(3,) [m], and the ``nodes`` (r,) int that it carries rigidly (prescribed rotation; none
-for a frame that only serves as the reference of relative damping)."""
+RotatingFrame.__doc__ = """A frame turning at ``omega`` about the unit ``axis`` through ``center``.
+
+The frame moves its point x at ``v_ref = omega axis x (x - center)``
+(:func:`frame_velocity`) and carries the ``nodes`` rigidly (prescribed rotation).
+
+Attributes
+----------
+nodes : (r,) int ndarray
+    Nodes carried rigidly by the frame; empty for a frame that only serves as the
+    reference of relative damping.
+center : (3,) ndarray
+    A point on the rotation axis [m].
+axis : (3,) ndarray
+    Unit rotation axis [-].
+omega : float
+    Rotation rate about ``axis`` [rad/s].
+"""
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)

@@ -178,26 +178,109 @@ def _face_point(P, TH, a, xi, side, h, nonlinear, J):
 
 
 ChainState = namedtuple("ChainState", "P TH V W")
-"""Station state in the drum frame, updated in place: centres P (n, 2) [m], rotations TH
-(n,) [rad], velocities V (n, 2) [m/s] (half step), angular velocities W (n,) [rad/s]."""
+ChainState.__doc__ = """Station state of the chain in the drum frame, updated in place.
+
+Attributes
+----------
+P : (n, 2) ndarray
+    Station centres (p1 radial, p2 tangential) [m].
+TH : (n,) ndarray
+    Station rotations about the drum axis, relative to the drum frame [rad].
+V : (n, 2) ndarray
+    Half-step station velocities in the drum frame [m/s].
+W : (n,) ndarray
+    Half-step station angular velocities in the drum frame [rad/s].
+"""
 ChainGroup = namedtuple("ChainGroup", "mass inertia l0 Kn h nonlinear")
-"""The superelement chain: station masses (n,) [kg] and rotary inertias (n,) [kg m^2],
-segment rest lengths (n-1,) [m], natural stiffnesses Kn (n-1, 3, 3) [N, N m], section
-half thickness h [m], co-rotational (True) or linear kinematics."""
+ChainGroup.__doc__ = """The superelement chain (station 0 clamped to the drum).
+
+Attributes
+----------
+mass : (n,) ndarray
+    Station masses [kg].
+inertia : (n,) ndarray
+    Station rotary inertias about the drum axis [kg m^2].
+l0 : (n-1,) ndarray
+    Segment rest lengths [m].
+Kn : (n-1, 3, 3) ndarray
+    Natural stiffness of each segment, mapping the natural deformations
+    e = [l - l0 [m], theta_a - psi [rad], theta_b - psi [rad]] to the section forces
+    s = [N [N], M_a [N m], M_b [N m]].
+h : float
+    Half thickness of the section (face offset of the contact points) [m].
+nonlinear : bool
+    True: co-rotational (large rotation) kinematics; False: linear kinematics frozen
+    at the straight finger.
+"""
 DrumFrame = namedtuple("DrumFrame", "omega theta0 alpha relative")
-"""The drum's rotation rate omega [rad/s] and angle at t = 0 theta0 [rad]; mass damping
-alpha [1/s] of the absolute velocity, or (``relative``) of the velocity in the drum frame."""
+DrumFrame.__doc__ = """The drum's rotation and the chain's mass damping.
+
+Attributes
+----------
+omega : float
+    Constant drum rotation rate Omega [rad/s].
+theta0 : float
+    Drum angle at t = 0 [rad]; phi = theta0 + Omega t.
+alpha : float
+    Mass-proportional damping coefficient [1/s].
+relative : bool
+    True: damping of the velocity in the drum frame; False: of the absolute velocity.
+"""
 ContactPoints = namedtuple("ContactPoints", "seg xi k mu obj")
-"""Contact points (each on both faces): segment (p,) int, fraction xi along it (p,) [-],
-penalty stiffness (p,) [N/m]; Coulomb coefficient mu [-]; the object (6,): centre x, y
-[m], semi-axes a, b [m], cos and sin of its angle [-]."""
+ContactPoints.__doc__ = """Contact points along the chain (each on both faces) and the object.
+
+Attributes
+----------
+seg : (p,) int ndarray
+    Segment of each point (stations seg and seg + 1).
+xi : (p,) ndarray
+    Fraction of the segment length at which the point sits [-], in [0, 1].
+k : (p,) ndarray
+    Penalty stiffness of each point [N/m].
+mu : float
+    Coulomb friction coefficient [-] (0: frictionless).
+obj : (6,) ndarray
+    The elliptical object: centre x, y [m], semi-axes a, b [m], cos and sin of its
+    angle [-] (first six entries of :meth:`ccedi.fea.contact.RigidEllipse.params`).
+"""
 ChainOutputs = namedtuple("ChainOutputs", "t_out P_out TH_out C_out")
-"""Output times (k,) [s] and the records written at them: station centres (k, n, 2) [m],
-rotations (k, n) [rad], contact record (k, 6) (slots _FX ... _PEN)."""
+ChainOutputs.__doc__ = """Output times and the arrays that receive the records at them.
+
+Attributes
+----------
+t_out : (k,) ndarray
+    Increasing output times [s].
+P_out : (k, n, 2) ndarray
+    Station centres in the drum frame at each output [m].
+TH_out : (k, n) ndarray
+    Station rotations at each output [rad].
+C_out : (k, 6) ndarray
+    Contact record of the step reaching each output: force on the object x, y
+    (global) [N], number of points in contact, force-weighted contact point x, y
+    (global) [m], deepest penetration [m].
+"""
 ContactWork = namedtuple("ContactWork", "F Mo E J far fn nx ny")
-"""Scratch arrays of a run: station forces (n, 2) [N], moments (n,) [N m], natural
-deformations (n-1, 3), a face point's Jacobian (2, 6), culled segments (n-1,), and per
-face point its normal force (2p,) [N] and drum-frame normal (2p,) each."""
+ContactWork.__doc__ = """Scratch arrays of a run (built by :func:`contact_work`).
+
+Attributes
+----------
+F : (n, 2) ndarray
+    Station forces [N].
+Mo : (n,) ndarray
+    Station moments [N m].
+E : (n-1, 3) ndarray
+    Natural deformations of the segments [m, rad, rad].
+J : (2, 6) ndarray
+    Jacobian of one face point against its segment's end DOFs [m/m, m/rad].
+far : (n-1,) bool ndarray
+    Segments culled as unable to touch the object this step.
+fn : (2p,) ndarray
+    Normal force of each face point [N].
+nx : (2p,) ndarray
+    Drum-frame normal of each face point, x component [-].
+ny : (2p,) ndarray
+    Drum-frame normal of each face point, y component [-].
+"""
 
 
 def contact_work(n_stations, n_points):
@@ -480,6 +563,11 @@ def chain_run(state, chain, drum, points, dt, outputs, backend="numba"):
         0 ok, 1 the state became non-finite.
     steps : int
         Steps taken.
+
+    Raises
+    ------
+    InputError
+        If ``backend`` is neither ``"numba"`` nor ``"numpy"``.
     """
     work = contact_work(chain.mass.shape[0], points.seg.shape[0])
     if backend == "numba":
@@ -636,24 +724,79 @@ def chain_run_numpy(state, chain, drum, points, dt, outputs):
 
 
 def stable_step(omega_max):
-    """Time step [s] of the station-contact chain: TSSFAC x 2 / omega_max, times 0.9 for the
-    contact (as :mod:`ccedi.fea.explicit`)."""
+    """Time step of the station-contact chain, as :mod:`ccedi.fea.explicit` chooses it.
+
+    ``dt = TSSFAC x STEP_SHRINK x 2 / omega_max`` (0.9 x 0.9 x the central-difference
+    limit 2 / omega_max).
+
+    Parameters
+    ----------
+    omega_max : float
+        Highest natural frequency of the chain [rad/s].
+
+    Returns
+    -------
+    float
+        Time step [s].
+    """
     return TSSFAC * STEP_SHRINK * 2.0 / omega_max
 
 
 def contact_point_stiffness(mass, inertia, half_thickness_m, omega_max):
-    """Penalty stiffness [N/m] per station contact point: :func:`ccedi.fea.contact.penalty_stiffness`
-    for the point's effective mass 1 / (1/m + h^2 / I)."""
+    """Penalty stiffness per station contact point.
+
+    :func:`ccedi.fea.contact.penalty_stiffness` with ``dt_cfl = 2 / omega_max`` for the
+    point's effective mass ``m_eff = 1 / (1/m + h^2 / I)`` (a face point at lever arm h
+    from the station centre).
+
+    Parameters
+    ----------
+    mass : float or (n,) ndarray
+        Station masses [kg].
+    inertia : float or (n,) ndarray
+        Station rotary inertias [kg m^2].
+    half_thickness_m : float
+        Half thickness h of the section [m].
+    omega_max : float
+        Highest natural frequency of the chain [rad/s].
+
+    Returns
+    -------
+    float or (n,) ndarray
+        Penalty stiffness per point [N/m].
+    """
     m_eff = 1.0 / (1.0 / mass + half_thickness_m**2 / inertia)
     return penalty_stiffness(m_eff, 2.0 / omega_max)
 
 
 def face_points(station_z_m, plane_z_m, nonlinear=True):
-    """Contact points along the finger: (segment, fraction xi along it, tributary length
-    [m]) for every node plane z of ``plane_z_m`` but the root (z = 0), one point per face
-    per plane; the tip plane is xi = 1 of the last segment. The tributary length is half
-    the distance to the neighbouring planes (the tip's is half a layer). The linear model
-    takes the stations only (its kinematics has no points between them)."""
+    """Contact points along the finger, one per face per node plane.
+
+    A point for every node plane z of ``plane_z_m`` but the root (z = 0); the tip plane
+    is xi = 1 of the last segment. The tributary length is half the distance to the
+    neighbouring planes (the tip's is half a layer). The linear model takes the
+    stations only (its kinematics has no points between them).
+
+    Parameters
+    ----------
+    station_z_m : (n,) array_like
+        Increasing station positions along the finger, from the root z = 0 [m].
+    plane_z_m : array_like
+        Positions of the FE node planes along the finger [m] (ignored when
+        ``nonlinear`` is False).
+    nonlinear : bool, optional
+        Co-rotational model (points at every plane, default) or linear model (points
+        at the stations).
+
+    Returns
+    -------
+    seg : (p,) int64 ndarray
+        Segment of each point.
+    xi : (p,) ndarray
+        Fraction along the segment [-].
+    trib : (p,) ndarray
+        Tributary length of each point along the finger [m].
+    """
     z = np.asarray(station_z_m, dtype=float)
     planes = np.unique(np.asarray(plane_z_m, dtype=float)) if nonlinear else z
     planes = planes[planes > 1e-12 * z[-1]]
@@ -665,11 +808,39 @@ def face_points(station_z_m, plane_z_m, nonlinear=True):
 
 
 def contact_omega(K, M, pt_seg, pt_xi, pt_k, half_thickness_m, station_z_m, nonlinear=True):
-    """Highest frequency [rad/s] of the linear clamped chain (K, M of
-    :func:`ccedi.rom.superelement.linear_matrices`) with every contact spring of one face
-    engaged across the finger (normal along the section's y): K_c = sum_p k_p J_p^T e_y
-    e_y^T J_p, J_p of :func:`_face_point` at the straight finger. An upper bound for the
-    contact frequencies the run can meet (fewer springs engage at once)."""
+    """Highest frequency of the clamped chain with one face's contact springs engaged.
+
+    Every contact spring of one face acts across the finger (normal along the
+    section's y): ``K_c = sum_p k_p J_p^T e_y e_y^T J_p``, J_p the Jacobian of the face
+    point at the straight finger; the result is the largest omega of
+    ``(K + K_c) phi = omega^2 M phi``. An upper bound for the contact frequencies the
+    run can meet (fewer springs engage at once).
+
+    Parameters
+    ----------
+    K : (3(n-1), 3(n-1)) ndarray
+        Stiffness matrix of the linear clamped chain (station 0 removed), DOFs
+        (p1, p2, theta) per station [N/m, N, N m] (:func:`ccedi.rom.superelement.linear_matrices`).
+    M : (3(n-1), 3(n-1)) ndarray
+        Mass matrix of the same DOFs [kg, kg m^2].
+    pt_seg : (p,) int array_like
+        Segment of each contact point.
+    pt_xi : (p,) array_like
+        Fraction of the segment length of each point [-].
+    pt_k : (p,) array_like
+        Penalty stiffness of each point [N/m].
+    half_thickness_m : float
+        Half thickness h of the section [m].
+    station_z_m : (n,) array_like
+        Station positions along the straight finger [m].
+    nonlinear : bool, optional
+        Face-point kinematics of the co-rotational (default) or linear model.
+
+    Returns
+    -------
+    float
+        Highest natural frequency omega_c [rad/s].
+    """
     n = len(station_z_m)
     Kc = np.zeros((3 * n, 3 * n))
     P = np.column_stack([station_z_m, np.zeros(n)])

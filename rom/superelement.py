@@ -55,12 +55,24 @@ from ccedi.rom.craig_bampton import craig_bampton
 class FingerChain:
     """Reduced finger: n segments between n + 1 stations (station 0 is the root).
 
-    station_z_m (n+1,) [m] distance from the root; mass_kg (n+1,); inertia_kg_m2 (n+1,)
-    rotary inertia about the section's x axis; natural_stiffness (n, 3, 3) [N/m, N,
-    N m] acting on e = [elongation m, end rotations rad]; half_thickness_m: the
-    contact points sit at +-half_thickness_m across each station; stress_zones: the
-    :class:`StressZone` s of :func:`finger_chain`; stiffness_scale: the fitted bending
-    factor kappa (1 before fitting).
+    Parameters
+    ----------
+    station_z_m : (n+1,) ndarray
+        Station distances from the root along the finger [m], increasing from 0.
+    mass_kg : (n+1,) ndarray
+        Station masses [kg] (row sums of the translational Guyan mass).
+    inertia_kg_m2 : (n+1,) ndarray
+        Station rotary inertias about the section's x axis [kg m^2].
+    natural_stiffness : (n, 3, 3) ndarray
+        Natural stiffness K_n of each segment [N/m, N, N m], acting on
+        e = [elongation [m], end rotations theta_a, theta_b relative to the chord [rad]].
+    half_thickness_m : float
+        Half thickness of the section [m]: the contact points sit at
+        +-half_thickness_m across each station.
+    stress_zones : tuple of StressZone
+        The stress recovery zones of :func:`finger_chain`.
+    stiffness_scale : float, optional
+        The fitted bending factor kappa [-] (1 before fitting, default).
     """
 
     station_z_m: np.ndarray
@@ -73,25 +85,61 @@ class FingerChain:
 
     @property
     def n_segments(self):
+        """Number of segments n (stations minus one)."""
         return len(self.station_z_m) - 1
 
     @property
     def segment_length_m(self):
+        """Segment rest lengths l0, shape (n,) [m]."""
         return np.diff(self.station_z_m)
 
 
 def deformation_map(l0):
-    """G (3 x 6): natural deformations e of a segment of length l0 [m] from its planar
-    end DOFs d = [U_a, V_a, theta_a, U_b, V_b, theta_b] (module docstring)."""
+    """Map G from a segment's planar end DOFs to its natural deformations, e = G d.
+
+    ``e = [U_b - U_a, theta_a - (V_b - V_a)/l0, theta_b - (V_b - V_a)/l0]`` for
+    ``d = [U_a, V_a, theta_a, U_b, V_b, theta_b]`` (module docstring).
+
+    Parameters
+    ----------
+    l0 : float
+        Segment (chord) length [m].
+
+    Returns
+    -------
+    (3, 6) ndarray
+        G [-, 1/m] (rows: elongation [m], end rotations [rad]).
+    """
     return np.array([[-1.0, 0.0, 0.0, 1.0, 0.0, 0.0],
                      [0.0, 1.0 / l0, 1.0, 0.0, -1.0 / l0, 0.0],
                      [0.0, 1.0 / l0, 0.0, 0.0, -1.0 / l0, 1.0]])
 
 
 def natural_stiffness(K_e, l0):
-    """K_n (3 x 3) with K_e = G^T K_n G for a segment stiffness K_e (6 x 6) that has the
-    three planar rigid motions in its null space. Raises if it has not (relative residual
-    above 1e-6), which would mean the segment is not free or not straight."""
+    """Natural stiffness K_n of a free segment, with ``K_e = G^T K_n G``.
+
+    ``K_n = G^+T K_e G^+`` (G^+ the pseudo-inverse of :func:`deformation_map`),
+    symmetrised. Valid when K_e has the three planar rigid motions in its null space.
+
+    Parameters
+    ----------
+    K_e : (6, 6) ndarray
+        Segment stiffness on d = [U_a, V_a, theta_a, U_b, V_b, theta_b] [N/m, N, N m].
+    l0 : float
+        Segment (chord) length [m].
+
+    Returns
+    -------
+    (3, 3) ndarray
+        Symmetric natural stiffness K_n [N/m, N, N m] on e = [elongation, theta_a,
+        theta_b].
+
+    Raises
+    ------
+    InputError
+        If ``G^T K_n G`` misses K_e by a relative residual above 1e-6, i.e. the
+        segment is not free or not straight.
+    """
     G = deformation_map(l0)
     Gp = np.linalg.pinv(G)
     K_n = Gp.T @ K_e @ Gp
@@ -128,8 +176,19 @@ def _section_transform(nodes, face_a, face_b, clamp_a):
 
 @dataclass(frozen=True)
 class Segment:
-    """One reduced segment: stiffness K_e and mass M_e on d (6 x 6), and the recovery
-    ``field`` (3 N x 6) of the segment's nodal displacements from d."""
+    """One reduced (Craig-Bampton, Guyan) segment.
+
+    Parameters
+    ----------
+    K_e : (6, 6) ndarray
+        Reduced stiffness on d = [U_a, V_a, theta_a, U_b, V_b, theta_b] [N/m, N, N m].
+    M_e : (6, 6) ndarray
+        Reduced mass on d [kg, kg m, kg m^2].
+    field : (3 N, 6) ndarray
+        Recovery of the segment's nodal displacements (x, y, z per node) [m] from d.
+    mesh : Mesh
+        The segment's own mesh (N nodes, z measured from its face a).
+    """
 
     K_e: np.ndarray
     M_e: np.ndarray
@@ -138,8 +197,30 @@ class Segment:
 
 
 def reduce_segment(mesh: Mesh, material: NeoHookean, z_a, z_b, clamp_a=False):
-    """Craig-Bampton (Guyan) reduction of the elements of ``mesh`` between z_a and z_b [m];
-    ``clamp_a``: face a is the clamped root (no u_x either)."""
+    """Craig-Bampton (Guyan) reduction of the elements of ``mesh`` between two planes.
+
+    The end faces move as rigid sections in the y-z plane (module docstring), the
+    interior is condensed statically (no fixed-interface modes):
+    ``K_e = T^T K T``, ``M_e = T^T M T``.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        Straight finger mesh along z.
+    material : NeoHookean
+        Finger material (linearised at the reference state).
+    z_a : float
+        Position of face a, a node plane of ``mesh`` [m].
+    z_b : float
+        Position of face b, a node plane of ``mesh`` beyond z_a [m].
+    clamp_a : bool, optional
+        Face a is the clamped root (its u_x fixed too). Default False.
+
+    Returns
+    -------
+    Segment
+        Reduced matrices, displacement recovery and sub-mesh.
+    """
     z = mesh.nodes[:, 2]
     zc = z[mesh.hexes].mean(axis=1)
     hexes = mesh.hexes[(zc > z_a) & (zc < z_b)]
@@ -169,8 +250,25 @@ def _gradient_modes(segment: Segment):
 
 
 def station_planes(mesh: Mesh, n_segments):
-    """n_segments + 1 node planes z [m] of ``mesh`` (root and tip included), as evenly
-    spaced along the finger as its element layers allow."""
+    """Station planes of a chain: node planes of ``mesh`` as evenly spaced as possible.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        Straight finger mesh along z.
+    n_segments : int
+        Number of segments, from 1 to the number of element layers.
+
+    Returns
+    -------
+    (n_segments + 1,) ndarray
+        Node-plane positions z [m], root and tip included.
+
+    Raises
+    ------
+    InputError
+        If ``n_segments`` is not an integer in 1..(number of element layers).
+    """
     z = np.unique(mesh.nodes[:, 2])
     if int(n_segments) != n_segments or not 1 <= n_segments <= len(z) - 1:
         raise InputError(f"n_segments must be an integer in 1..{len(z) - 1} (element layers), got {n_segments!r}")
@@ -190,9 +288,20 @@ above the full FEA's, the 24 mm zone's within 1.1 %."""
 
 @dataclass(frozen=True)
 class StressZone:
-    """Stress recovery over stations a..b: displacement gradient of each unit natural
-    deformation of the zone's chord (elements, 3, 3, 3) [-] and the zone model's natural
-    stiffness (3 x 3)."""
+    """Stress recovery zone over stations a..b of a chain.
+
+    Parameters
+    ----------
+    a : int
+        First station of the zone.
+    b : int
+        Last station of the zone (> a).
+    gradients : (n_elem, 3, 3, 3) ndarray
+        Displacement gradient at each element centre of each unit natural deformation
+        of the zone's chord, indexed (element, mode j, 3, 3) [-/m or -/rad].
+    stiffness : (3, 3) ndarray
+        Natural stiffness of the zone's own reduced model [N/m, N, N m].
+    """
 
     a: int
     b: int
@@ -207,14 +316,34 @@ def _stress_zone(mesh, material, z, a, b):
 
 
 def finger_chain(mesh: Mesh, material: NeoHookean, n_segments=17):
-    """Reduce a straight finger ``mesh`` (root at z = 0, clamped) to a chain of
-    ``n_segments`` superelements (unfitted; see :func:`fit_tip_stiffness`). The contact
-    points sit on the mesh's faces, at +-max |y| of its nodes (the section semi-axis b).
+    """Reduce a straight, clamped finger mesh to a chain of superelements (unfitted).
 
-    Stresses are recovered per zone: the root zone (stations 0..r, at least
-    ``ROOT_ZONE_DEPTHS`` section depths long, its root face clamped like the FE model's)
-    and every segment beyond it, so the clamp's stress does not depend on where the
-    segments are cut."""
+    The contact points sit on the mesh's faces, at +-max |y| of its nodes (the section
+    semi-axis b). Stresses are recovered per zone: the root zone (stations 0..r, at
+    least ``ROOT_ZONE_DEPTHS`` section depths long, its root face clamped like the FE
+    model's) and every segment beyond it, so the clamp's stress does not depend on
+    where the segments are cut. Fit the bending stiffness with
+    :func:`fit_tip_stiffness`.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        Straight finger mesh along z, root at z = 0 (clamped).
+    material : NeoHookean
+        Finger material.
+    n_segments : int, optional
+        Number of superelements (see :func:`station_planes`). Default 17.
+
+    Returns
+    -------
+    FingerChain
+        The reduced chain, ``stiffness_scale`` 1.
+
+    Raises
+    ------
+    InputError
+        From :func:`station_planes` (bad ``n_segments``) or :func:`natural_stiffness`.
+    """
     z = station_planes(mesh, n_segments)
     half_thickness_m = float(np.abs(mesh.nodes[:, 1]).max())
     rigid_u = np.array([1.0, 0.0, 0.0, 1.0, 0.0, 0.0])
@@ -247,15 +376,41 @@ def _assembled_stiffness(chain: FingerChain, a, b):
 
 
 def linear_matrices(chain: FingerChain):
-    """Assembled linear stiffness K [N/m, N, N m] and lumped mass M of the chain on the
-    planar DOFs [U_i, V_i, theta_i] of stations 1..n (station 0 clamped)."""
+    """Assembled linear stiffness and lumped mass of the clamped chain.
+
+    ``K = sum_s G_s^T K_n,s G_s`` on the planar DOFs [U_i, V_i, theta_i] of stations
+    1..n (station 0 clamped, its rows and columns removed).
+
+    Parameters
+    ----------
+    chain : FingerChain
+        The chain.
+
+    Returns
+    -------
+    K : (3n, 3n) ndarray
+        Stiffness [N/m, N, N m].
+    M : (3n, 3n) ndarray
+        Diagonal lumped mass (mass, mass, rotary inertia per station) [kg, kg m^2].
+    """
     K = _assembled_stiffness(chain, 0, chain.n_segments)
     m = np.column_stack([chain.mass_kg, chain.mass_kg, chain.inertia_kg_m2]).ravel()
     return K[3:, 3:], np.diag(m[3:])
 
 
 def chain_tip_stiffness(chain: FingerChain):
-    """Linear tip stiffness [N/m] of the clamped chain under a transverse tip force."""
+    """Linear tip stiffness of the clamped chain under a transverse tip force.
+
+    Parameters
+    ----------
+    chain : FingerChain
+        The chain.
+
+    Returns
+    -------
+    float
+        ``1 / V_tip`` for a unit force across the finger at the tip [N/m].
+    """
     K, _ = linear_matrices(chain)
     f = np.zeros(len(K))
     f[-2] = 1.0
@@ -263,20 +418,67 @@ def chain_tip_stiffness(chain: FingerChain):
 
 
 def chain_frequencies(chain: FingerChain, n_modes=None):
-    """Natural frequencies [rad/s] of the clamped chain, linearised about the straight finger."""
+    """Natural frequencies of the clamped chain, linearised about the straight finger.
+
+    Solves ``K phi = omega^2 M phi`` with :func:`linear_matrices`.
+
+    Parameters
+    ----------
+    chain : FingerChain
+        The chain.
+    n_modes : int, optional
+        Number of lowest frequencies to return. Default None: all 3n.
+
+    Returns
+    -------
+    ndarray
+        Ascending natural frequencies omega [rad/s] (negative eigenvalues clipped to 0).
+    """
     K, M = linear_matrices(chain)
     w2 = eigh(K, M, eigvals_only=True)
     return np.sqrt(np.clip(w2, 0.0, None))[:n_modes]
 
 
 def fe_tip_stiffness(mesh: Mesh, material: NeoHookean):
-    """Linear tip stiffness [N/m] of the full clamped FE finger under a tip-face load along y."""
+    """Linear tip stiffness of the full clamped FE finger under a tip-face load along y.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        Straight finger mesh along z, root at z = 0.
+    material : NeoHookean
+        Finger material.
+
+    Returns
+    -------
+    float
+        Tip force over tip deflection of the linear static cantilever [N/m].
+    """
     return 1.0 / tip_deflection(cantilever_model(mesh, material), 1.0, linear=True)
 
 
 def fit_tip_stiffness(chain: FingerChain, k_tip_target):
-    """The chain with its bending stiffness scaled so that its linear tip stiffness equals
-    ``k_tip_target`` [N/m] (one multiplicative factor kappa on the bending block of K_n)."""
+    """The chain with its bending stiffness scaled to a target tip stiffness.
+
+    With ``kappa = k_tip_target / k_tip(chain)`` every K_n becomes ``D K_n D``,
+    ``D = diag(1, sqrt(kappa), sqrt(kappa))``: the bending block is multiplied by kappa,
+    the axial-bending coupling by sqrt(kappa), so the bending compliance is divided by
+    kappa. A transverse tip force loads the straight cantilever in bending only, so its
+    linear tip stiffness becomes ``k_tip_target``.
+
+    Parameters
+    ----------
+    chain : FingerChain
+        The chain to fit.
+    k_tip_target : float
+        Target linear tip stiffness [N/m], e.g. :func:`fe_tip_stiffness`.
+
+    Returns
+    -------
+    FingerChain
+        A copy with the scaled ``natural_stiffness`` and ``stiffness_scale`` multiplied
+        by kappa.
+    """
     kappa = k_tip_target / chain_tip_stiffness(chain)
     K_n = chain.natural_stiffness.copy()
     K_n[:, 1:, 1:] *= kappa
@@ -286,8 +488,31 @@ def fit_tip_stiffness(chain: FingerChain, k_tip_target):
 
 
 def zone_stiffness(chain: FingerChain, a, b):
-    """Natural stiffness (3 x 3) of the chain's segments between stations a and b, the
-    stations in between condensed out."""
+    """Natural stiffness of the chain's segments between two stations.
+
+    The stations strictly between a and b are condensed out statically (Schur
+    complement) and the remaining 6 x 6 end stiffness is passed to
+    :func:`natural_stiffness`.
+
+    Parameters
+    ----------
+    chain : FingerChain
+        The chain.
+    a : int
+        First station.
+    b : int
+        Last station (> a).
+
+    Returns
+    -------
+    (3, 3) ndarray
+        Natural stiffness over the chord from station a to b [N/m, N, N m].
+
+    Raises
+    ------
+    InputError
+        From :func:`natural_stiffness`.
+    """
     K = _assembled_stiffness(chain, a, b)
     ends = np.r_[0:3, len(K) - 3:len(K)]
     mid = np.arange(3, len(K) - 3)
@@ -297,9 +522,20 @@ def zone_stiffness(chain: FingerChain, a, b):
 
 @dataclass(frozen=True)
 class StressRecovery:
-    """Stress operator of a chain: zone stations (a_0 = 0, b_0 = a_1, ...), per element its
-    zone and the displacement gradient of each unit natural deformation of the chain over
-    the zone, and the finger material."""
+    """Stress operator of a chain (built by :func:`stress_recovery`).
+
+    Parameters
+    ----------
+    stations : (z+1,) int ndarray
+        Zone boundary stations (a_0 = 0, b_0 = a_1, ...) of the z zones.
+    zone_of_element : (n_elem,) int ndarray
+        Zone of each recovery element.
+    gradients : (n_elem, 3, 3, 3) ndarray
+        Displacement gradient of each element per unit natural deformation of the
+        chain over its zone, indexed (element, mode j, 3, 3).
+    material : NeoHookean
+        The finger material.
+    """
 
     stations: np.ndarray
     zone_of_element: np.ndarray
@@ -307,13 +543,29 @@ class StressRecovery:
     material: NeoHookean
 
     def max_von_mises(self, e, nonlinear=True, backend="numba"):
-        """Largest von Mises stress [Pa] per time for zone deformations e (times, zones, 3)
-        from the displacement gradient H = sum_j e_j H_j of every element. ``nonlinear``:
-        the neo-Hookean Cauchy stress of F = I + H, as the FE model evaluates it (a linear
-        stress of the same field overstates the stress of a root zone bent by half a radian
-        by about 20 %); NaN at times where the field inverts an element. Otherwise the
-        linear stress mu (H + H^T) + lam tr(H) I of the small-displacement model.
-        ``backend="numpy"`` is the reference the compiled path is tested against."""
+        """Largest von Mises stress over the elements at each time.
+
+        Each element's displacement gradient is ``H = sum_j e_j H_j`` of its zone's
+        natural deformations e. Nonlinear: the neo-Hookean Cauchy stress of
+        ``F = I + H``, as the FE model evaluates it (a linear stress of the same field
+        overstates the stress of a root zone bent by half a radian by about 20 %).
+        Linear: ``sigma = mu (H + H^T) + lam tr(H) I`` of the small-displacement model.
+
+        Parameters
+        ----------
+        e : (n_times, n_zones, 3) ndarray
+            Natural deformations of each zone's chord [m, rad, rad].
+        nonlinear : bool, optional
+            Neo-Hookean (default) or linear stress.
+        backend : {"numba", "numpy"}, optional
+            Compiled path (default), or the numpy reference it is tested against.
+
+        Returns
+        -------
+        (n_times,) ndarray
+            Largest von Mises stress [Pa]; NaN at times where the field inverts an
+            element (nonlinear only).
+        """
         if backend == "numba":
             return _max_von_mises(np.ascontiguousarray(e), self.zone_of_element, self.gradients,
                                   self.material.mu, self.material.lam, nonlinear)
@@ -361,9 +613,30 @@ def _max_von_mises(e, zone_of, H, mu, lam, nonlinear):
 
 
 def stress_recovery(chain: FingerChain, material: NeoHookean):
-    """Stresses follow the section forces: the chain's force over a zone, K_chain e, is
-    applied to the zone's own model, whose deformation is K_zone^-1 K_chain e (e itself
-    for an unfitted segment; bending scaled by kappa for a fitted one)."""
+    """Stress operator of a chain: stresses follow the section forces.
+
+    The chain's force over a zone, ``K_chain e``, is applied to the zone's own model,
+    whose deformation is ``K_zone^-1 K_chain e`` (e itself for an unfitted segment;
+    bending scaled by kappa for a fitted one); the zone's gradient modes are mapped
+    accordingly.
+
+    Parameters
+    ----------
+    chain : FingerChain
+        The (fitted) chain with its stress zones.
+    material : NeoHookean
+        The finger material.
+
+    Returns
+    -------
+    StressRecovery
+        The stress operator over all zones.
+
+    Raises
+    ------
+    InputError
+        From :func:`natural_stiffness` (via :func:`zone_stiffness`).
+    """
     gradients, zone_of = [], []
     for k, z in enumerate(chain.stress_zones):
         C = np.linalg.solve(z.stiffness, zone_stiffness(chain, z.a, z.b))
