@@ -231,7 +231,8 @@ def check_class(label, cls):
             for name in params:
                 if name not in fields:
                     problems.append(f"{label}: documented parameter {name} is not a field")
-    elif "__init__" in cls.__dict__ and inspect.isfunction(cls.__dict__["__init__"]):
+    elif ("__init__" in cls.__dict__ and inspect.isfunction(cls.__dict__["__init__"])
+          and cls.__dict__["__init__"].__module__ != "typing"):   # typing.Protocol's stand-in, not the class's own
         init = cls.__dict__["__init__"]
         init_doc = doc if documented_parameters(doc) or not inspect.getdoc(init) else inspect.getdoc(init)
         if doc or inspect.getdoc(init):
