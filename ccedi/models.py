@@ -395,44 +395,6 @@ def contact_timing(history):
     return out
 
 
-def impulse_simulator(model, t_end_s=None, n_outputs=400):
-    """``simulate(alpha) -> (time_s, tip_uy_m)`` of an :class:`ImpulseModel`, the form the
-    CCEDI searches (:mod:`ccedi.rom.ccedi`) evaluate.
-
-    Parameters
-    ----------
-    model : ImpulseModel or callable
-        The model; a callable ``simulate(alpha)`` without a ``run`` method is returned
-        as it is (then ``t_end_s`` and ``n_outputs`` are not used).
-    t_end_s : float
-        Simulated time of every run [s]; required for a model.
-    n_outputs : int, optional
-        Output times per run.
-
-    Returns
-    -------
-    callable
-        ``simulate(alpha)`` returning ``(time_s [s], tip displacement [m])`` arrays.
-
-    Raises
-    ------
-    InputError
-        A model without ``t_end_s``, or neither a model nor a callable.
-    """
-    if not hasattr(model, "run"):
-        if callable(model):
-            return model
-        raise InputError(f"expected an impulse model (with run) or simulate(alpha), got {type(model).__name__}")
-    if t_end_s is None:
-        raise InputError("t_end_s (end time, s) is needed to run an impulse model")
-
-    def simulate(alpha):
-        return model.run(alpha, t_end_s, n_outputs).tip_signal()
-
-    simulate.model = model
-    return simulate
-
-
 def pulse_times(t_end_s, n_outputs):
     """The output times of a run: ``n_outputs`` equal steps from 0 (excluded) to ``t_end_s``.
 

@@ -11,9 +11,10 @@ damping ratios are ``zeta_i = alpha / (2 omega_i)`` (paper Eq. 3b).
 
 Both take an impulse model (:class:`ccedi.models.ImpulseModel`: the full FE model,
 :class:`ccedi.fea.studies.FullImpulseModel`, or its modal ROM,
-:class:`ccedi.rom.modal.ModalImpulseModel`) with the run length, or a ready
-``simulate(alpha) -> (time_s, tip_displacement_m)`` callable, so the full and a reduced
-model are swapped with one argument. Both report how many simulations they used.
+:class:`ccedi.rom.modal.ModalImpulseModel`) with the length ``t_end_s`` [s] and the
+output count ``n_outputs`` of every run, so the full and a reduced model are swapped with
+one argument; they read only the core ``time_s`` and ``tip_uy_m`` columns of each
+:class:`ccedi.models.ImpulseResponse`. Both report how many simulations they used.
 """
 from dataclasses import dataclass, field
 
@@ -21,40 +22,58 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from ccedi.errors import InputError, require_finite_positive
-from ccedi.models import impulse_simulator
+from ccedi.models import ImpulseModel, ImpulseResponse
 
 from .damping import _validate_signal, log_decrement, noise_level, oscillates
 
 
-def fe_simulator(model_factory, t_end_s, n_outputs=400, tip_component="tip_uy_m"):
-    """``simulate(alpha)`` of the explicit FE model ``model_factory(alpha)`` (an adapter over
-    :class:`ccedi.fea.studies.FullImpulseModel` for callers of the callable form).
+def _tip_signal(model, alpha, t_end_s, n_outputs):
+    """One run of an impulse model as arrays (the searches' only contact with a model).
 
     Parameters
     ----------
-    model_factory : callable
-        ``alpha -> ccedi.fea.model.Model``.
+    model : ccedi.models.ImpulseModel
+        The model.
+    alpha : float
+        Mass-proportional damping coefficient [1/s].
     t_end_s : float
         Simulated time [s].
-    n_outputs : int, optional
+    n_outputs : int
         Output times.
-    tip_component : str, optional
-        History column returned as the displacement.
 
     Returns
     -------
-    callable
-        ``simulate(alpha)`` -> (time_s [s], tip displacement [m]).
+    tuple of numpy.ndarray
+        ``(time_s [s], tip_uy_m [m])`` of :meth:`ccedi.models.ImpulseResponse.tip_signal`.
+
+    Raises
+    ------
+    InputError
+        The model answers something other than an :class:`ccedi.models.ImpulseResponse`.
     """
-    from ccedi.fea.studies import FullImpulseModel
+    response = model.run(alpha, t_end_s, n_outputs)
+    if not isinstance(response, ImpulseResponse):
+        raise InputError(f"{model.name}.run must answer an ImpulseResponse, got {type(response).__name__}")
+    return response.tip_signal()
 
-    model = FullImpulseModel(model_factory)
 
-    def simulate(alpha):
-        h = model.run(alpha, t_end_s, n_outputs).history
-        return h.time_s.values, h[tip_component].values
+def _require_impulse_model(model):
+    """Check that ``model`` speaks the impulse-model interface.
 
-    return simulate
+    Parameters
+    ----------
+    model : object
+        What the caller passed as the model.
+
+    Raises
+    ------
+    InputError
+        ``model`` is not a :class:`ccedi.models.ImpulseModel` (no ``run``, ``name``,
+        ``force_N`` or ``duration_s``).
+    """
+    if not isinstance(model, ImpulseModel):
+        raise InputError(f"expected an impulse model (ccedi.models.ImpulseModel: name, force_N, duration_s and "
+                         f"run(alpha, t_end_s, n_outputs)), got {type(model).__name__}")
 
 
 @dataclass(frozen=True)
@@ -79,7 +98,7 @@ class CriticalAlpha:
     runs: list = field(default_factory=list)
 
 
-def critical_alpha(model, alpha_guess, rtol=0.01, bracket=(0.8, 1.1), noise_band=1e-6, max_expand=6, t_end_s=None,
+def critical_alpha(model, alpha_guess, t_end_s, rtol=0.01, bracket=(0.8, 1.1), noise_band=1e-6, max_expand=6,
                    n_outputs=400):
     """Critical mass-proportional coefficient alpha_cr [1/s] by bisection on "the
     simulated tip response oscillates" (:func:`ccedi.rom.damping.oscillates`: after its
@@ -94,11 +113,12 @@ def critical_alpha(model, alpha_guess, rtol=0.01, bracket=(0.8, 1.1), noise_band
 
     Parameters
     ----------
-    model : ccedi.models.ImpulseModel or callable
-        The impulse model (full or reduced), run for ``t_end_s`` at ``n_outputs`` times,
-        or a ``simulate(alpha) -> (time_s, tip displacement)`` callable.
+    model : ccedi.models.ImpulseModel
+        The impulse model (full or reduced), run for ``t_end_s`` at ``n_outputs`` times.
     alpha_guess : float
         Centre of the first bracket [1/s], > 0.
+    t_end_s : float
+        Simulated time of every run [s], > 0 (about the load duration + 12 / omega_1).
     rtol : float, optional
         Final bracket width relative to its upper end, in (0, 1).
     bracket : tuple, optional
@@ -107,10 +127,8 @@ def critical_alpha(model, alpha_guess, rtol=0.01, bracket=(0.8, 1.1), noise_band
         Crossing band relative to the largest excursion [-].
     max_expand : int, optional
         Widening steps allowed at either end.
-    t_end_s : float, optional
-        Simulated time of every run [s] (required with a model).
     n_outputs : int, optional
-        Output times of every run (with a model).
+        Output times of every run.
 
     Returns
     -------
@@ -119,9 +137,10 @@ def critical_alpha(model, alpha_guess, rtol=0.01, bracket=(0.8, 1.1), noise_band
     Raises
     ------
     InputError
-        Invalid arguments, or no bracket found within ``max_expand`` widenings.
+        Not an impulse model, invalid arguments, or no bracket found within
+        ``max_expand`` widenings.
     """
-    simulate = impulse_simulator(model, t_end_s, n_outputs)
+    _require_impulse_model(model)
     alpha_guess = require_finite_positive("alpha_guess (1/s)", alpha_guess)
     lo, hi = alpha_guess * bracket[0], alpha_guess * bracket[1]
     if not 0.0 < lo < hi:
@@ -131,7 +150,7 @@ def critical_alpha(model, alpha_guess, rtol=0.01, bracket=(0.8, 1.1), noise_band
     runs = []
 
     def oscillating(alpha):
-        t, y = simulate(alpha)
+        t, y = _tip_signal(model, alpha, t_end_s, n_outputs)
         result = oscillates(t, y, y_final=0.0, noise_band=noise_band)
         runs.append((float(alpha), bool(result)))
         return result
@@ -192,8 +211,8 @@ def match_alpha(model, time_s, tip_displacement_m, bounds_per_s, xatol_rel=0.002
 
     Parameters
     ----------
-    model : ccedi.models.ImpulseModel or callable
-        The impulse model (full or reduced) or a ``simulate(alpha)`` callable.
+    model : ccedi.models.ImpulseModel
+        The impulse model (full or reduced).
     time_s, tip_displacement_m : array_like
         The measured response: times [s] and tip displacement [m].
     bounds_per_s : tuple
@@ -201,9 +220,9 @@ def match_alpha(model, time_s, tip_displacement_m, bounds_per_s, xatol_rel=0.002
     xatol_rel : float, optional
         Tolerance on alpha relative to the upper bound.
     t_end_s : float, optional
-        Simulated time of a model's runs [s] (default: the last measured time).
+        Simulated time of every run [s] (default: the last measured time).
     n_outputs : int, optional
-        Output times of a model's runs.
+        Output times of every run.
 
     Returns
     -------
@@ -212,10 +231,12 @@ def match_alpha(model, time_s, tip_displacement_m, bounds_per_s, xatol_rel=0.002
     Raises
     ------
     InputError
-        Invalid signal or bounds, or measured times outside the simulated span.
+        Not an impulse model, invalid signal or bounds, or measured times outside the
+        simulated span.
     """
+    _require_impulse_model(model)
     t, y = _validate_signal(time_s, tip_displacement_m)
-    simulate = impulse_simulator(model, float(t[-1]) if t_end_s is None else t_end_s, n_outputs)
+    t_end_s = float(t[-1]) if t_end_s is None else t_end_s
     lo, hi = (require_finite_positive(f"bounds_per_s[{i}] (1/s)", b, allow_zero=True)
               for i, b in enumerate(bounds_per_s))
     if not lo < hi:
@@ -224,7 +245,7 @@ def match_alpha(model, time_s, tip_displacement_m, bounds_per_s, xatol_rel=0.002
     y_rms = float(np.sqrt(np.mean(y**2)))
 
     def misfit(alpha):
-        ts, ys = simulate(alpha)
+        ts, ys = _tip_signal(model, alpha, t_end_s, n_outputs)
         if t[0] < ts[0] - 1e-12 or t[-1] > ts[-1] + 1e-12:
             raise InputError(f"measured times [{t[0]:.4g}, {t[-1]:.4g}] s fall outside the simulation "
                              f"[{ts[0]:.4g}, {ts[-1]:.4g}] s")
@@ -282,8 +303,8 @@ def identify(time_s, tip_displacement_m, model, alpha_guess, bounds_per_s=None, 
     ----------
     time_s, tip_displacement_m : array_like
         The measured impulse response: times [s] and tip displacement [m].
-    model : ccedi.models.ImpulseModel or callable
-        The impulse model (full or reduced) or a ``simulate(alpha)`` callable.
+    model : ccedi.models.ImpulseModel
+        The impulse model (full or reduced).
     alpha_guess : float
         Starting alpha [1/s] (2 omega_1 is a good one).
     bounds_per_s : tuple, optional
@@ -293,10 +314,10 @@ def identify(time_s, tip_displacement_m, model, alpha_guess, bounds_per_s=None, 
     critical : CriticalAlpha, optional
         A precomputed alpha_cr (no search then).
     t_end_s : float, optional
-        Simulated time of a model's runs [s] (default: the last measured time; the
+        Simulated time of every run [s] (default: the last measured time; the
         alpha_cr search needs about 12 / omega_1 after the load).
     n_outputs : int, optional
-        Output times of a model's runs.
+        Output times of every run.
 
     Returns
     -------
@@ -305,23 +326,24 @@ def identify(time_s, tip_displacement_m, model, alpha_guess, bounds_per_s=None, 
     Raises
     ------
     InputError
-        Invalid signal, or a failed alpha_cr bracket.
+        Not an impulse model, invalid signal, or a failed alpha_cr bracket.
     """
+    _require_impulse_model(model)
     t, y = _validate_signal(time_s, tip_displacement_m)
-    simulate = impulse_simulator(model, float(t[-1]) if t_end_s is None else t_end_s, n_outputs)
+    t_end_s = float(t[-1]) if t_end_s is None else t_end_s
     final = float(np.mean(y[int(0.9 * len(y)):]))
     peak = float(np.max(np.abs(y - final)))
     band = min(max(noise_band, 5.0 * noise_level(y) / peak), 0.5) if peak > 0 else noise_band
     if oscillates(t, y, y_final=final, noise_band=band):
         ld = log_decrement(t, y, y_final=final, noise_band=band)
-        crit = critical or critical_alpha(simulate, alpha_guess)
+        crit = critical or critical_alpha(model, alpha_guess, t_end_s, n_outputs=n_outputs)
         return Identification(regime="under-damped", alpha_per_s=ld.zeta * crit.alpha_cr_per_s, zeta=ld.zeta,
                               alpha_cr_per_s=crit.alpha_cr_per_s, n_runs=0 if critical else crit.n_runs,
                               detail={"zeta_ci95": ld.zeta_ci95, "n_cycles": ld.n_cycles, "noise_band": band,
                                       "omega_d_rad_s": ld.omega_d_rad_s,
                                       "alpha_cr_bracket_per_s": crit.bracket_per_s})
     bounds = bounds_per_s or (0.2 * alpha_guess, 10.0 * alpha_guess)
-    match = match_alpha(simulate, t, y, bounds)
+    match = match_alpha(model, t, y, bounds, t_end_s=t_end_s, n_outputs=n_outputs)
     zeta = match.alpha_per_s / critical.alpha_cr_per_s if critical else float("nan")
     return Identification(regime="over-damped", alpha_per_s=match.alpha_per_s, zeta=zeta,
                           alpha_cr_per_s=critical.alpha_cr_per_s if critical else None, n_runs=match.n_runs,

@@ -188,7 +188,7 @@ def impulse_cases(alphas=(20.0, 180.0), n_modes=6, force_N=0.1, duration_s=0.01,
     cases = []
     for alpha in alphas:
         fe = full.run(alpha, t_end_s, n_outputs)
-        t, y = fe.history.time_s.to_numpy(), fe.history.tip_uy_m.to_numpy()
+        t, y = fe.tip_signal()
         rom = reduce_impulse_model(full, n_modes=n_modes, alpha=alpha).rom
         fit = fit_to_response(rom, t, y, full.force_N, full.duration_s)
         repeats = 200

@@ -2,23 +2,41 @@
 
 Impulse models (:class:`ccedi.models.ImpulseModel`) for :mod:`ccedi.rom.ccedi`, with run
 lengths chosen from the first natural frequency so that a nearly critical response has
-time to cross zero: t_end = load duration + 12 / omega_1. The searches take any impulse
-model of the structure (default: the full FE one; e.g. its modal ROM from
-:func:`ccedi.rom.modal.reduce_impulse_model`). The ``*_simulator`` functions are
-adapters giving the ``simulate(alpha) -> (time_s, tip displacement m)`` form.
+time to cross zero: t_end = load duration + 12 / omega_1 (:func:`run_length_s`). The
+searches take any impulse model of the structure (default: the full FE one,
+:func:`finger_model` or :func:`ccedi.fea.steel_rod.steel_rod_impulse_model`; e.g. its
+modal ROM from :func:`ccedi.rom.modal.reduce_impulse_model`).
 """
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import SEMI_AXES, sm_a
 from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import cantilever_model
-from ccedi.fea.steel_rod import STEEL_ROD, steel_rod_impulse_model
+from ccedi.fea.steel_rod import steel_rod_impulse_model
 from ccedi.fea.studies import finger_impulse_model
-from ccedi.models import impulse_simulator
 
 from .ccedi import critical_alpha, paper_alpha_cr
 
 SETTLE_PERIODS = 12.0
 """Run length after the load, in units of 1 / omega_1 [-]."""
+
+
+def run_length_s(duration_s, omega1_rad_s):
+    """Length of a CCEDI run: the load, then ``SETTLE_PERIODS`` / omega_1 for a nearly
+    critical response to cross zero.
+
+    Parameters
+    ----------
+    duration_s : float
+        How long the tip force is held [s].
+    omega1_rad_s : float
+        First natural frequency [rad/s].
+
+    Returns
+    -------
+    float
+        ``duration_s + SETTLE_PERIODS / omega1_rad_s`` [s].
+    """
+    return duration_s + SETTLE_PERIODS / omega1_rad_s
 
 
 def finger_omega1(length_in, material=RUBBER, semi_axes_m=SEMI_AXES):
@@ -66,30 +84,6 @@ def finger_model(length_in, force_N=1.0, duration_s=0.01, material=RUBBER, semi_
                                 mesh=sm_a(length_in=length_in, semi_axes_m=semi_axes_m))
 
 
-def finger_simulator(length_in, force_N=1.0, duration_s=0.01, t_end_s=None, n_outputs=400, material=RUBBER,
-                     semi_axes_m=SEMI_AXES):
-    """``simulate(alpha)`` of :func:`finger_model` (adapter).
-
-    Parameters
-    ----------
-    length_in, force_N, duration_s, material, semi_axes_m
-        As :func:`finger_model`.
-    t_end_s : float, optional
-        Simulated time [s] (default: ``duration_s`` + 12 / omega_1).
-    n_outputs : int, optional
-        Output times.
-
-    Returns
-    -------
-    callable
-        ``simulate(alpha)`` -> (time_s [s], tip displacement [m]).
-    """
-    model = finger_model(length_in, force_N, duration_s, material, semi_axes_m)
-    if t_end_s is None:
-        t_end_s = duration_s + SETTLE_PERIODS / finger_omega1(length_in, material, semi_axes_m)
-    return impulse_simulator(model, t_end_s, n_outputs)
-
-
 def finger_alpha_cr(length_in, rtol=0.01, material=RUBBER, semi_axes_m=SEMI_AXES, model=None, n_outputs=400):
     """alpha_cr of the SM-A finger by bisection, starting from 2 omega_1.
 
@@ -105,7 +99,7 @@ def finger_alpha_cr(length_in, rtol=0.01, material=RUBBER, semi_axes_m=SEMI_AXES
         Section semi-axes [m].
     model : ccedi.models.ImpulseModel, optional
         The finger's impulse model, full or reduced (default: :func:`finger_model`, 1 N
-        for 10 ms); run for its ``duration_s`` + 12 / omega_1.
+        for 10 ms); run for :func:`run_length_s` of its ``duration_s``.
     n_outputs : int, optional
         Output times per run.
 
@@ -116,33 +110,8 @@ def finger_alpha_cr(length_in, rtol=0.01, material=RUBBER, semi_axes_m=SEMI_AXES
     """
     omega1 = finger_omega1(length_in, material, semi_axes_m)
     model = finger_model(length_in, material=material, semi_axes_m=semi_axes_m) if model is None else model
-    t_end_s = model.duration_s + SETTLE_PERIODS / omega1
-    return critical_alpha(model, 2.0 * omega1, rtol=rtol, t_end_s=t_end_s, n_outputs=n_outputs), omega1
-
-
-def rod_simulator(t_end_s=None, omega1_guess=16.33, n_outputs=800, **kwargs):
-    """``simulate(alpha)`` of the steel rod of paper section 2.2 (adapter over
-    :func:`ccedi.fea.steel_rod.steel_rod_impulse_model`; tip impulse 0.003 N for 0.2 s).
-
-    Parameters
-    ----------
-    t_end_s : float, optional
-        Simulated time [s] (default: the load duration + 12 / ``omega1_guess``).
-    omega1_guess : float, optional
-        First natural frequency [rad/s] for the default run length.
-    n_outputs : int, optional
-        Output times.
-    **kwargs
-        Passed to :func:`ccedi.fea.steel_rod.steel_rod_impulse_model`.
-
-    Returns
-    -------
-    callable
-        ``simulate(alpha)`` -> (time_s [s], tip displacement [m]).
-    """
-    if t_end_s is None:
-        t_end_s = STEEL_ROD["duration_s"] + SETTLE_PERIODS / omega1_guess
-    return impulse_simulator(steel_rod_impulse_model(**kwargs), t_end_s, n_outputs)
+    t_end_s = run_length_s(model.duration_s, omega1)
+    return critical_alpha(model, 2.0 * omega1, t_end_s, rtol=rtol, n_outputs=n_outputs), omega1
 
 
 def rod_alpha_cr(omega1_guess=16.33, rtol=0.01, model=None, n_outputs=800):
@@ -155,8 +124,9 @@ def rod_alpha_cr(omega1_guess=16.33, rtol=0.01, model=None, n_outputs=800):
     rtol : float, optional
         Relative bracket width at the end.
     model : ccedi.models.ImpulseModel, optional
-        The rod's impulse model (default: the full FE one); run for its ``duration_s`` +
-        12 / ``omega1_guess``.
+        The rod's impulse model (default: the full FE one,
+        :func:`ccedi.fea.steel_rod.steel_rod_impulse_model`); run for
+        :func:`run_length_s` of its ``duration_s`` and ``omega1_guess``.
     n_outputs : int, optional
         Output times per run.
 
@@ -165,8 +135,8 @@ def rod_alpha_cr(omega1_guess=16.33, rtol=0.01, model=None, n_outputs=800):
     ccedi.rom.ccedi.CriticalAlpha
     """
     model = steel_rod_impulse_model() if model is None else model
-    t_end_s = model.duration_s + SETTLE_PERIODS / omega1_guess
-    return critical_alpha(model, 2.0 * omega1_guess, rtol=rtol, t_end_s=t_end_s, n_outputs=n_outputs)
+    t_end_s = run_length_s(model.duration_s, omega1_guess)
+    return critical_alpha(model, 2.0 * omega1_guess, t_end_s, rtol=rtol, n_outputs=n_outputs)
 
 
 def _alpha_cr_row(length_in, rtol, material, semi_axes_m):

@@ -33,7 +33,7 @@ import pandas as pd
 from scipy.optimize import least_squares
 
 from ccedi.errors import InputError, require_finite_positive
-from ccedi.models import ImpulseResponse, impulse_simulator, pulse_times, validate_run_args
+from ccedi.models import ImpulseResponse, pulse_times, validate_run_args
 from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import Model, face_node_weights
 
@@ -424,28 +424,3 @@ def reduce_impulse_model(full, n_modes=6, alpha=0.0, fit_t_end_s=None, fit_n_out
         t, y = full.run(alpha, fit_t_end_s, fit_n_outputs).tip_signal()
         rom = fit_to_response(rom, t, y, full.force_N, full.duration_s).rom
     return ModalImpulseModel(rom, full.force_N, full.duration_s)
-
-
-def rom_simulator(rom: ModalROM, force_N, duration_s, t_end_s, n_outputs=400):
-    """``simulate(alpha) -> (time_s, displacement_m)`` of the modal ROM (an adapter over
-    :class:`ModalImpulseModel` for callers of the callable form).
-
-    Parameters
-    ----------
-    rom : ModalROM
-        The modes.
-    force_N : float
-        Pulse force [N].
-    duration_s : float
-        Pulse length [s].
-    t_end_s : float
-        Simulated time [s].
-    n_outputs : int, optional
-        Output times.
-
-    Returns
-    -------
-    callable
-        ``simulate(alpha)`` -> (time_s [s], displacement [m]).
-    """
-    return impulse_simulator(ModalImpulseModel(rom, force_N, duration_s), t_end_s, n_outputs)

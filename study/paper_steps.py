@@ -22,22 +22,47 @@ def _axes(nrows=1, figsize=(7, 4.5)):
 def steel_rod(out):
     """CCEDI on the steel rod: alpha_cr by bisection from 2 omega_1, responses at the guess,
     at alpha_cr and, for contrast, at alpha_cr / 4 (Fig. 3), and at alpha = zeta alpha_cr against the published decay
-    (Fig. 4). Writes steel_rod.json, steel_rod_responses.csv, fig3/fig4 PNGs in ``out``."""
-    from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD
-    from ccedi.rom.damping import log_decrement
-    from ccedi.rom.finger_identification import rod_alpha_cr, rod_simulator
+    (Fig. 4).
 
-    crit = rod_alpha_cr()
-    guess = 2.0 * PAPER_ROD["omega1_rad_s"]
+    Every run goes through the rod's impulse model
+    (:func:`ccedi.fea.steel_rod.steel_rod_impulse_model`), 800 outputs per run; the
+    Fig. 3 runs last :func:`ccedi.rom.finger_identification.run_length_s` (the load and
+    12 / omega_1), the Fig. 4 run the load and ``FREE_PERIODS`` periods.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        Output directory; receives steel_rod.json, steel_rod_responses.csv,
+        steel_rod_free_vibration.csv and the fig3/fig4 PNGs.
+
+    Returns
+    -------
+    dict
+        ``alpha_guess_per_s``, ``alpha_cr_per_s``, ``oscillating_bracket_per_s``,
+        ``alpha_per_s``, the paper's values [1/s] and ``published_zeta`` [-],
+        ``published_omega1_rad_s`` [rad/s], ``n_fe_runs``; the simulated free vibration's
+        ``simulated_zeta`` [-], ``simulated_omega_d_rad_s`` [rad/s] and
+        ``log_decrement_cycles``.
+    """
+    from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_impulse_model
+    from ccedi.rom.damping import log_decrement
+    from ccedi.rom.finger_identification import rod_alpha_cr, run_length_s
+
+    rod = steel_rod_impulse_model()
+    omega1 = PAPER_ROD["omega1_rad_s"]
+    n_outputs = 800
+    crit = rod_alpha_cr(omega1_guess=omega1, model=rod, n_outputs=n_outputs)
+    guess = 2.0 * omega1
     alpha = PAPER_ROD["zeta"] * crit.alpha_cr_per_s
-    simulate = rod_simulator()
-    series = {name: simulate(a) for name, a in (("initial_guess", guess), ("quarter_critical", 0.25 * crit.alpha_cr_per_s),
-                                                ("critical", crit.alpha_cr_per_s))}
+    t_end = run_length_s(rod.duration_s, omega1)
+    series = {name: rod.run(a, t_end, n_outputs).tip_signal()
+              for name, a in (("initial_guess", guess), ("quarter_critical", 0.25 * crit.alpha_cr_per_s),
+                              ("critical", crit.alpha_cr_per_s))}
     t = series["critical"][0]
     write_csv(out / "steel_rod_responses.csv",
               pd.DataFrame({"time_s": t, **{f"tip_uy_m_{k}": v[1] for k, v in series.items()}}))
-    t_free, u_free = rod_simulator(t_end_s=STEEL_ROD["duration_s"] + FREE_PERIODS * 2 * np.pi
-                                   / PAPER_ROD["omega1_rad_s"])(alpha)
+    t_free, u_free = rod.run(alpha, STEEL_ROD["duration_s"] + FREE_PERIODS * 2 * np.pi / omega1,
+                             n_outputs).tip_signal()
     write_csv(out / "steel_rod_free_vibration.csv", pd.DataFrame({"time_s": t_free, "tip_uy_m": u_free}))
     free = t_free > STEEL_ROD["duration_s"]
     dec = log_decrement(t_free[free], u_free[free], y_final=0.0)

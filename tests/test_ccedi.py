@@ -1,37 +1,56 @@
 """CCEDI (paper Fig. 2): the critical-alpha bisection and over-damped matching, first on
 exact single-DOF responses (fast), then on the paper's FE structures."""
 import numpy as np
+import pandas as pd
 import pytest
 
 from ccedi.errors import InputError
-from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD
+from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_impulse_model
+from ccedi.models import ImpulseModel, ImpulseResponse, pulse_times, validate_run_args
 from ccedi.rom.ccedi import critical_alpha, identify, match_alpha, paper_alpha, paper_alpha_cr, power_law_fit
 from ccedi.rom.damping import log_decrement
-from ccedi.rom.finger_identification import finger_alpha_cr, finger_simulator, rod_alpha_cr, rod_simulator
+from ccedi.rom.finger_identification import finger_alpha_cr, finger_model, rod_alpha_cr
 
 OMEGA = 50.0
 
 
-def sdof_simulator(omega=OMEGA, t_end=2.0, n=4000):
-    """Exact impulse response of x'' + alpha x' + omega^2 x = delta(t) (mass damping only)."""
-    t = np.linspace(0.0, t_end, n)
+class SDOF:
+    """Exact impulse response of x'' + alpha x' + omega^2 x = delta(t) (mass damping only),
+    an :class:`ccedi.models.ImpulseModel`: a unit impulse (force_N = 1, duration_s = 0)."""
 
-    def simulate(alpha):
-        s = alpha / 2.0
-        if s < omega:
-            wd = np.sqrt(omega**2 - s**2)
-            return t, np.exp(-s * t) * np.sin(wd * t) / wd
-        if s == omega:
-            return t, t * np.exp(-s * t)
-        r = np.sqrt(s**2 - omega**2)
-        return t, (np.exp((-s + r) * t) - np.exp((-s - r) * t)) / (2 * r)
+    name = "sdof"
+    force_N = 1.0
+    duration_s = 0.0
 
-    return simulate
+    def __init__(self, omega=OMEGA):
+        self.omega = omega
+
+    def run(self, alpha, t_end_s, n_outputs=400):
+        alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs)
+        t, w, s = pulse_times(t_end_s, n_outputs), self.omega, alpha / 2.0
+        if s < w:
+            wd = np.sqrt(w**2 - s**2)
+            y = np.exp(-s * t) * np.sin(wd * t) / wd
+        elif s == w:
+            y = t * np.exp(-s * t)
+        else:
+            r = np.sqrt(s**2 - w**2)
+            y = (np.exp((-s + r) * t) - np.exp((-s - r) * t)) / (2 * r)
+        return ImpulseResponse(history=pd.DataFrame({"time_s": t, "tip_uy_m": y}),
+                               summary={"model": self.name, "alpha_per_s": alpha, "wall_time_s": 0.0})
+
+
+RUN = {"t_end_s": 2.0, "n_outputs": 4000}
+"""The SDOF runs: 2 s, 4000 outputs."""
+
+
+def test_sdof_is_an_impulse_model():
+    assert isinstance(SDOF(), ImpulseModel)
 
 
 @pytest.mark.parametrize("guess", [100.0, 40.0, 300.0])
 def test_critical_alpha_of_sdof_is_two_omega(guess):
-    crit = critical_alpha(sdof_simulator(), guess, rtol=0.005)
+    crit = critical_alpha(SDOF(), guess, rtol=0.005, **RUN)
     assert crit.alpha_cr_per_s == pytest.approx(2 * OMEGA, rel=0.03)
     assert crit.alpha_cr_per_s < 2 * OMEGA                  # the band resolves zeta up to ~0.97
     assert crit.n_runs == len(crit.runs) >= 3
@@ -40,20 +59,20 @@ def test_critical_alpha_of_sdof_is_two_omega(guess):
 
 
 def test_match_alpha_recovers_overdamped_sdof_with_noise():
-    simulate = sdof_simulator()
-    t, y = simulate(160.0)
+    sdof = SDOF()
+    t, y = sdof.run(160.0, **RUN).tip_signal()
     noise = 0.02 * y.max()
     y = y + noise * np.random.default_rng(0).standard_normal(len(t))
-    m = match_alpha(simulate, t, y, (50.0, 500.0))
+    m = match_alpha(sdof, t, y, (50.0, 500.0), **RUN)
     assert m.alpha_per_s == pytest.approx(160.0, rel=0.01)
     assert m.n_runs == len(m.evaluations) < 40
     assert m.rms_error_m == pytest.approx(noise, rel=0.1)          # what is left is the noise
 
 
 def test_identify_under_damped_sdof_gives_zeta_times_alpha_cr():
-    simulate = sdof_simulator(t_end=4.0, n=8000)
-    t, y = simulate(10.0)                                   # zeta = 10 / (2 * 50) = 0.1
-    ident = identify(t, y, simulate, alpha_guess=100.0)
+    sdof, run = SDOF(), {"t_end_s": 4.0, "n_outputs": 8000}
+    t, y = sdof.run(10.0, **run).tip_signal()               # zeta = 10 / (2 * 50) = 0.1
+    ident = identify(t, y, sdof, alpha_guess=100.0, **run)
     assert ident.regime == "under-damped"
     assert ident.zeta == pytest.approx(0.1, rel=0.02)
     assert ident.alpha_per_s == pytest.approx(ident.zeta * ident.alpha_cr_per_s, rel=1e-12)
@@ -61,9 +80,9 @@ def test_identify_under_damped_sdof_gives_zeta_times_alpha_cr():
 
 
 def test_identify_over_damped_sdof_matches():
-    simulate = sdof_simulator()
-    t, y = simulate(250.0)
-    ident = identify(t, y, simulate, alpha_guess=100.0)
+    sdof = SDOF()
+    t, y = sdof.run(250.0, **RUN).tip_signal()
+    ident = identify(t, y, sdof, alpha_guess=100.0, **RUN)
     assert ident.regime == "over-damped" and ident.alpha_per_s == pytest.approx(250.0, rel=0.01)
 
 
@@ -78,11 +97,25 @@ def test_power_law_and_paper_equations():
 
 def test_bad_bracket_and_tolerance_are_named():
     with pytest.raises(InputError, match="bracket"):
-        critical_alpha(sdof_simulator(), 100.0, bracket=(1.2, 0.8))
+        critical_alpha(SDOF(), 100.0, bracket=(1.2, 0.8), **RUN)
     with pytest.raises(InputError, match="rtol"):
-        critical_alpha(sdof_simulator(), 100.0, rtol=2.0)
+        critical_alpha(SDOF(), 100.0, rtol=2.0, **RUN)
     with pytest.raises(InputError, match="bounds"):
-        match_alpha(sdof_simulator(), *sdof_simulator()(100.0), (300.0, 100.0))
+        match_alpha(SDOF(), *SDOF().run(100.0, **RUN).tip_signal(), (300.0, 100.0))
+
+
+def test_searches_take_impulse_models_only():
+    """A bare simulate(alpha) callable is not an impulse model: named, not run."""
+    def simulate(alpha):
+        return SDOF().run(alpha, **RUN).tip_signal()
+
+    t, y = simulate(100.0)
+    with pytest.raises(InputError, match="impulse model"):
+        critical_alpha(simulate, 100.0, **RUN)
+    with pytest.raises(InputError, match="impulse model"):
+        match_alpha(simulate, t, y, (50.0, 500.0))
+    with pytest.raises(InputError, match="impulse model"):
+        identify(t, y, simulate, alpha_guess=100.0)
 
 
 # ---- the paper's structures (explicit FEA) ----------------------------------------------
@@ -101,7 +134,7 @@ def test_steel_rod_alpha_from_zeta_reproduces_zeta(rod_critical):
     """alpha = zeta alpha_cr with the measured zeta = 0.0055: the simulated free vibration
     has a log-decrement damping ratio within 10 % of 0.0055."""
     alpha = PAPER_ROD["zeta"] * rod_critical.alpha_cr_per_s
-    t, y = rod_simulator(t_end_s=4.0, n_outputs=4000)(alpha)
+    t, y = steel_rod_impulse_model().run(alpha, 4.0, 4000).tip_signal()
     free = t > STEEL_ROD["duration_s"]
     ld = log_decrement(t[free], y[free], y_final=0.0)
     assert ld.zeta == pytest.approx(PAPER_ROD["zeta"], rel=0.10)
@@ -116,8 +149,8 @@ def test_finger_alpha_cr_45_in():
 
 
 def test_overdamped_match_45_in_alpha_180_with_noise():
-    simulate = finger_simulator(4.5, t_end_s=0.12, n_outputs=240)
-    t, y = simulate(180.0)
+    model, run = finger_model(4.5), {"t_end_s": 0.12, "n_outputs": 240}
+    t, y = model.run(180.0, **run).tip_signal()
     y_meas = y + 0.02 * np.abs(y).max() * np.random.default_rng(4).standard_normal(len(t))
-    m = match_alpha(simulate, t, y_meas, (60.0, 400.0), xatol_rel=0.005)
+    m = match_alpha(model, t, y_meas, (60.0, 400.0), xatol_rel=0.005, **run)
     assert m.alpha_per_s == pytest.approx(180.0, rel=0.05)

@@ -232,7 +232,7 @@ def check_class(label, cls):
                 if name not in fields:
                     problems.append(f"{label}: documented parameter {name} is not a field")
     elif ("__init__" in cls.__dict__ and inspect.isfunction(cls.__dict__["__init__"])
-          and not getattr(cls, "_is_protocol", False)):       # a Protocol's __init__ is typing's
+          and cls.__dict__["__init__"].__module__ != "typing"):   # typing.Protocol's stand-in, not the class's own
         init = cls.__dict__["__init__"]
         init_doc = doc if documented_parameters(doc) or not inspect.getdoc(init) else inspect.getdoc(init)
         if doc or inspect.getdoc(init):

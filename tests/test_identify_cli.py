@@ -8,7 +8,7 @@ import pytest
 
 from ccedi.study.cli import main
 from ccedi.rom.ccedi import paper_alpha_cr
-from ccedi.rom.finger_identification import finger_simulator
+from ccedi.rom.finger_identification import finger_model
 from ccedi.rom.measurement import load_response
 
 
@@ -22,7 +22,7 @@ def test_alpha_cr_of_3_in_finger(tmp_path):
 
 
 def test_identify_overdamped_3_in_from_csv(tmp_path):
-    t, y = finger_simulator(3.0, t_end_s=0.08, n_outputs=320)(600.0)
+    t, y = finger_model(3.0).run(600.0, 0.08, 320).tip_signal()
     y = y + 0.02 * np.abs(y).max() * np.random.default_rng(7).standard_normal(len(t))
     force = np.where(t <= 0.01, 1.0, 0.0)
     csv = tmp_path / "measured.csv"

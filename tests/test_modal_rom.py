@@ -12,7 +12,7 @@ from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.static import tip_deflection
 from ccedi.fea.studies import impulse_model, impulse_response
 from ccedi.rom.ccedi import critical_alpha
-from ccedi.rom.modal import ModalROM, fit_to_response, modal_rom, nrmse, rom_simulator, tip_modal_rom
+from ccedi.rom.modal import ModalImpulseModel, ModalROM, fit_to_response, modal_rom, nrmse, tip_modal_rom
 
 
 @pytest.fixture(scope="module")
@@ -76,9 +76,9 @@ def test_rom_matches_full_fea_impulse(alpha):
 
 
 def test_ccedi_runs_on_the_surrogate():
-    """The CCEDI bisection takes the ROM through the same simulate(alpha) interface."""
+    """The CCEDI bisection takes the ROM through the same impulse-model interface."""
     model = impulse_model(alpha=0.0)
     rom = tip_modal_rom(model, n_modes=6)
     omega1 = rom.omega_rad_s[0]
-    crit = critical_alpha(rom_simulator(rom, 1.0, 0.01, 0.01 + 12.0 / omega1), 2.0 * omega1, rtol=0.005)
+    crit = critical_alpha(ModalImpulseModel(rom, 1.0, 0.01), 2.0 * omega1, 0.01 + 12.0 / omega1, rtol=0.005)
     assert crit.alpha_cr_per_s == pytest.approx(2.0 * omega1, rel=0.05)

@@ -39,7 +39,7 @@ def finger_3in():
 
 def alpha_cr_of(model: ImpulseModel, omega1):
     """The one CCEDI alpha_cr search, whatever the model."""
-    return critical_alpha(model, 2.0 * omega1, rtol=0.02, t_end_s=model.duration_s + 12.0 / omega1, n_outputs=300)
+    return critical_alpha(model, 2.0 * omega1, model.duration_s + 12.0 / omega1, rtol=0.02, n_outputs=300)
 
 
 def test_same_alpha_cr_search_on_full_and_reduced_impulse_models(finger_3in):

@@ -72,29 +72,73 @@ def _pulse_from_force(t, force):
     return float(force[on[np.argmax(np.abs(force[on]))]]), float(t[on[-1]] - t[on[0]] + dt)
 
 
-def _simulator_and_guess(args, t_end_s):
+def _impulse_run(args, t_end_s):
+    """The impulse model of ``ccedi identify`` and how to run it.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed ``identify`` arguments (``model``, ``length_in``, ``force_N``,
+        ``duration_s`` and the config).
+    t_end_s : float or None
+        Least run length [s] (the last measured time), None for none.
+
+    Returns
+    -------
+    tuple
+        ``(model, t_end_s, n_outputs, alpha_guess, omega1)``: the
+        :class:`ccedi.models.ImpulseModel` (the steel rod or the SM-A finger under the
+        pulse of ``force_N`` [N] for ``duration_s`` [s]), the run length [s] (at least the
+        load and 12 / omega_1, :func:`ccedi.rom.finger_identification.run_length_s`), the
+        output times per run (800 rod, 400 finger), the search's first guess 2 omega_1
+        [1/s] and omega_1 [rad/s].
+
+    Raises
+    ------
+    InputError
+        A finger without ``--length-in``.
+    """
     from ccedi.study.config import finger_inputs
-    from ccedi.rom.finger_identification import SETTLE_PERIODS, finger_omega1, finger_simulator, rod_simulator
+    from ccedi.rom.finger_identification import finger_model, finger_omega1, run_length_s
     if args.model == "steel-rod":
-        from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD
+        from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_impulse_model
         force = STEEL_ROD["force_N"] if args.force_N is None else args.force_N
         duration = STEEL_ROD["duration_s"] if args.duration_s is None else args.duration_s
         omega1 = PAPER_ROD["omega1_rad_s"]
-        t_end = max(t_end_s or 0.0, duration + SETTLE_PERIODS / omega1)
-        return rod_simulator(t_end_s=t_end, force_N=force, duration_s=duration), 2.0 * omega1, omega1
+        t_end = max(t_end_s or 0.0, run_length_s(duration, omega1))
+        return steel_rod_impulse_model(force_N=force, duration_s=duration), t_end, 800, 2.0 * omega1, omega1
     if args.length_in is None:
         raise InputError("--length-in (finger length, in) is required for --model finger")
     force = 1.0 if args.force_N is None else args.force_N
     duration = 0.01 if args.duration_s is None else args.duration_s
     material, semi_axes = finger_inputs(load_config(args))
     omega1 = finger_omega1(args.length_in, material, semi_axes)
-    t_end = max(t_end_s or 0.0, duration + SETTLE_PERIODS / omega1)
-    simulate = finger_simulator(args.length_in, force_N=force, duration_s=duration, t_end_s=t_end, material=material,
-                                semi_axes_m=semi_axes)
-    return simulate, 2.0 * omega1, omega1
+    t_end = max(t_end_s or 0.0, run_length_s(duration, omega1))
+    model = finger_model(args.length_in, force_N=force, duration_s=duration, material=material,
+                         semi_axes_m=semi_axes)
+    return model, t_end, 400, 2.0 * omega1, omega1
 
 
 def cmd_identify(args):
+    """``ccedi identify``: alpha_cr of the model (``--alpha-cr``), or the CCEDI procedure
+    (:func:`ccedi.rom.ccedi.identify`) on a measured response CSV; every FE run goes
+    through the model's :class:`ccedi.models.ImpulseModel` interface.
+
+    Prints the result and writes it as JSON to ``args.json`` when given: alpha_cr
+    [1/s], its bracket [1/s], the runs, omega_1 [rad/s]; or the regime, alpha [1/s],
+    zeta [-], alpha_cr [1/s], the impulse force [N] and duration [s].
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed ``identify`` arguments.
+
+    Raises
+    ------
+    InputError
+        ``--rtol`` outside (0, 1), neither a CSV nor ``--alpha-cr``, a finger without
+        ``--length-in``, or a measured force column that is all zero.
+    """
     from ccedi.fea.outputs import write_json
     from ccedi.rom.ccedi import critical_alpha, identify
     from ccedi.rom.measurement import load_response
@@ -102,8 +146,8 @@ def cmd_identify(args):
     if not 0.0 < args.rtol < 1.0:
         raise InputError(f"--rtol must be in (0, 1), got {args.rtol}")
     if args.alpha_cr:
-        simulate, guess, omega1 = _simulator_and_guess(args, None)
-        crit = critical_alpha(simulate, guess, rtol=args.rtol)
+        model, t_end, n_outputs, guess, omega1 = _impulse_run(args, None)
+        crit = critical_alpha(model, guess, t_end, rtol=args.rtol, n_outputs=n_outputs)
         result = {"model": args.model, "length_in": args.length_in, "alpha_cr_per_s": crit.alpha_cr_per_s,
                   "bracket_per_s": list(crit.bracket_per_s), "n_fe_runs": crit.n_runs,
                   "omega1_rad_s": omega1, "two_omega1_per_s": 2.0 * omega1,
@@ -118,10 +162,10 @@ def cmd_identify(args):
             force, duration = _pulse_from_force(data.time_s, data.force_N)
             args.force_N = force if args.force_N is None else args.force_N
             args.duration_s = duration if args.duration_s is None else args.duration_s
-        simulate, guess, omega1 = _simulator_and_guess(args, float(data.time_s[-1]))
-        crit = critical_alpha(simulate, guess, rtol=args.rtol)
-        ident = identify(data.time_s, data.tip_displacement_m, simulate, guess, noise_band=args.noise_band,
-                         critical=crit)
+        model, t_end, n_outputs, guess, omega1 = _impulse_run(args, float(data.time_s[-1]))
+        crit = critical_alpha(model, guess, t_end, rtol=args.rtol, n_outputs=n_outputs)
+        ident = identify(data.time_s, data.tip_displacement_m, model, guess, noise_band=args.noise_band,
+                         critical=crit, t_end_s=t_end, n_outputs=n_outputs)
         result = {"model": args.model, "length_in": args.length_in, "source": data.source,
                   "regime": ident.regime, "alpha_per_s": ident.alpha_per_s, "zeta": ident.zeta,
                   "alpha_cr_per_s": ident.alpha_cr_per_s, "n_fe_runs": crit.n_runs + ident.n_runs,
