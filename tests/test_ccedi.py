@@ -125,11 +125,13 @@ def rod_critical():
     return rod_alpha_cr(omega1_guess=PAPER_ROD["omega1_rad_s"], rtol=0.02)
 
 
+@pytest.mark.slow
 def test_steel_rod_alpha_cr_matches_paper(rod_critical):
     """Paper section 2.2: alpha_cr = 30 1/s."""
     assert rod_critical.alpha_cr_per_s == pytest.approx(PAPER_ROD["alpha_cr_per_s"], rel=0.15)
 
 
+@pytest.mark.slow
 def test_steel_rod_alpha_from_zeta_reproduces_zeta(rod_critical):
     """alpha = zeta alpha_cr with the measured zeta = 0.0055: the simulated free vibration
     has a log-decrement damping ratio within 10 % of 0.0055."""
@@ -141,6 +143,7 @@ def test_steel_rod_alpha_from_zeta_reproduces_zeta(rod_critical):
     assert ld.n_cycles >= 8
 
 
+@pytest.mark.slow
 def test_finger_alpha_cr_45_in():
     """Acceptance: within 15 % of paper Eq. (8) and within 5 % of 2 omega_1 of our model."""
     crit, omega1 = finger_alpha_cr(4.5, rtol=0.02)
@@ -148,6 +151,7 @@ def test_finger_alpha_cr_45_in():
     assert crit.alpha_cr_per_s == pytest.approx(2 * omega1, rel=0.05)
 
 
+@pytest.mark.slow
 def test_overdamped_match_45_in_alpha_180_with_noise():
     model, run = finger_model(4.5), {"t_end_s": 0.12, "n_outputs": 240}
     t, y = model.run(180.0, **run).tip_signal()

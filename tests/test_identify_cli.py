@@ -12,6 +12,7 @@ from ccedi.rom.finger_identification import finger_model
 from ccedi.rom.measurement import load_response
 
 
+@pytest.mark.slow
 def test_alpha_cr_of_3_in_finger(tmp_path):
     path = tmp_path / "acr.json"
     assert main(["identify", "--length-in", "3", "--alpha-cr", "--rtol", "0.02", "--json", str(path)]) == 0
@@ -21,6 +22,7 @@ def test_alpha_cr_of_3_in_finger(tmp_path):
     assert out["n_fe_runs"] == len(out["runs"])
 
 
+@pytest.mark.slow
 def test_identify_overdamped_3_in_from_csv(tmp_path):
     t, y = finger_model(3.0).run(600.0, 0.08, 320).tip_signal()
     y = y + 0.02 * np.abs(y).max() * np.random.default_rng(7).standard_normal(len(t))

@@ -57,6 +57,7 @@ def test_state_space_matches_the_closed_form():
     assert np.allclose(y, rom.pulse_response(t, 0.5, 0.01 - 0.5 * (t[1] - t[0])), atol=1e-4 * np.abs(y).max())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("alpha", [20.0, 180.0])
 def test_rom_matches_full_fea_impulse(alpha):
     """Acceptance 1: 4.5-in finger, 0.1 N for 10 ms (small amplitude): NRMSE < 2 % with
