@@ -9,10 +9,10 @@ Run: ``.venv/bin/python benchmarks/calibrate_speed.py``; writes benchmarks/calib
 import time
 from pathlib import Path
 
+from _output import report  # benchmarks/ is on sys.path when run as a script
+
 from ccedi.calibrate.experiment import load_experiment
 from ccedi.calibrate.loop import calibrate
-
-from _output import report  # benchmarks/ is on sys.path when run as a script
 
 DATA = Path(__file__).parents[1] / "data" / "measured"
 OUT = Path(__file__).with_suffix(".json")

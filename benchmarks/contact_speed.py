@@ -11,9 +11,9 @@ import platform
 import sys
 from pathlib import Path
 
-from ccedi.fea.drum import DrumSetup, contact_run, contact_summary
-
 from _output import report  # benchmarks/ is on sys.path when run as a script
+
+from ccedi.fea.drum import DrumSetup, contact_run, contact_summary
 
 OUT = Path(__file__).with_suffix(".json")
 

@@ -10,12 +10,12 @@ Run: ``.venv/bin/python benchmarks/design_speed.py``; writes benchmarks/design_s
 import time
 from pathlib import Path
 
+from _output import report  # benchmarks/ is on sys.path when run as a script
+
 from ccedi.design.optimise import DesignProblem, solve
 from ccedi.design.pareto import pareto_front
 from ccedi.design.surrogate import Surrogate, design_space, grid_points, run_rom
 from ccedi.fea.drum import DrumSetup
-
-from _output import report  # benchmarks/ is on sys.path when run as a script
 
 OUT = Path(__file__).with_suffix(".json")
 

@@ -15,14 +15,13 @@ from pathlib import Path
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
+from _output import report  # noqa: E402  (benchmarks/ is on sys.path when run as a script)
 
 from ccedi.fea.explicit import run  # noqa: E402
 from ccedi.fea.kernels import internal_forces_numba  # noqa: E402
 from ccedi.fea.material import RUBBER  # noqa: E402
 from ccedi.fea.mesh import sm_a  # noqa: E402
 from ccedi.fea.model import cantilever_model, tip_pulse  # noqa: E402
-
-from _output import report  # noqa: E402  (benchmarks/ is on sys.path when run as a script)
 
 OUT = Path(__file__).with_suffix(".json")
 

@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties
 from ccedi.errors import InputError, require_finite_positive
+from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties
 from ccedi.fea.units import inch_to_m
 from ccedi.rom.measurement import MeasuredResponse, load_response
 

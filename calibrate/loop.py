@@ -13,9 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .effects import CATALOGUE
 from .experiment import Experiment
 from .fit import Fit, fit, fit_baseline
-from .effects import CATALOGUE
 from .model import FingerModel
 from .residual import analyse, noise_std, suggest
 

@@ -15,7 +15,6 @@ a starting value scaled to the record (mass, stiffness, first frequency, amplitu
 Linear effects keep the exact pulse response of :class:`ccedi.rom.modal.ModalROM`; viscoelastic
 and nonlinear tip forces use :func:`ccedi.calibrate.dynamics.integrate_tip`.
 """
-from dataclasses import dataclass
 
 import numpy as np
 

@@ -2,7 +2,7 @@
 
 A design is (alpha, L): mass-proportional damping alpha [1/s] and finger length L [m]
 (SM-A cross-section, the drum set-up of :class:`ccedi.fea.drum.DrumSetup`). From the run's
-history (:class:`ccedi.fea.drum.ContactResponse`) :func:`design_outputs` computes
+history (:class:`ccedi.models.ContactResponse`) :func:`design_outputs` computes
 
 * ``peak_reaction_force_N`` [N]: max_t of the force on the object averaged over a
   sliding 25 ms window, max_t |(1/w) int_{t-w/2}^{t+w/2} F dt'|, w = 25 ms: the load
@@ -31,10 +31,11 @@ from dataclasses import replace
 import casadi as ca
 import numpy as np
 
-from ccedi.fea.contact_study import tip_lag_series_m, window_mean
-from ccedi.fea.drum import DrumSetup, ObjectStress, contact_timing
 from ccedi.errors import InputError
+from ccedi.fea.contact_study import tip_lag_series_m, window_mean
+from ccedi.fea.drum import DrumSetup, ObjectStress
 from ccedi.fea.mesh import sm_a_elements_along
+from ccedi.models import contact_timing
 from ccedi.rom.ccedi import piecewise_alpha_fit
 
 RESIDUAL_WINDOW_S = 0.5

@@ -27,14 +27,21 @@ import casadi as ca
 import numpy as np
 import pandas as pd
 
-from ccedi.fea.drum import DrumSetup, ObjectStress
 from ccedi.errors import InputError
+from ccedi.fea.drum import DrumSetup, ObjectStress
 from ccedi.fea.outputs import write_csv, write_json
 from ccedi.fea.units import inch_to_m
 from ccedi.rom.contact_rom import ReducedContactModel
 
-from .objectives import (FORCE_WINDOW_S, OUTPUTS, OUTPUT_STEP_S, RESIDUAL_WINDOW_S, design_outputs, rom_segments,
-                         setup_for_length)
+from .objectives import (
+    FORCE_WINDOW_S,
+    OUTPUT_STEP_S,
+    OUTPUTS,
+    RESIDUAL_WINDOW_S,
+    design_outputs,
+    rom_segments,
+    setup_for_length,
+)
 
 GRID_T_END_S = 1.9
 """Simulated time of the grid runs [s]: the latest breakaway in the default space

@@ -11,6 +11,7 @@ with beta_i L = 1.8751, 4.6941, 7.8548 (clamped-free).
 import numpy as np
 
 from ccedi.errors import InputError, require_finite_positive
+
 from .mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR
 
 CANTILEVER_BETA_L = (1.8751040687, 4.6940911330, 7.8547574382)

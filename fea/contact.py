@@ -30,7 +30,8 @@ import numba as nb
 import numpy as np
 
 from ccedi.errors import InputError, require_finite_positive
-from .kernels import FASTMATH
+
+from .fastmath import FASTMATH
 from .rotating_frame import rotate, rotate_back
 
 PLANE, ELLIPSE = 0, 1

@@ -35,9 +35,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse.linalg as spla
 
-from .contact import Contact, RigidEllipse, boundary_nodes
 from ccedi.errors import InputError, require_finite_positive
 from ccedi.models import ContactResponse, contact_timing, validate_run_args
+
+from .contact import Contact, RigidEllipse, boundary_nodes
 from .explicit import run
 from .hex8 import deformation_gradient
 from .material import RUBBER, NeoHookean, max_von_mises_of

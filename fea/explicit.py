@@ -30,10 +30,12 @@ import numpy as np
 import pandas as pd
 
 from ccedi.errors import InputError, SolverError, require_finite_positive
-from .hex8 import deformation_gradient, internal_forces_numpy
+
 from .contact import PLANE, STEP_SHRINK, contact_forces, penalty_stiffness
+from .fastmath import FASTMATH
 from .friction import coulomb_friction
-from .kernels import FASTMATH, internal_forces_numba
+from .hex8 import deformation_gradient, internal_forces_numpy
+from .kernels import internal_forces_numba
 from .loads import pulse_forces, pulse_loads
 from .material import max_von_mises_of
 from .model import Model, face_node_weights

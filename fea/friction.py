@@ -9,7 +9,7 @@ step.
 import numba as nb
 import numpy as np
 
-from .kernels import FASTMATH
+from .fastmath import FASTMATH
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)

@@ -4,7 +4,7 @@ from collections import namedtuple
 import numba as nb
 import numpy as np
 
-from .kernels import FASTMATH
+from .fastmath import FASTMATH
 
 PulseLoads = namedtuple("PulseLoads", "nodes forces t_start t_end")
 PulseLoads.__doc__ = """Force pulses flattened to one row per loaded node (built by :func:`pulse_loads`).

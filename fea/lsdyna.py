@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ccedi.errors import InputError
+
 from .explicit import TSSFAC
 from .outputs import write_text
 

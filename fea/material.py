@@ -20,6 +20,7 @@ import numba as nb
 import numpy as np
 
 from ccedi.errors import InputError, require_finite_positive
+
 from .fastmath import FASTMATH
 
 

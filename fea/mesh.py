@@ -24,6 +24,7 @@ import numpy as np
 from scipy.integrate import cumulative_trapezoid
 
 from ccedi.errors import InputError, require_finite_positive
+
 from .units import inch_to_m
 
 SEMI_AXIS_MAJOR = 12.0e-3

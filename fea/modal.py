@@ -14,6 +14,7 @@ import scipy.sparse.linalg as spla
 from scipy.linalg import eigh
 
 from ccedi.errors import InputError
+
 from .model import Model
 from .static import free_dofs, tangent_stiffness
 

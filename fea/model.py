@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ccedi.errors import InputError, require_finite_positive
+
 from .hex8 import FACES, ElementGeometry, element_geometry, hourglass_stiffness
 from .material import NeoHookean
 from .mesh import Mesh

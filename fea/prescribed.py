@@ -7,7 +7,7 @@ formula), so that they follow the rotation exactly without drift.
 import numba as nb
 import numpy as np
 
-from .kernels import FASTMATH
+from .fastmath import FASTMATH
 from .rotating_frame import frame_velocity
 
 

@@ -34,7 +34,8 @@ import numba as nb
 import numpy as np
 
 from ccedi.errors import InputError, require_finite_positive
-from .kernels import FASTMATH
+
+from .fastmath import FASTMATH
 
 
 @dataclass(frozen=True)

@@ -15,7 +15,7 @@ from collections import namedtuple
 import numba as nb
 import numpy as np
 
-from .kernels import FASTMATH
+from .fastmath import FASTMATH
 
 RotatingFrame = namedtuple("RotatingFrame", "nodes center axis omega")
 RotatingFrame.__doc__ = """A frame turning at ``omega`` about the unit ``axis`` through ``center``.

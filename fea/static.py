@@ -15,6 +15,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ccedi.errors import InputError, SolverError
+
 from .hex8 import deformation_gradient, internal_forces_numpy
 from .model import Model, face_node_weights
 

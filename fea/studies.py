@@ -2,7 +2,6 @@
 impulse response of the 4.5-in finger for several alpha (Fig. 7)."""
 import math
 
-import numpy as np
 import pandas as pd
 
 from ccedi.models import ImpulseResponse, validate_run_args

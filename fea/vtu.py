@@ -6,7 +6,6 @@ set of VTU files plus a ``.pvd`` collection that ParaView opens as one animation
 from pathlib import Path
 
 import meshio
-import numpy as np
 
 from .explicit import RunResult
 from .hex8 import deformation_gradient

@@ -57,7 +57,7 @@ from scipy.linalg import eigh
 from ccedi.errors import InputError
 from ccedi.fea.contact import STEP_SHRINK, _ellipse_gap, penalty_stiffness
 from ccedi.fea.explicit import TSSFAC
-from ccedi.fea.kernels import FASTMATH
+from ccedi.fea.fastmath import FASTMATH
 from ccedi.fea.rotating_frame import drum_to_object, planar_frame_velocity_along, rotate, rotate_back
 
 # per-output contact record slots

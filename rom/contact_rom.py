@@ -17,18 +17,40 @@ import time
 import numpy as np
 import pandas as pd
 
-from ccedi.fea.drum import DrumSetup, finger_mesh, finger_on_drum
-from ccedi.models import ContactResponse, contact_timing, validate_run_args
 from ccedi.errors import InputError, SolverError
+from ccedi.fea.contact import penalty_stiffness
+from ccedi.fea.drum import DrumSetup, finger_mesh, finger_on_drum
 from ccedi.fea.explicit import TSSFAC, critical_time_step
 from ccedi.fea.model import cantilever_model
 from ccedi.fea.static import static_solve
-from ccedi.fea.contact import penalty_stiffness
-from ccedi.rom.chain_dynamics import (_FX, _FY, _NPTS, _PEN, _PX, _PY, ChainGroup, ChainOutputs, ChainState,
-                                      ContactPoints, DrumFrame, _internal_forces, chain_run, contact_omega,
-                                      contact_point_stiffness, face_points, stable_step)
-from ccedi.rom.superelement import (chain_frequencies, fe_tip_stiffness, finger_chain, fit_tip_stiffness, linear_matrices,
-                              stress_recovery)
+from ccedi.models import ContactResponse, contact_timing, validate_run_args
+from ccedi.rom.chain_dynamics import (
+    _FX,
+    _FY,
+    _NPTS,
+    _PEN,
+    _PX,
+    _PY,
+    ChainGroup,
+    ChainOutputs,
+    ChainState,
+    ContactPoints,
+    DrumFrame,
+    _internal_forces,
+    chain_run,
+    contact_omega,
+    contact_point_stiffness,
+    face_points,
+    stable_step,
+)
+from ccedi.rom.superelement import (
+    chain_frequencies,
+    fe_tip_stiffness,
+    finger_chain,
+    fit_tip_stiffness,
+    linear_matrices,
+    stress_recovery,
+)
 
 DEFAULT_SEGMENTS = 17
 """Superelements along the 8-in finger (three SM-A element layers, ~12 mm, each)."""

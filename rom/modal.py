@@ -33,9 +33,9 @@ import pandas as pd
 from scipy.optimize import least_squares
 
 from ccedi.errors import InputError, require_finite_positive
-from ccedi.models import ImpulseResponse, pulse_times, validate_run_args
 from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import Model, face_node_weights
+from ccedi.models import ImpulseResponse, pulse_times, validate_run_args
 
 
 @dataclass(frozen=True)

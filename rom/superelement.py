@@ -42,8 +42,8 @@ import scipy.sparse as sp
 from scipy.linalg import eigh
 
 from ccedi.errors import InputError
+from ccedi.fea.fastmath import FASTMATH
 from ccedi.fea.hex8 import deformation_gradient, element_geometry
-from ccedi.fea.kernels import FASTMATH
 from ccedi.fea.material import NeoHookean, cauchy_stress, neo_hookean_cauchy, von_mises, von_mises_components
 from ccedi.fea.mesh import Mesh
 from ccedi.fea.model import Model, cantilever_model

@@ -15,8 +15,8 @@ import tomllib
 from dataclasses import dataclass, fields
 from pathlib import Path
 
-from ccedi.fea.drum import DrumSetup
 from ccedi.errors import InputError
+from ccedi.fea.drum import DrumSetup
 from ccedi.fea.material import RUBBER, NeoHookean
 from ccedi.fea.mesh import SEMI_AXES
 from ccedi.fea.units import inch_to_m, m_to_inch

@@ -7,7 +7,6 @@ import pandas as pd
 
 from ccedi.fea.outputs import write_csv, write_figure, write_json
 
-
 FREE_PERIODS = 6
 """Free-vibration periods simulated after the steel rod's load for Fig. 4 [-]."""
 

@@ -12,11 +12,11 @@ from ccedi.calibrate.beam import CantileverRitz
 from ccedi.calibrate.dynamics import integrate_tip
 from ccedi.calibrate.experiment import load_experiment
 from ccedi.calibrate.synthetic import Truth, beam_response, declared_finger
-from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties
-from ccedi.study.cli import main
 from ccedi.errors import InputError
+from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties
 from ccedi.fea.units import inch_to_m
 from ccedi.rom.modal import ModalROM, nrmse
+from ccedi.study.cli import main
 
 DATA = Path(__file__).parents[1] / "data" / "measured"
 RECORD = "time_delay_low"

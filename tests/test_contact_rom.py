@@ -4,11 +4,10 @@ import json
 import numpy as np
 import pytest
 
+from ccedi.errors import InputError
 from ccedi.fea.beam_theory import drum_drag_tip_deflection, ellipse_section_properties
-from ccedi.study.cli import main
 from ccedi.fea.contact_study import tip_lag_series_m
 from ccedi.fea.drum import DrumSetup, FullContactModel, finger_mesh
-from ccedi.errors import InputError
 from ccedi.fea.explicit import max_von_mises
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import elliptical_cantilever, sm_a
@@ -18,8 +17,18 @@ from ccedi.rom.chain_dynamics import _face_point, _internal_forces, face_points
 from ccedi.rom.check import compare_contact
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.rom.modal import tip_modal_rom
-from ccedi.rom.superelement import (chain_frequencies, chain_tip_stiffness, deformation_map, fe_tip_stiffness,
-                              finger_chain, fit_tip_stiffness, linear_matrices, natural_stiffness, stress_recovery)
+from ccedi.rom.superelement import (
+    chain_frequencies,
+    chain_tip_stiffness,
+    deformation_map,
+    fe_tip_stiffness,
+    finger_chain,
+    fit_tip_stiffness,
+    linear_matrices,
+    natural_stiffness,
+    stress_recovery,
+)
+from ccedi.study.cli import main
 
 
 @pytest.fixture(scope="module")

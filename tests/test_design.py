@@ -11,12 +11,12 @@ from ccedi.design.objectives import alpha_of_length, rom_segments
 from ccedi.design.optimise import DesignProblem, brute_force, solve
 from ccedi.design.pareto import pareto_front
 from ccedi.design.surrogate import Surrogate, cached_rom_runs, design_space, grid_points
-from ccedi.study.cli import main
-from ccedi.fea.drum import DrumSetup
 from ccedi.errors import InputError
+from ccedi.fea.drum import DrumSetup
 from ccedi.fea.units import inch_to_m, m_to_inch
 from ccedi.rom.ccedi import paper_alpha
 from ccedi.rom.contact_rom import ReducedContactModel
+from ccedi.study.cli import main
 
 GRID = (8, 6)
 

@@ -2,8 +2,8 @@
 import pandas as pd
 import pytest
 
-from ccedi.fea.distributed import map_runs
 from ccedi.errors import InputError
+from ccedi.fea.distributed import map_runs
 from ccedi.fea.studies import impulse_study
 
 

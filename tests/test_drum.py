@@ -6,9 +6,9 @@ import json
 import numpy as np
 import pytest
 
-from ccedi.study.cli import main
-from ccedi.fea.drum import DrumSetup, ObjectStress, first_contact_angle, finger_frame, finger_on_drum
 from ccedi.errors import InputError
+from ccedi.fea.drum import DrumSetup, ObjectStress, finger_frame, finger_on_drum, first_contact_angle
+from ccedi.study.cli import main
 
 
 def test_finger_matches_table2_and_sits_on_the_drum():

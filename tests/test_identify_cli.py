@@ -6,10 +6,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from ccedi.study.cli import main
 from ccedi.rom.ccedi import paper_alpha_cr
 from ccedi.rom.finger_identification import finger_model
 from ccedi.rom.measurement import load_response
+from ccedi.study.cli import main
 
 
 @pytest.mark.slow

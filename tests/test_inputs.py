@@ -7,11 +7,11 @@ import tomllib
 import numpy as np
 import pytest
 
-from ccedi.study.cli import main
 from ccedi.fea.drum import finger_mesh
 from ccedi.rom.finger_identification import finger_omega1
 from ccedi.rom.superelement import finger_chain
 from ccedi.study import run as study_run
+from ccedi.study.cli import main
 from ccedi.study.config import drum_setup, finger_inputs, load, validate
 
 

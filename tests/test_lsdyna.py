@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from ccedi.fea.drum import DrumSetup, finger_on_drum
 from ccedi.errors import InputError
+from ccedi.fea.drum import DrumSetup, finger_on_drum
 from ccedi.fea.lsdyna import read_keyword, write_keyword
 from ccedi.fea.studies import impulse_model
 

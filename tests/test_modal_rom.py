@@ -7,8 +7,8 @@ from scipy.integrate import solve_ivp
 
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import elliptical_cantilever
-from ccedi.fea.model import cantilever_model, face_node_weights
 from ccedi.fea.modal import natural_frequencies
+from ccedi.fea.model import cantilever_model, face_node_weights
 from ccedi.fea.static import tip_deflection
 from ccedi.fea.studies import impulse_model, impulse_response
 from ccedi.rom.ccedi import critical_alpha

@@ -14,9 +14,18 @@ from ccedi.fea.model import cantilever_model
 from ccedi.fea.steel_rod import steel_rod_impulse_model
 from ccedi.fea.studies import FullImpulseModel, finger_impulse_model
 from ccedi.fea.units import inch_to_m
-from ccedi.models import (CONTACT_CORE_COLUMNS, CONTACT_CORE_SUMMARY, IMPULSE_CORE_COLUMNS, IMPULSE_CORE_SUMMARY,
-                          ContactModel, ContactResponse, ImpulseModel, ImpulseResponse, contact_timing,
-                          validate_run_args)
+from ccedi.models import (
+    CONTACT_CORE_COLUMNS,
+    CONTACT_CORE_SUMMARY,
+    IMPULSE_CORE_COLUMNS,
+    IMPULSE_CORE_SUMMARY,
+    ContactModel,
+    ContactResponse,
+    ImpulseModel,
+    ImpulseResponse,
+    contact_timing,
+    validate_run_args,
+)
 from ccedi.rom.ccedi import critical_alpha
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.rom.modal import ModalImpulseModel, reduce_impulse_model

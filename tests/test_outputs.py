@@ -5,12 +5,12 @@ import meshio
 import numpy as np
 import pytest
 
-from ccedi.study.cli import main
 from ccedi.fea.explicit import run
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import elliptical_cantilever
 from ccedi.fea.model import cantilever_model, tip_pulse
 from ccedi.fea.vtu import write_series, write_vtu
+from ccedi.study.cli import main
 
 
 @pytest.fixture(scope="module")

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from ccedi.fea.beam_theory import cantilever_frequencies
 from ccedi.errors import InputError
+from ccedi.fea.beam_theory import cantilever_frequencies
 from ccedi.fea.explicit import run
 from ccedi.fea.mesh import Mesh
 from ccedi.fea.model import ForcePulse, Model

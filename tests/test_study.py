@@ -2,9 +2,9 @@
 report is built only from the run's files."""
 import json
 
-from ccedi.study.cli import main
 from ccedi.fea.outputs import write_json
 from ccedi.study import run as study_run
+from ccedi.study.cli import main
 from ccedi.study.report import write_index
 
 

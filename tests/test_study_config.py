@@ -1,8 +1,8 @@
 """Study TOML: the example loads back, and every bad input is one line naming the key."""
 import pytest
 
-from ccedi.study.cli import main
 from ccedi.errors import InputError
+from ccedi.study.cli import main
 from ccedi.study.config import SCHEMA, load
 
 

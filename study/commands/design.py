@@ -152,8 +152,14 @@ def write_design(setup, options, json_path, out, scheduler="local"):
     from ccedi.design.fea_check import fea_check
     from ccedi.design.optimise import DesignProblem, brute_force, solve
     from ccedi.design.pareto import pareto_front, plot_front, recommended
-    from ccedi.design.surrogate import (Surrogate, cached_rom_runs, design_space, grid_points, validation_errors,
-                                        validation_points)
+    from ccedi.design.surrogate import (
+        Surrogate,
+        cached_rom_runs,
+        design_space,
+        grid_points,
+        validation_errors,
+        validation_points,
+    )
     from ccedi.fea.outputs import write_csv, write_figure, write_json
 
     o = options

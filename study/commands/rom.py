@@ -98,8 +98,8 @@ def _impulse_run(args, t_end_s):
     InputError
         A finger without ``--length-in``.
     """
-    from ccedi.study.config import finger_inputs
     from ccedi.rom.finger_identification import finger_model, finger_omega1, run_length_s
+    from ccedi.study.config import finger_inputs
     if args.model == "steel-rod":
         from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_impulse_model
         force = STEEL_ROD["force_N"] if args.force_N is None else args.force_N
@@ -242,10 +242,10 @@ def write_damping_fits(cfg, lengths_in, out, scheduler="local"):
 
 
 def _plot_fits(x, acr, c, p, eq7_fit=None):
+    import matplotlib
     import numpy as np
 
     from ccedi.rom.ccedi import paper_alpha, paper_alpha_cr
-    import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 

@@ -61,7 +61,6 @@ def cmd_study(args):
 def cmd_init(args):
     """``ccedi init``: write a commented example study TOML."""
     from ccedi.fea.outputs import write_text
-
     from ccedi.study.config import example
 
     path = Path(args.path)
@@ -76,7 +75,6 @@ def _case(args, t_end_s):
     from ccedi.fea.drum import contact_run, finger_on_drum
     from ccedi.fea.explicit import run
     from ccedi.fea.studies import impulse_model
-
     from ccedi.study.config import drum_setup, finger_inputs
 
     cfg = load_config(args)
