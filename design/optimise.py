@@ -42,6 +42,34 @@ OBJECTIVE_KEYS = ("stress", "duration", "oscillation")
 _OK = ("Solve_Succeeded", "Solved_To_Acceptable_Level")
 
 
+def normalised_weights(weights):
+    """The design weights normalised to sum 1 (check them before building anything).
+
+    Parameters
+    ----------
+    weights : sequence of float
+        w_stress, w_duration, w_oscillation: finite, >= 0, not all zero.
+
+    Returns
+    -------
+    tuple of float
+        ``weights / sum(weights)``.
+
+    Raises
+    ------
+    InputError
+        Not three finite numbers >= 0 with a positive sum.
+    """
+    try:
+        w = np.asarray(weights, dtype=float)
+    except (TypeError, ValueError):
+        w = np.array([np.nan])
+    if w.shape != (3,) or not np.all(np.isfinite(w)) or np.any(w < 0) or w.sum() <= 0:
+        raise InputError(f"weights must be three numbers >= 0 (stress, duration, oscillation), "
+                         f"not all zero, got {tuple(weights) if np.iterable(weights) else weights!r}")
+    return tuple(w / w.sum())
+
+
 @dataclass
 class Design:
     """One design: its variables, the surrogate's outputs there and the weighted objective.
@@ -126,11 +154,7 @@ class DesignProblem:
     scale: dict = field(init=False)
 
     def __post_init__(self):
-        w = np.asarray(self.weights, dtype=float)
-        if w.shape != (3,) or not np.all(np.isfinite(w)) or np.any(w < 0) or w.sum() <= 0:
-            raise InputError(f"weights must be three numbers >= 0 (stress, duration, oscillation), "
-                             f"not all zero, got {self.weights!r}")
-        self.weights = tuple(w / w.sum())
+        self.weights = normalised_weights(self.weights)
         if self.stress_measure not in STRESS_MEASURES:
             raise InputError(f"stress objective must be one of {sorted(STRESS_MEASURES)}, got {self.stress_measure!r}")
         if self.alpha_of_length != "free":

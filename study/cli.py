@@ -15,6 +15,7 @@ import sys
 
 from ccedi.errors import InputError, SolverError
 from ccedi.study.commands import calibrate, design, fea, rom, study
+from ccedi.study.commands.arguments import check_output_paths
 
 
 def build_parser():
@@ -44,8 +45,9 @@ def main(argv=None):
     Returns
     -------
     int
-        Exit status: 0 done, 1 bad input or solver failure (one line on stderr), 2 no
-        sub-command, 130 interrupted.
+        Exit status: 0 done, 1 bad input, a file that cannot be read or written, or a
+        solver failure (one line on stderr), 2 no sub-command, 130 interrupted. Output
+        paths are checked before anything is computed.
     """
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -53,9 +55,14 @@ def main(argv=None):
         parser.print_help()
         return 2
     try:
+        check_output_paths(args)
         args.func(args)
     except (InputError, SolverError) as err:
         print(f"ccedi {args.command}: error: {err}", file=sys.stderr)
+        return 1
+    except OSError as err:
+        where = f"{err.filename}: " if err.filename else ""
+        print(f"ccedi {args.command}: error: {where}{err.strerror or err}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         print(f"ccedi {args.command}: interrupted; no partial outputs were written", file=sys.stderr)

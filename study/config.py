@@ -79,7 +79,7 @@ SCHEMA = {
                                          "finger lengths whose alpha_cr is found by CCEDI (Fig. 8)", True, 2),
         "contact_alphas_per_s": Key(float, "1/s", 0.0, 1e4, [7.5, 180.0, 600.0],
                                     "alphas of the drum contact sweep (Figs. 10, 13, 14)", True),
-        "contact_t_end_s": Key(float, "s", 0.1, 5.0, 1.5, "simulated time of each contact run"),
+        "contact_t_end_s": Key(float, "s", 1e-3, 5.0, 1.5, "simulated time of each contact run"),
         "design_weights": Key(float, "-", 0.0, 1e3, [1.0, 1.0, 1.0],
                               "design weights: peak force, contact duration, residual oscillation", True),
         "design_fea_check": Key(bool, "-", None, None, True, "re-check the recommended designs with the full FEA"),
@@ -98,15 +98,41 @@ def _hint(section, key):
     return f" (did you mean {near[0]}? units are part of the key)" if near else ""
 
 
-def _check(section, key, spec, value):
-    where = f"[{section}] {key} = {value!r}"
+def check_value(section, key, value, where=None):
+    """Check one value against :data:`SCHEMA` (the TOML file's rule, for any source).
+
+    Parameters
+    ----------
+    section, key : str
+        The schema entry.
+    value : object
+        The value to check.
+    where : str, optional
+        How the message names the value (default ``[section] key = value``).
+
+    Returns
+    -------
+    object
+        The value, floats for float keys.
+
+    Raises
+    ------
+    InputError
+        Wrong type or out of range, in one line.
+    """
+    return _check(section, key, SCHEMA[section][key], value, where)
+
+
+def _check(section, key, spec, value, named=None):
+    where = named or f"[{section}] {key} = {value!r}"
     if spec.is_list:
         if not isinstance(value, list) or not spec.min_items <= len(value) <= (spec.max_items or len(value)):
             unit = f" ({spec.unit})" if spec.unit != "-" else ""
             count = (f"exactly {spec.min_items}" if spec.max_items == spec.min_items
                      else f"at least {spec.min_items}")
             raise InputError(f"{where}: must be a list of {count} {spec.kind.__name__}{unit}")
-        return [_check(section, key, Key(spec.kind, spec.unit, spec.lo, spec.hi, None, spec.help), v)
+        return [_check(section, key, Key(spec.kind, spec.unit, spec.lo, spec.hi, None, spec.help), v,
+                       named and f"{named.split()[0]} {v!r}")
                 for v in value]
     if spec.kind is float and isinstance(value, int) and not isinstance(value, bool):
         value = float(value)
@@ -163,6 +189,12 @@ def load(path):
         data = tomllib.loads(Path(path).read_text())
     except FileNotFoundError:
         raise InputError(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise InputError(f"{path}: is a directory; expected a TOML file") from None
+    except PermissionError:
+        raise InputError(f"{path}: not readable") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a text file; expected TOML") from None
     except tomllib.TOMLDecodeError as err:
         raise InputError(f"{path}: not valid TOML ({err})") from None
     return validate(data, str(path))

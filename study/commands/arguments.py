@@ -1,4 +1,13 @@
-"""Command-line arguments shared by several sub-commands (nothing heavy is imported here)."""
+"""Command-line arguments shared by several sub-commands (nothing heavy is imported here).
+
+Output paths are declared with :func:`add_output_argument` and checked by
+:func:`check_output_paths` before a command computes anything, so that a run is never
+lost to a path it cannot write at the end.
+"""
+import os
+from pathlib import Path
+
+from ccedi.errors import InputError
 from ccedi.fea.distributed import SERIAL
 
 
@@ -51,3 +60,147 @@ def load_config(args):
     from ccedi.study.config import load
 
     return load(getattr(args, "config", None))
+
+
+def add_output_argument(parser, flag, kind, **kwargs):
+    """Add an output path option (or positional) that :func:`check_output_paths` checks
+    before the command runs.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The sub-command's parser.
+    flag : str
+        Option string (``"--json"``) or positional name (``"path"``).
+    kind : {"file", "dir"}
+        What the path names: a file to write, or a directory to write into.
+    **kwargs
+        Passed to ``parser.add_argument``.
+
+    Returns
+    -------
+    argparse.Action
+    """
+    if kind not in ("file", "dir"):
+        raise ValueError(f"kind must be 'file' or 'dir', got {kind!r}")
+    action = parser.add_argument(flag, **kwargs)
+    declared = parser.get_default("output_paths") or ()
+    parser.set_defaults(output_paths=(*declared, (action.dest, flag, kind)))
+    return action
+
+
+def _existing_ancestor(path):
+    """The nearest of ``path`` and its parents that exists."""
+    for candidate in (path, *path.parents):
+        if candidate.exists():
+            return candidate
+    return Path.cwd()
+
+
+def output_file(path, option):
+    """Check that a file can be written at ``path`` (the directories to it are made later).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file to write.
+    option : str
+        The option that named it, for the message.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    InputError
+        ``path`` is a directory, a parent of it is a file, or its directory is not writable.
+    """
+    p = Path(path)
+    if p.is_dir():
+        raise InputError(f"{option} {path}: is a directory; expected a file name")
+    base = _existing_ancestor(p.parent)
+    if not base.is_dir():
+        raise InputError(f"{option} {path}: {base} is a file, not a directory")
+    if p.exists() and not os.access(p, os.W_OK):
+        raise InputError(f"{option} {path}: the file is not writable")
+    if not p.exists() and not os.access(base, os.W_OK | os.X_OK):
+        raise InputError(f"{option} {path}: cannot write in {base}")
+    return p
+
+
+def output_dir(path, option):
+    """Check that ``path`` is, or can be made, a writable directory.
+
+    Parameters
+    ----------
+    path : str or Path
+        The directory to write into.
+    option : str
+        The option that named it, for the message.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    InputError
+        ``path`` or a parent of it is a file, or the directory is not writable.
+    """
+    p = Path(path)
+    base = _existing_ancestor(p)
+    if not base.is_dir():
+        raise InputError(f"{option} {path}: {base} is a file, not a directory")
+    if not os.access(base, os.W_OK | os.X_OK):
+        raise InputError(f"{option} {path}: cannot write in {base}")
+    return p
+
+
+def check_output_paths(args):
+    """Check every output path a parsed command line declares (:func:`add_output_argument`).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed arguments.
+
+    Raises
+    ------
+    InputError
+        The first output path that cannot be written, named with its option.
+    """
+    for dest, flag, kind in getattr(args, "output_paths", ()):
+        value = getattr(args, dest, None)
+        if value is not None:
+            (output_file if kind == "file" else output_dir)(value, flag)
+
+
+def check_flag(flag, value, section, key):
+    """Check a command-line value against the inputs schema's range for ``[section] key``
+    (one rule whichever way the value comes).
+
+    Parameters
+    ----------
+    flag : str
+        The option, for the message (``"--length-in"``).
+    value : object
+        The parsed value (None: not given, nothing checked).
+    section, key : str
+        The schema entry (:data:`ccedi.study.config.SCHEMA`).
+
+    Returns
+    -------
+    object
+        ``value``.
+
+    Raises
+    ------
+    InputError
+        ``flag VALUE: must be in LO..HI (unit)``.
+    """
+    if value is None:
+        return value
+    from ccedi.study.config import check_value
+
+    return check_value(section, key, value, where=f"{flag} {value!r}")

@@ -6,6 +6,7 @@ Everything is loaded, validated and computed before the first file is written, a
 file is written atomically, so bad data leaves no output behind.
 """
 from ccedi.errors import InputError
+from ccedi.study.commands.arguments import add_output_argument
 
 
 def add_parsers(sub):
@@ -22,8 +23,8 @@ def add_parsers(sub):
                        "residual points to, report the error before and after")
     c.add_argument("csv", help="measured record: time_s, tip_displacement_m[, force_N, reaction_force_N]")
     c.add_argument("--meta", help="JSON sidecar describing the experiment (default: DATA.json beside DATA.csv)")
-    c.add_argument("--json", required=True, help="write the result as JSON to this path")
-    c.add_argument("--report", help="directory for plots, residuals.csv and report.md")
+    add_output_argument(c, "--json", "file", required=True, help="write the result as JSON to this path")
+    add_output_argument(c, "--report", "dir", help="directory for plots, residuals.csv and report.md")
     c.add_argument("--effects", nargs="+", choices=sorted(CATALOGUE), metavar="EFFECT",
                    help=f"candidate effects (default: all of {', '.join(CATALOGUE)})")
     c.set_defaults(func=cmd_calibrate)

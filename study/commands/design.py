@@ -4,7 +4,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ccedi.errors import InputError
-from ccedi.study.commands.arguments import add_config_argument, add_scheduler_argument, load_config
+from ccedi.study.commands.arguments import add_config_argument, add_output_argument, add_scheduler_argument, load_config
 
 
 def add_parsers(sub):
@@ -37,8 +37,8 @@ def add_parsers(sub):
     d.add_argument("--starts", type=int, default=8, help="IPOPT starts")
     add_scheduler_argument(d, default="local")
     d.add_argument("--no-fea-check", action="store_true", help="skip the full-FEA re-check (minutes per design)")
-    d.add_argument("--json", required=True, help="result JSON path")
-    d.add_argument("--out", default="reports/design", help="directory for the ROM cache, CSV and the Pareto plot")
+    add_output_argument(d, "--json", "file", required=True, help="result JSON path")
+    add_output_argument(d, "--out", "dir", default="reports/design", help="directory for the ROM cache, CSV and the Pareto plot")
     add_config_argument(d)
     d.set_defaults(func=cmd_design)
 
@@ -150,7 +150,7 @@ def write_design(setup, options, json_path, out, scheduler="local"):
     import pandas as pd
 
     from ccedi.design.fea_check import fea_check
-    from ccedi.design.optimise import DesignProblem, brute_force, solve
+    from ccedi.design.optimise import DesignProblem, brute_force, normalised_weights, solve
     from ccedi.design.pareto import pareto_front, plot_front, recommended
     from ccedi.design.surrogate import (
         Surrogate,
@@ -163,6 +163,7 @@ def write_design(setup, options, json_path, out, scheduler="local"):
     from ccedi.fea.outputs import write_csv, write_figure, write_json
 
     o = options
+    normalised_weights(o.weights)                 # before the ROM grid, not after it
     for name, value, lo in (("--grid", min(o.grid), 4), ("--validation-runs", o.validation_runs, 1),
                             ("--pareto-points", o.pareto_points, 20), ("--starts", o.starts, 1)):
         _int_at_least(name, value, lo)

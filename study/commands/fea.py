@@ -8,7 +8,14 @@
 """
 from pathlib import Path
 
-from ccedi.study.commands.arguments import add_config_argument, add_scheduler_argument, load_config
+from ccedi.errors import InputError
+from ccedi.study.commands.arguments import (
+    add_config_argument,
+    add_output_argument,
+    add_scheduler_argument,
+    check_flag,
+    load_config,
+)
 
 
 def _fmt(value):
@@ -138,14 +145,24 @@ def contact_setup(cfg, theta0_rad=None, calibrate=False):
 
 
 def _setup_of(args):
+    check_flag("--t-end-s", args.t_end_s, "study", "contact_t_end_s")
+    if args.n_outputs < 1:
+        raise InputError(f"--n-outputs {args.n_outputs}: must be an integer >= 1")
+    check_flag("--theta0-rad", args.theta0_rad, "drum", "theta0_rad")
     return contact_setup(load_config(args), args.theta0_rad, args.calibrate)
 
 
 def _cmd_table1(args):
+    check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
     write_table1(load_config(args), args.length_in, args.json, stiffness=not args.no_stiffness)
 
 
 def _cmd_impulse(args):
+    check_flag("--alpha", list(args.alpha), "study", "impulse_alphas_per_s")     # every alpha before the first run
+    check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
+    check_flag("--force-N", args.force_N, "study", "impulse_force_N")
+    check_flag("--duration-s", args.duration_s, "study", "impulse_duration_s")
+    check_flag("--t-end-s", args.t_end_s, "study", "impulse_t_end_s")
     write_impulse(load_config(args), args.alpha, args.out, length_in=args.length_in, force_N=args.force_N,
                   duration_s=args.duration_s, t_end_s=args.t_end_s, scheduler=args.scheduler)
 
@@ -155,6 +172,7 @@ def _cmd_contact(args):
     from ccedi.fea.outputs import write_csv, write_json
     from ccedi.fea.vtu import write_series
 
+    check_flag("--alpha", [args.alpha], "study", "contact_alphas_per_s")
     setup = _setup_of(args)
     out = Path(args.out)
     result, model = contact_run(setup, args.alpha, damping=args.damping, t_end_s=args.t_end_s,
@@ -210,6 +228,7 @@ def write_contact_sweep(setup, alphas, out, damping="global", t_end_s=1.5, n_out
 
 
 def _cmd_contact_sweep(args):
+    check_flag("--alphas", list(args.alphas), "study", "contact_alphas_per_s")
     write_contact_sweep(_setup_of(args), args.alphas, args.out, damping=args.damping, t_end_s=args.t_end_s,
                         n_outputs=args.n_outputs, scheduler=args.scheduler)
 
@@ -265,7 +284,7 @@ def add_parsers(sub):
     t = sub.add_parser("table1", help="paper Table 1: nodes, elements, stable time step and tip stiffness "
                        "of SM-A and SM-B")
     t.add_argument("--length-in", type=float, default=4.5, help="finger length [in] (default 4.5)")
-    t.add_argument("--json", help="write the table as JSON to this path")
+    add_output_argument(t, "--json", "file", help="write the table as JSON to this path")
     t.add_argument("--no-stiffness", action="store_true", help="skip the static stiffness solves")
     add_config_argument(t)
     t.set_defaults(func=_cmd_table1)
@@ -277,20 +296,20 @@ def add_parsers(sub):
     i.add_argument("--force-N", type=float, default=1.0, help="tip force [N] (soft direction)")
     i.add_argument("--duration-s", type=float, default=0.01, help="pulse duration [s]")
     i.add_argument("--t-end-s", type=float, default=0.2, help="simulated time [s]")
-    i.add_argument("--out", default="reports/impulse", help="output directory")
+    add_output_argument(i, "--out", "dir", default="reports/impulse", help="output directory")
     add_scheduler_argument(i)
     add_config_argument(i)
     i.set_defaults(func=_cmd_impulse)
     c = sub.add_parser("contact", help="finger on the rotating drum over the elliptical object (paper 3.3-3.4)")
     c.add_argument("--alpha", type=float, required=True, help="mass-proportional damping [1/s]")
-    c.add_argument("--json", help="summary JSON path (default: OUT/contact_alpha<A>_<damping>.json)")
-    c.add_argument("--vtu", help="directory for a VTU/PVD animation of the finger")
-    c.add_argument("--out", default="reports/contact", help="output directory for the CSV history")
+    add_output_argument(c, "--json", "file", help="summary JSON path (default: OUT/contact_alpha<A>_<damping>.json)")
+    add_output_argument(c, "--vtu", "dir", help="directory for a VTU/PVD animation of the finger")
+    add_output_argument(c, "--out", "dir", default="reports/contact", help="output directory for the CSV history")
     _contact_arguments(c)
     c.set_defaults(func=_cmd_contact)
     w = sub.add_parser("contact-sweep", help="the contact run for several alpha; paper Figs. 10, 13, 14 analogues")
     w.add_argument("--alphas", type=float, nargs="+", default=[1.0, 7.5, 20.0, 50.0, 180.0, 600.0])
-    w.add_argument("--out", default="reports/contact", help="output directory")
+    add_output_argument(w, "--out", "dir", default="reports/contact", help="output directory")
     add_scheduler_argument(w, default="local")
     _contact_arguments(w)
     w.set_defaults(func=_cmd_contact_sweep)

@@ -5,7 +5,13 @@
   rom-check      reduced models against the full FEA (impulse and contact cases)
 """
 from ccedi.errors import InputError
-from ccedi.study.commands.arguments import add_config_argument, add_scheduler_argument, load_config
+from ccedi.study.commands.arguments import (
+    add_config_argument,
+    add_output_argument,
+    add_scheduler_argument,
+    check_flag,
+    load_config,
+)
 
 
 def add_parsers(sub):
@@ -30,19 +36,19 @@ def add_parsers(sub):
     i.add_argument("--noise-band", type=float, default=0.02,
                    help="fraction of the peak a measured crossing must exceed to count as oscillation")
     i.add_argument("--rtol", type=float, default=0.01, help="relative width of the final alpha_cr bracket")
-    i.add_argument("--json", help="write the result as JSON to this path")
+    add_output_argument(i, "--json", "file", help="write the result as JSON to this path")
     add_config_argument(i)
     i.set_defaults(func=cmd_identify)
     f = sub.add_parser("damping-fits", help="alpha_cr of the 3, 4.5, 6 and 8-in SM-A fingers and the paper's "
                        "Eq. (7) and (8) refitted from them (slow: ~30 FE runs)")
     f.add_argument("--lengths-in", type=float, nargs="+", default=[3.0, 4.5, 6.0, 8.0])
-    f.add_argument("--out", default="reports/damping_fits", help="output directory")
+    add_output_argument(f, "--out", "dir", default="reports/damping_fits", help="output directory")
     add_scheduler_argument(f, default="local")
     add_config_argument(f)
     f.set_defaults(func=cmd_damping_fits)
     r = sub.add_parser("rom-check", help="reduced models against the full FEA: modal ROM on the 4.5-in impulse, "
                        "superelement chain (co-rotational and linear) on the 8-in contact case (~7 min)")
-    r.add_argument("--json", required=True, help="output JSON path (one entry per case)")
+    add_output_argument(r, "--json", "file", required=True, help="output JSON path (one entry per case)")
     r.add_argument("--alphas", type=float, nargs="*", default=[7.5, 180.0, 600.0],
                    help="contact cases: alpha values [1/s] (none: skip the contact cases)")
     r.add_argument("--impulse-alphas", type=float, nargs="*", default=[20.0, 180.0],
@@ -109,6 +115,7 @@ def _impulse_run(args, t_end_s):
         return steel_rod_impulse_model(force_N=force, duration_s=duration), t_end, 800, 2.0 * omega1, omega1
     if args.length_in is None:
         raise InputError("--length-in (finger length, in) is required for --model finger")
+    check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
     force = 1.0 if args.force_N is None else args.force_N
     duration = 0.01 if args.duration_s is None else args.duration_s
     material, semi_axes = finger_inputs(load_config(args))
@@ -136,8 +143,9 @@ def cmd_identify(args):
     Raises
     ------
     InputError
-        ``--rtol`` outside (0, 1), neither a CSV nor ``--alpha-cr``, a finger without
-        ``--length-in``, or a measured force column that is all zero.
+        ``--rtol`` outside (0, 1), ``--noise-band`` outside [0, 1), neither a CSV nor
+        ``--alpha-cr``, a finger without ``--length-in`` or with one outside the inputs
+        schema's range, or a measured force column that is all zero.
     """
     from ccedi.fea.outputs import write_json
     from ccedi.rom.ccedi import critical_alpha, identify
@@ -145,6 +153,8 @@ def cmd_identify(args):
 
     if not 0.0 < args.rtol < 1.0:
         raise InputError(f"--rtol must be in (0, 1), got {args.rtol}")
+    if not 0.0 <= args.noise_band < 1.0:
+        raise InputError(f"--noise-band {args.noise_band}: must be in 0..1 (fraction of the peak)")
     if args.alpha_cr:
         model, t_end, n_outputs, guess, omega1 = _impulse_run(args, None)
         crit = critical_alpha(model, guess, t_end, rtol=args.rtol, n_outputs=n_outputs)

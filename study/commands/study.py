@@ -7,7 +7,15 @@
 from pathlib import Path
 
 from ccedi.errors import InputError
-from ccedi.study.commands.arguments import add_config_argument, add_scheduler_argument, load_config
+from ccedi.study.commands.arguments import (
+    add_config_argument,
+    add_output_argument,
+    add_scheduler_argument,
+    check_flag,
+    load_config,
+    output_dir,
+    output_file,
+)
 
 
 def add_parsers(sub):
@@ -21,7 +29,7 @@ def add_parsers(sub):
     s = sub.add_parser("study", help="the whole design study on the bundled data: identification, ROMs, design, "
                        "FEA re-check, calibration -> OUT/index.html")
     s.add_argument("--config", help="study TOML (default: built-in defaults; see ccedi init)")
-    s.add_argument("--out", default="reports", help="output directory (default reports)")
+    add_output_argument(s, "--out", "dir", default="reports", help="output directory (default reports)")
     add_scheduler_argument(s, default=None)
     s.add_argument("--quick", action="store_true", help="a few-minute smoke run of every step (short runs, "
                    "one length, one contact alpha, no FEA re-check)")
@@ -29,7 +37,7 @@ def add_parsers(sub):
                    "damping_fits contact design calibrate), then rewrite index.html")
     s.set_defaults(func=cmd_study)
     i = sub.add_parser("init", help="write a commented example study TOML (every key, its unit, range and default)")
-    i.add_argument("path", nargs="?", default="study.toml", help="file to write (default study.toml)")
+    add_output_argument(i, "path", "file", nargs="?", default="study.toml", help="file to write (default study.toml)")
     i.add_argument("--force", action="store_true", help="overwrite an existing file")
     i.set_defaults(func=cmd_init)
     e = sub.add_parser("export", help="a model as an LS-DYNA keyword deck, or its run as VTU (ParaView), "
@@ -90,13 +98,21 @@ def _case(args, t_end_s):
 
 def cmd_export(args):
     """``ccedi export``: the impulse or contact case as an LS-DYNA deck, or its run as VTU, CSV or Parquet."""
+    from ccedi.errors import require_finite_positive
     from ccedi.fea.lsdyna import write_keyword
     from ccedi.fea.outputs import require_parquet, write_table
     from ccedi.fea.vtu import write_series
 
     if args.format == "parquet":
         require_parquet()
+    if args.format == "vtu":
+        output_dir(args.out, "--out")
+    else:
+        output_file(args.out if args.format == "lsdyna" else Path(args.out).with_suffix(f".{args.format}"), "--out")
+    require_finite_positive("--alpha (mass-proportional damping, 1/s)", args.alpha, allow_zero=True)
+    check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
     t_end_s = args.t_end_s if args.t_end_s is not None else {"impulse": 0.2, "contact": 1.5}[args.case]
+    t_end_s = require_finite_positive("--t-end-s (simulated time, s)", t_end_s)
     model, simulate = _case(args, t_end_s)
     if args.format == "lsdyna":
         path = write_keyword(model, args.out, t_end_s, title=f"ccedi {args.case}, alpha = {args.alpha:g} 1/s")

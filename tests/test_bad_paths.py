@@ -1,0 +1,98 @@
+"""Bad paths and bad values are refused before anything is computed: one line on stderr,
+exit status 1, no file written, and the computation never started."""
+import pytest
+
+from ccedi.study import cli
+from ccedi.study.commands import calibrate, design, fea
+
+
+def _fails_in_one_line(argv, capsys, *needles):
+    assert cli.main(argv) == 1
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1, err
+    for needle in needles:
+        assert needle in err, err
+    return err
+
+
+@pytest.fixture
+def nothing_runs(monkeypatch):
+    """Make every computing entry point fail loudly: a test passes only if none is reached."""
+    def forbidden(*a, **k):
+        raise AssertionError("the computation started")
+    for module, name in ((fea, "write_table1"), (fea, "write_impulse"), (fea, "write_contact_sweep"),
+                         (calibrate, "write_calibration"), (design, "write_design")):
+        monkeypatch.setattr(module, name, forbidden)
+    import ccedi.design.surrogate as surrogate
+    monkeypatch.setattr(surrogate, "cached_rom_runs", forbidden)
+
+
+def test_json_that_is_a_directory(tmp_path, capsys, nothing_runs):
+    _fails_in_one_line(["table1", "--json", str(tmp_path)], capsys, "--json", "is a directory")
+
+
+def test_output_under_a_file(tmp_path, capsys, nothing_runs):
+    blocker = tmp_path / "file.txt"
+    blocker.write_text("x")
+    _fails_in_one_line(["impulse", "--out", str(blocker / "sub")], capsys, "--out", "is a file, not a directory")
+    _fails_in_one_line(["table1", "--json", str(blocker / "t.json")], capsys, "--json", "not a directory")
+
+
+def test_report_that_is_a_file(tmp_path, capsys, nothing_runs):
+    report = tmp_path / "report"
+    report.write_text("x")
+    _fails_in_one_line(["calibrate", "data/measured/control_low.csv", "--json", str(tmp_path / "c.json"),
+                        "--report", str(report)], capsys, "--report")
+    assert not (tmp_path / "c.json").exists()
+
+
+def test_init_and_export_into_a_directory(tmp_path, capsys):
+    _fails_in_one_line(["init", str(tmp_path)], capsys, "is a directory")
+    _fails_in_one_line(["export", "--format", "lsdyna", "--out", str(tmp_path)], capsys, "is a directory")
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("value", ["-1", "nan", "inf", "0"])
+def test_export_refuses_a_bad_end_time(tmp_path, capsys, value):
+    _fails_in_one_line(["export", "--t-end-s", value, "--out", str(tmp_path / "deck.k")], capsys, "--t-end-s")
+    assert not (tmp_path / "deck.k").exists()
+
+
+def test_every_alpha_is_checked_before_the_first_run(tmp_path, capsys, nothing_runs):
+    _fails_in_one_line(["impulse", "--alpha", "180", "-50", "--out", str(tmp_path)], capsys, "--alpha", "-50")
+    _fails_in_one_line(["contact-sweep", "--alphas", "7.5", "nan", "--out", str(tmp_path)], capsys, "--alphas")
+
+
+def test_zero_weights_are_refused_before_the_rom_grid(tmp_path, capsys, monkeypatch):
+    import ccedi.design.surrogate as surrogate
+
+    def forbidden(*a, **k):
+        raise AssertionError("the ROM grid started")
+    monkeypatch.setattr(surrogate, "cached_rom_runs", forbidden)
+    _fails_in_one_line(["design", "--weights", "0,0,0", "--json", str(tmp_path / "d.json"), "--out",
+                        str(tmp_path), "--no-fea-check"], capsys, "weights")
+
+
+def test_command_line_ranges_are_the_inputs_schema(capsys, nothing_runs):
+    from ccedi.study.config import SCHEMA
+
+    spec = SCHEMA["finger"]["impulse_length_in"]
+    err = _fails_in_one_line(["table1", "--length-in", "20"], capsys, "--length-in")
+    assert f"must be in {spec.lo:g}..{spec.hi:g} (in)" in err
+    _fails_in_one_line(["impulse", "--force-N", "1e4"], capsys, "--force-N")
+    _fails_in_one_line(["identify", "--alpha-cr", "--length-in", "4.5", "--noise-band", "-1"], capsys,
+                       "--noise-band")
+
+
+def test_config_that_is_a_directory_or_binary(tmp_path, capsys, nothing_runs):
+    _fails_in_one_line(["table1", "--config", str(tmp_path)], capsys, "is a directory")
+    binary = tmp_path / "b.toml"
+    binary.write_bytes(bytes(range(256)))
+    _fails_in_one_line(["table1", "--config", str(binary)], capsys, "not a text file")
+
+
+def test_an_os_error_is_one_line(capsys, monkeypatch):
+    def denied(*a, **k):
+        raise PermissionError(13, "Permission denied", "/somewhere/table1.json")
+    monkeypatch.setattr(fea, "write_table1", denied)
+    _fails_in_one_line(["table1"], capsys, "/somewhere/table1.json", "Permission denied")
