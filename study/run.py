@@ -24,6 +24,7 @@ import json
 import time
 from pathlib import Path
 
+from ccedi.errors import InputError
 from ccedi.fea.outputs import write_json, write_text
 
 from . import paper_steps
@@ -118,11 +119,45 @@ def _distributed(todo, cfg, out, scheduler):
             yield futures[future], future.result()
 
 
+def _check_records(records):
+    """Raise :class:`ccedi.errors.InputError` for the first measured record (or its JSON
+    sidecar) that is not a readable file, before any step runs."""
+    for record in map(Path, records):
+        for path in (record, record.with_suffix(".json")):
+            if not path.is_file():
+                where = "" if path.is_absolute() else f" (relative to the working directory {Path.cwd()})"
+                raise InputError(f"[study] measured_records: {path}: no such file{where}")
+
+
 def run_study(cfg, out, scheduler=None, quick=False, only=None):
     """Run the study steps (all, or the names in ``only``) and write ``out/index.html``.
     Serial: one step after another in this process. Otherwise every step is a task on the
     Dask cluster, longest first, and its runs are mapped over the same cluster. Returns
-    the index path."""
+    the index path. The measured records are checked before any step runs.
+
+    Parameters
+    ----------
+    cfg : dict
+        Validated inputs (:func:`ccedi.study.config.load`).
+    out : str or Path
+        Output directory.
+    scheduler : str, optional
+        ``serial``, ``local`` or a Dask scheduler address (default: the config's).
+    quick : bool, optional
+        Apply :data:`QUICK`, a few-minute smoke run of every step.
+    only : sequence of str, optional
+        Run only these steps, then rewrite the index.
+
+    Returns
+    -------
+    Path
+        ``out/index.html``.
+
+    Raises
+    ------
+    ccedi.errors.InputError
+        A measured record or its sidecar is missing.
+    """
     from tqdm import tqdm
 
     from ccedi.fea.distributed import SERIAL
@@ -133,6 +168,8 @@ def run_study(cfg, out, scheduler=None, quick=False, only=None):
     out = Path(out)
     scheduler = scheduler or cfg["study"]["scheduler"]
     todo = [st for st in steps(cfg, out, scheduler) if only is None or st[0] in only]
+    if any(name == "calibrate" for name, _, _ in todo):
+        _check_records(cfg["study"]["measured_records"])
     write_text(out / CONFIG_NAME, to_toml(cfg))
     record = {"config": cfg, "quick": quick, "scheduler": scheduler, "wall_time_s": {}}
     if only is not None and (out / "study.json").exists():     # keep the other steps' timings

@@ -96,3 +96,10 @@ def test_an_os_error_is_one_line(capsys, monkeypatch):
         raise PermissionError(13, "Permission denied", "/somewhere/table1.json")
     monkeypatch.setattr(fea, "write_table1", denied)
     _fails_in_one_line(["table1"], capsys, "/somewhere/table1.json", "Permission denied")
+
+
+def test_study_outside_the_project_stops_before_its_first_step(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)                     # the bundled records are relative to the project
+    _fails_in_one_line(["study", "--out", str(tmp_path / "out"), "--scheduler", "serial"], capsys,
+                       "measured_records", "no such file", str(tmp_path))
+    assert not (tmp_path / "out").exists()
