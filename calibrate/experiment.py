@@ -25,6 +25,7 @@ import numpy as np
 from ccedi.errors import InputError, require_finite_positive
 from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties
 from ccedi.fea.units import inch_to_m
+from ccedi.quantities import QUANTITIES
 from ccedi.rom.measurement import MeasuredResponse, load_response
 
 KINDS = ("impulse", "contact")
@@ -144,6 +145,13 @@ def _number(section, key, name, source, allow_zero=False):
     return require_finite_positive(f"{source}: sidecar field '{name}'", section[key], allow_zero)
 
 
+def _quantity(finger, key, quantity, source):
+    """``finger[key]`` checked against ``quantity`` (:mod:`ccedi.quantities`)."""
+    if key not in finger:
+        raise InputError(f"{source}: sidecar field 'finger.{key}' is missing")
+    return quantity.check(finger[key], f"{source}: sidecar field 'finger.{key}'")
+
+
 def parse_finger(finger, source):
     """:class:`Finger` from the sidecar's ``finger`` object.
 
@@ -152,7 +160,8 @@ def parse_finger(finger, source):
     finger : dict
         With exactly one of ``length_in`` [in] and ``length_m`` [m];
         ``section_semi_axes_m`` [a, b] [m], both smaller than the length; ``E_Pa``
-        [Pa]; ``nu`` in (-1, 0.5); ``rho_kg_m3`` [kg/m^3].
+        [Pa]; ``nu``; ``rho_kg_m3`` [kg/m^3]; each within the range of
+        :data:`ccedi.quantities.QUANTITIES` (the study TOML's ranges).
     source : str
         Name of the sidecar in error messages (its path).
 
@@ -169,21 +178,21 @@ def parse_finger(finger, source):
     has_in, has_m = "length_in" in finger, "length_m" in finger
     if has_in == has_m:
         raise InputError(f"{source}: sidecar field 'finger.length_in' or 'finger.length_m' is needed (exactly one)")
-    length = (inch_to_m(_number(finger, "length_in", "finger.length_in", source)) if has_in
-              else _number(finger, "length_m", "finger.length_m", source))
+    length_in = QUANTITIES["length_in"]
+    length = (inch_to_m(_quantity(finger, "length_in", length_in, source)) if has_in
+              else _quantity(finger, "length_m", length_in.in_unit(inch_to_m(1.0), "m"), source))
     axes = finger.get("section_semi_axes_m")
     if not isinstance(axes, (list, tuple)) or len(axes) != 2:
         raise InputError(f"{source}: sidecar field 'finger.section_semi_axes_m' must be a list [a, b] of two "
                          f"semi-axes in metres, got {axes!r}")
-    a, b = (require_finite_positive(f"{source}: sidecar field 'finger.section_semi_axes_m'", x) for x in axes)
+    a, b = (QUANTITIES["section_semi_axis_m"].check(x, f"{source}: sidecar field 'finger.section_semi_axes_m'")
+            for x in axes)
     if max(a, b) >= length:
         raise InputError(f"{source}: sidecar field 'finger.section_semi_axes_m' ({a}, {b} m) must be smaller than "
                          f"the finger length {length} m (units?)")
-    nu = finger.get("nu")
-    if not isinstance(nu, (int, float)) or not -1.0 < nu < 0.5:
-        raise InputError(f"{source}: sidecar field 'finger.nu' must be a number in (-1, 0.5), got {nu!r}")
-    return Finger(length_m=length, semi_axes_m=(a, b), E_Pa=_number(finger, "E_Pa", "finger.E_Pa", source),
-                  nu=float(nu), rho_kg_m3=_number(finger, "rho_kg_m3", "finger.rho_kg_m3", source))
+    return Finger(length_m=length, semi_axes_m=(a, b), E_Pa=_quantity(finger, "E_Pa", QUANTITIES["E_Pa"], source),
+                  nu=_quantity(finger, "nu", QUANTITIES["nu"], source),
+                  rho_kg_m3=_quantity(finger, "rho_kg_m3", QUANTITIES["rho_kg_m3"], source))
 
 
 def load_experiment(csv_path, meta_path=None):

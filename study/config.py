@@ -20,6 +20,7 @@ from ccedi.fea.drum import DrumSetup
 from ccedi.fea.material import RUBBER, NeoHookean
 from ccedi.fea.mesh import SEMI_AXES
 from ccedi.fea.units import inch_to_m, m_to_inch
+from ccedi.quantities import QUANTITIES
 
 _DRUM = {f.name: f.default for f in fields(DrumSetup)}
 
@@ -40,19 +41,25 @@ class Key:
     max_items: int | None = None
 
 
+def _key(quantity, default, help, *list_args):
+    """A :class:`Key` whose unit and range are those of :data:`ccedi.quantities.QUANTITIES`."""
+    q = QUANTITIES[quantity]
+    return Key(float, q.unit, q.lo, q.hi, default, help, *list_args)
+
+
 SCHEMA = {
     "material": {
-        "E_Pa": Key(float, "Pa", 1e4, 1e12, RUBBER.E, "finger Young's modulus (paper Table 1: 6.1 MPa rubber)"),
-        "nu": Key(float, "-", 0.0, 0.499, RUBBER.nu, "finger Poisson's ratio (neo-Hookean, compressible)"),
-        "rho_kg_m3": Key(float, "kg/m^3", 1.0, 1e5, RUBBER.rho, "finger density"),
+        "E_Pa": _key("E_Pa", RUBBER.E, "finger Young's modulus (paper Table 1: 6.1 MPa rubber)"),
+        "nu": _key("nu", RUBBER.nu, "finger Poisson's ratio (neo-Hookean, compressible)"),
+        "rho_kg_m3": _key("rho_kg_m3", RUBBER.rho, "finger density"),
     },
     "finger": {
-        "impulse_length_in": Key(float, "in", 1.0, 12.0, 4.5, "finger length of the impulse studies (Figs. 6, 7)"),
-        "contact_length_in": Key(float, "in", 1.0, 12.0, round(m_to_inch(_DRUM["finger_length_m"]), 6),
-                                 "finger length of the drum contact study (Figs. 10, 13, 14)"),
-        "section_semi_axes_m": Key(float, "m", 1e-4, 0.1, list(SEMI_AXES),
-                                   "elliptical section semi-axes [a along x, b along y, the bending direction]",
-                                   True, 2, 2),
+        "impulse_length_in": _key("length_in", 4.5, "finger length of the impulse studies (Figs. 6, 7)"),
+        "contact_length_in": _key("length_in", round(m_to_inch(_DRUM["finger_length_m"]), 6),
+                                  "finger length of the drum contact study (Figs. 10, 13, 14)"),
+        "section_semi_axes_m": _key("section_semi_axis_m", list(SEMI_AXES),
+                                    "elliptical section semi-axes [a along x, b along y, the bending direction]",
+                                    True, 2, 2),
     },
     "drum": {
         "drum_radius_m": Key(float, "m", 1e-3, 1.0, _DRUM["drum_radius_m"], "drum radius (the finger root's radius)"),

@@ -103,3 +103,27 @@ def test_study_outside_the_project_stops_before_its_first_step(tmp_path, capsys,
     _fails_in_one_line(["study", "--out", str(tmp_path / "out"), "--scheduler", "serial"], capsys,
                        "measured_records", "no such file", str(tmp_path))
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("key, bad", [("nu", 0.6), ("nu", -0.5), ("E_Pa", 1.0), ("rho_kg_m3", 1e9),
+                                      ("length_in", 20.0), ("length_m", 0.01)])
+def test_the_sidecar_and_the_toml_share_one_range(key, bad):
+    from ccedi.calibrate.experiment import parse_finger
+    from ccedi.errors import InputError
+    from ccedi.study.config import validate
+
+    section, toml_key = ("finger", "impulse_length_in") if key.startswith("length") else ("material", key)
+    with pytest.raises(InputError) as toml:
+        validate({section: {toml_key: bad * (1 / 0.0254 if key == "length_m" else 1)}})
+    finger = {"length_in": 4.5, "section_semi_axes_m": [0.012, 0.00845], "E_Pa": 6.1e6, "nu": 0.49,
+              "rho_kg_m3": 1000.0}
+    if key == "length_m":
+        del finger["length_in"]
+    finger[key] = bad
+    with pytest.raises(InputError) as sidecar:
+        parse_finger(finger, "record.json")
+    rule = str(sidecar.value).split(": must be in ", 1)[1]
+    if key == "length_m":
+        assert rule == "0.0254..0.3048 (m)"        # the TOML's 1..12 in, in metres
+    else:
+        assert rule == str(toml.value).split(": must be in ", 1)[1]

@@ -1,0 +1,74 @@
+"""The allowed range of every physical input of the finger, whichever way it comes (the
+study TOML, a command-line flag, a calibration sidecar): one table, one check, one
+message format, ``WHERE = VALUE: must be in LO..HI (UNIT)``."""
+from dataclasses import dataclass
+
+from ccedi.errors import InputError
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """A physical input: its unit and its allowed closed range.
+
+    Parameters
+    ----------
+    unit : str
+        Unit of ``lo`` and ``hi`` ("-" for a dimensionless number).
+    lo, hi : float
+        Smallest and largest allowed value, lo < hi.
+    """
+
+    unit: str
+    lo: float
+    hi: float
+
+    def in_unit(self, factor, unit):
+        """The same range in another unit.
+
+        Parameters
+        ----------
+        factor : float
+            Size of this quantity's unit in the new one (0.0254 from in to m).
+        unit : str
+            The new unit.
+
+        Returns
+        -------
+        Quantity
+        """
+        return Quantity(unit, self.lo * factor, self.hi * factor)
+
+    def check(self, value, where):
+        """``float(value)`` when it is a finite number within the range.
+
+        Parameters
+        ----------
+        value : object
+            The value to check (a bool is not a number).
+        where : str
+            How the message names the value, e.g. ``"[material] nu"``.
+
+        Returns
+        -------
+        float
+
+        Raises
+        ------
+        InputError
+            ``WHERE = VALUE: must be in LO..HI (UNIT)``, in one line.
+        """
+        unit = f" ({self.unit})" if self.unit != "-" else ""
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not self.lo <= value <= self.hi:
+            raise InputError(f"{where} = {value!r}: must be in {self.lo:g}..{self.hi:g}{unit}")
+        return float(value)
+
+
+QUANTITIES = {
+    "E_Pa": Quantity("Pa", 1e4, 1e12),
+    "nu": Quantity("-", 0.0, 0.499),
+    "rho_kg_m3": Quantity("kg/m^3", 1.0, 1e5),
+    "length_in": Quantity("in", 1.0, 12.0),
+    "section_semi_axis_m": Quantity("m", 1e-4, 0.1),
+}
+"""Finger material and geometry: Young's modulus, Poisson's ratio (neo-Hookean,
+compressible), density, length, and each semi-axis of the elliptical section."""
