@@ -26,7 +26,7 @@ from ccedi.errors import InputError, require_finite_positive
 from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties
 from ccedi.fea.units import inch_to_m
 from ccedi.quantities import QUANTITIES
-from ccedi.rom.measurement import MeasuredResponse, load_response
+from ccedi.rom.measurement import MeasuredResponse, check_sampling, load_response
 
 KINDS = ("impulse", "contact")
 DEFAULT_E_TOLERANCE = 0.2
@@ -304,11 +304,7 @@ def check_plausible(exp: Experiment):
     if np.max(np.abs(y)) > limit:
         raise InputError(f"{src}: tip_displacement_m reaches {np.max(np.abs(y)):.4g} m, more than half the "
                          f"{exp.finger.length_m:.4g} m finger ({limit:.4g} m): not metres, or not this finger")
-    dt = float(np.max(np.diff(exp.time_s)))
-    period = 2.0 * np.pi / exp.finger.omega1_rad_s(1.0 + exp.E_tolerance)
-    if dt > period / 4.0:
-        raise InputError(f"{src}: time_s steps up to {dt:.4g} s, more than a quarter of the declared finger's first "
-                         f"period ({period:.4g} s): not seconds, or too coarse to calibrate")
+    check_sampling(exp.time_s, exp.finger.omega1_rad_s(1.0 + exp.E_tolerance), src)
     f = exp.record.force_N
     if exp.kind == "impulse" and f is not None:
         peak = float(np.max(np.abs(f)))

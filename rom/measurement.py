@@ -123,3 +123,31 @@ def response_from_frame(frame, source="<frame>"):
     return MeasuredResponse(time_s=t, tip_displacement_m=data["tip_displacement_m"],
                             force_N=data.get("force_N"), source=source,
                             reaction_force_N=data.get("reaction_force_N"))
+
+
+def check_sampling(time_s, omega1_rad_s, source):
+    """Reject a record whose time column cannot be seconds for the declared structure.
+
+    The largest sample interval must be below a quarter of the first period 2 pi / omega_1:
+    a record in milliseconds, or one too coarse to resolve the first mode, fails.
+
+    Parameters
+    ----------
+    time_s : array_like
+        Sample times of the record [s].
+    omega1_rad_s : float
+        First natural frequency of the declared structure [rad/s] (take the highest the
+        declaration allows, e.g. at E x (1 + tolerance)).
+    source : str
+        Name of the record in the message (its path).
+
+    Raises
+    ------
+    InputError
+        Naming the largest interval and the period it exceeds a quarter of.
+    """
+    dt = float(np.max(np.diff(np.asarray(time_s, dtype=float))))
+    period = 2.0 * np.pi / float(omega1_rad_s)
+    if dt > period / 4.0:
+        raise InputError(f"{source}: time_s steps up to {dt:.4g} s, more than a quarter of the declared "
+                         f"structure's first period ({period:.4g} s): not seconds, or too coarse to resolve it")

@@ -127,3 +127,18 @@ def test_the_sidecar_and_the_toml_share_one_range(key, bad):
         assert rule == "0.0254..0.3048 (m)"        # the TOML's 1..12 in, in metres
     else:
         assert rule == str(toml.value).split(": must be in ", 1)[1]
+
+
+def test_identify_refuses_a_record_in_milliseconds_before_any_fe_run(tmp_path, capsys, monkeypatch):
+    import numpy as np
+
+    import ccedi.rom.ccedi as ccedi_search
+
+    def forbidden(*a, **k):
+        raise AssertionError("an FE run started")
+    monkeypatch.setattr(ccedi_search, "critical_alpha", forbidden)
+    t_ms = np.arange(0.0, 200.0, 1.0)                      # 0.2 s sampled at 1 kHz, written in ms
+    csv = tmp_path / "ms.csv"
+    csv.write_text("time_s,tip_displacement_m\n" + "".join(f"{t},{1e-3 * np.exp(-t / 50.0)}\n" for t in t_ms))
+    _fails_in_one_line(["identify", str(csv), "--length-in", "3"], capsys, "time_s steps up to 1 s",
+                       "not seconds")

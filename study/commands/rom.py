@@ -149,7 +149,7 @@ def cmd_identify(args):
     """
     from ccedi.fea.outputs import write_json
     from ccedi.rom.ccedi import critical_alpha, identify
-    from ccedi.rom.measurement import load_response
+    from ccedi.rom.measurement import check_sampling, load_response
 
     if not 0.0 < args.rtol < 1.0:
         raise InputError(f"--rtol must be in (0, 1), got {args.rtol}")
@@ -157,6 +157,8 @@ def cmd_identify(args):
         raise InputError(f"--noise-band {args.noise_band}: must be in 0..1 (fraction of the peak)")
     if args.alpha_cr:
         model, t_end, n_outputs, guess, omega1 = _impulse_run(args, None)
+        print(f"identify: alpha_cr by bisection from 2 omega_1 = {guess:.4g} 1/s, FE runs of {t_end:.3g} s each",
+              flush=True)
         crit = critical_alpha(model, guess, t_end, rtol=args.rtol, n_outputs=n_outputs)
         result = {"model": args.model, "length_in": args.length_in, "alpha_cr_per_s": crit.alpha_cr_per_s,
                   "bracket_per_s": list(crit.bracket_per_s), "n_fe_runs": crit.n_runs,
@@ -173,6 +175,9 @@ def cmd_identify(args):
             args.force_N = force if args.force_N is None else args.force_N
             args.duration_s = duration if args.duration_s is None else args.duration_s
         model, t_end, n_outputs, guess, omega1 = _impulse_run(args, float(data.time_s[-1]))
+        check_sampling(data.time_s, omega1, data.source)
+        print(f"identify: CCEDI on {data.source}: FE runs of {t_end:.3g} s each, alpha_cr bracketed from "
+              f"2 omega_1 = {guess:.4g} 1/s", flush=True)
         crit = critical_alpha(model, guess, t_end, rtol=args.rtol, n_outputs=n_outputs)
         ident = identify(data.time_s, data.tip_displacement_m, model, guess, noise_band=args.noise_band,
                          critical=crit, t_end_s=t_end, n_outputs=n_outputs)
