@@ -4,7 +4,7 @@ Impulse models (:class:`ccedi.models.ImpulseModel`) for :mod:`ccedi.rom.ccedi`, 
 lengths chosen from the first natural frequency so that a nearly critical response has
 time to cross zero: t_end = load duration + 12 / omega_1 (:func:`run_length_s`). The
 searches take any impulse model of the structure (default: the full FE one,
-:func:`finger_model` or :func:`ccedi.fea.steel_rod.steel_rod_impulse_model`; e.g. its
+:func:`ccedi.fea.studies.finger_impulse_model` or :func:`ccedi.fea.steel_rod.steel_rod_impulse_model`; e.g. its
 modal ROM from :func:`ccedi.rom.modal.reduce_impulse_model`).
 """
 from ccedi.fea.material import RUBBER
@@ -60,30 +60,6 @@ def finger_omega1(length_in, material=RUBBER, semi_axes_m=SEMI_AXES):
     return float(natural_frequencies(cantilever_model(mesh, material), 1)[0])
 
 
-def finger_model(length_in, force_N=1.0, duration_s=0.01, material=RUBBER, semi_axes_m=SEMI_AXES):
-    """The full FE impulse model of the SM-A finger (paper section 3.2).
-
-    Parameters
-    ----------
-    length_in : float
-        Finger length [in].
-    force_N : float, optional
-        Tip force [N] (soft direction).
-    duration_s : float, optional
-        How long the force is held [s].
-    material : ccedi.fea.material.NeoHookean, optional
-        Finger material.
-    semi_axes_m : tuple, optional
-        Section semi-axes [m].
-
-    Returns
-    -------
-    ccedi.fea.studies.FullImpulseModel
-    """
-    return finger_impulse_model(force_N=force_N, duration_s=duration_s, material=material,
-                                mesh=sm_a(length_in=length_in, semi_axes_m=semi_axes_m))
-
-
 def finger_alpha_cr(length_in, rtol=0.01, material=RUBBER, semi_axes_m=SEMI_AXES, model=None, n_outputs=400):
     """alpha_cr of the SM-A finger by bisection, starting from 2 omega_1.
 
@@ -98,8 +74,9 @@ def finger_alpha_cr(length_in, rtol=0.01, material=RUBBER, semi_axes_m=SEMI_AXES
     semi_axes_m : tuple, optional
         Section semi-axes [m].
     model : ccedi.models.ImpulseModel, optional
-        The finger's impulse model, full or reduced (default: :func:`finger_model`, 1 N
-        for 10 ms); run for :func:`run_length_s` of its ``duration_s``.
+        The finger's impulse model, full or reduced (default:
+        :func:`ccedi.fea.studies.finger_impulse_model`, 1 N for 10 ms); run for
+        :func:`run_length_s` of its ``duration_s``.
     n_outputs : int, optional
         Output times per run.
 
@@ -109,7 +86,8 @@ def finger_alpha_cr(length_in, rtol=0.01, material=RUBBER, semi_axes_m=SEMI_AXES
         (:class:`ccedi.rom.ccedi.CriticalAlpha`, omega_1 [rad/s]).
     """
     omega1 = finger_omega1(length_in, material, semi_axes_m)
-    model = finger_model(length_in, material=material, semi_axes_m=semi_axes_m) if model is None else model
+    model = (finger_impulse_model(length_in, material=material, semi_axes_m=semi_axes_m) if model is None
+             else model)
     t_end_s = run_length_s(model.duration_s, omega1)
     return critical_alpha(model, 2.0 * omega1, t_end_s, rtol=rtol, n_outputs=n_outputs), omega1
 

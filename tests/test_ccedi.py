@@ -6,10 +6,11 @@ import pytest
 
 from ccedi.errors import InputError
 from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_impulse_model
+from ccedi.fea.studies import finger_impulse_model
 from ccedi.models import ImpulseModel, ImpulseResponse, pulse_times, validate_run_args
 from ccedi.rom.ccedi import critical_alpha, identify, match_alpha, paper_alpha, paper_alpha_cr, power_law_fit
 from ccedi.rom.damping import log_decrement
-from ccedi.rom.finger_identification import finger_alpha_cr, finger_model, rod_alpha_cr
+from ccedi.rom.finger_identification import finger_alpha_cr, rod_alpha_cr
 
 OMEGA = 50.0
 
@@ -153,7 +154,7 @@ def test_finger_alpha_cr_45_in():
 
 @pytest.mark.slow
 def test_overdamped_match_45_in_alpha_180_with_noise():
-    model, run = finger_model(4.5), {"t_end_s": 0.12, "n_outputs": 240}
+    model, run = finger_impulse_model(4.5), {"t_end_s": 0.12, "n_outputs": 240}
     t, y = model.run(180.0, **run).tip_signal()
     y_meas = y + 0.02 * np.abs(y).max() * np.random.default_rng(4).standard_normal(len(t))
     m = match_alpha(model, t, y_meas, (60.0, 400.0), xatol_rel=0.005, **run)

@@ -6,8 +6,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from ccedi.fea.studies import finger_impulse_model
 from ccedi.rom.ccedi import paper_alpha_cr
-from ccedi.rom.finger_identification import finger_model
 from ccedi.rom.measurement import load_response
 from ccedi.study.cli import main
 
@@ -24,7 +24,7 @@ def test_alpha_cr_of_3_in_finger(tmp_path):
 
 @pytest.mark.slow
 def test_identify_overdamped_3_in_from_csv(tmp_path):
-    t, y = finger_model(3.0).run(600.0, 0.08, 320).tip_signal()
+    t, y = finger_impulse_model(3.0).run(600.0, 0.08, 320).tip_signal()
     y = y + 0.02 * np.abs(y).max() * np.random.default_rng(7).standard_normal(len(t))
     force = np.where(t <= 0.01, 1.0, 0.0)
     csv = tmp_path / "measured.csv"

@@ -104,7 +104,8 @@ def _impulse_run(args, t_end_s):
     InputError
         A finger without ``--length-in``.
     """
-    from ccedi.rom.finger_identification import finger_model, finger_omega1, run_length_s
+    from ccedi.fea.studies import finger_impulse_model
+    from ccedi.rom.finger_identification import finger_omega1, run_length_s
     from ccedi.study.config import finger_inputs
     if args.model == "steel-rod":
         from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_impulse_model
@@ -121,8 +122,8 @@ def _impulse_run(args, t_end_s):
     material, semi_axes = finger_inputs(load_config(args))
     omega1 = finger_omega1(args.length_in, material, semi_axes)
     t_end = max(t_end_s or 0.0, run_length_s(duration, omega1))
-    model = finger_model(args.length_in, force_N=force, duration_s=duration, material=material,
-                         semi_axes_m=semi_axes)
+    model = finger_impulse_model(args.length_in, force_N=force, duration_s=duration, material=material,
+                                 semi_axes_m=semi_axes)
     return model, t_end, 400, 2.0 * omega1, omega1
 
 
