@@ -20,7 +20,7 @@ from ccedi.fea.drum import DrumSetup
 from ccedi.fea.material import RUBBER, NeoHookean
 from ccedi.fea.mesh import SEMI_AXES
 from ccedi.fea.units import inch_to_m, m_to_inch
-from ccedi.quantities import QUANTITIES
+from ccedi.quantities import QUANTITIES, Quantity
 
 _DRUM = {f.name: f.default for f in fields(DrumSetup)}
 
@@ -105,7 +105,7 @@ def _hint(section, key):
     return f" (did you mean {near[0]}? units are part of the key)" if near else ""
 
 
-def check_value(section, key, value, where=None):
+def check_value(section, key, value, name=None):
     """Check one value against :data:`SCHEMA` (the TOML file's rule, for any source).
 
     Parameters
@@ -114,8 +114,9 @@ def check_value(section, key, value, where=None):
         The schema entry.
     value : object
         The value to check.
-    where : str, optional
-        How the message names the value (default ``[section] key = value``).
+    name : str, optional
+        How the message names the value (default ``[section] key``); the message reads
+        ``NAME = VALUE: must be ...``.
 
     Returns
     -------
@@ -127,27 +128,27 @@ def check_value(section, key, value, where=None):
     InputError
         Wrong type or out of range, in one line.
     """
-    return _check(section, key, SCHEMA[section][key], value, where)
+    return _check(section, key, SCHEMA[section][key], value, name)
 
 
-def _check(section, key, spec, value, named=None):
-    where = named or f"[{section}] {key} = {value!r}"
+def _check(section, key, spec, value, name=None):
+    name = name or f"[{section}] {key}"
+    where = f"{name} = {value!r}"
     if spec.is_list:
         if not isinstance(value, list) or not spec.min_items <= len(value) <= (spec.max_items or len(value)):
             unit = f" ({spec.unit})" if spec.unit != "-" else ""
             count = (f"exactly {spec.min_items}" if spec.max_items == spec.min_items
                      else f"at least {spec.min_items}")
             raise InputError(f"{where}: must be a list of {count} {spec.kind.__name__}{unit}")
-        return [_check(section, key, Key(spec.kind, spec.unit, spec.lo, spec.hi, None, spec.help), v,
-                       named and f"{named.split()[0]} {v!r}")
+        return [_check(section, key, Key(spec.kind, spec.unit, spec.lo, spec.hi, None, spec.help), v, name)
                 for v in value]
+    given = value                                   # the messages show the value as it was given
     if spec.kind is float and isinstance(value, int) and not isinstance(value, bool):
         value = float(value)
     if not isinstance(value, spec.kind) or (spec.kind is int and isinstance(value, bool)):
         raise InputError(f"{where}: must be {spec.kind.__name__}" + (f" ({spec.unit})" if spec.unit != "-" else ""))
-    if spec.lo is not None and not spec.lo <= value <= spec.hi:
-        unit = f" ({spec.unit})" if spec.unit != "-" else ""
-        raise InputError(f"{where}: must be in {spec.lo:g}..{spec.hi:g}{unit}")
+    if spec.lo is not None:
+        Quantity(spec.unit, spec.lo, spec.hi).check(given, name)
     return value
 
 

@@ -197,10 +197,10 @@ def check_flag(flag, value, section, key):
     Raises
     ------
     InputError
-        ``flag VALUE: must be in LO..HI (unit)``.
+        ``FLAG = VALUE: must be in LO..HI (UNIT)``.
     """
     if value is None:
         return value
     from ccedi.study.config import check_value
 
-    return check_value(section, key, value, where=f"{flag} {value!r}")
+    return check_value(section, key, value, name=flag)
