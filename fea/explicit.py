@@ -311,7 +311,7 @@ def _advance(forces, rod_forces, contact_kernel, t, t_stop, dt_prev, control, da
             energy[_E_PENALTY] = contact.out[3]
         w_ext, w_damp, ke = _commit(state, nodes, damping, frame, Dt, dt, beta_rate)
         _record_energy(energy, w_ext, w_damp, Dt * p_bulk, ke, w_int, w_hg)
-        if not (energy[_KE] < np.inf):       # also catches NaN; survives fast-math
+        if not (energy[_KE] < np.inf):       # also catches NaN
             return t, dt_prev, steps, _DIVERGED, steps, dt_seen
         t += dt
         dt_prev = dt
