@@ -11,10 +11,18 @@
 A function mapped over a cluster may itself map runs (a study step sweeping alpha): the
 inner runs go to the same cluster. Each run is a pure function of its item, computed by the same code in whichever
 process runs it, so the results are identical to the serial ones; they come back in
-input order. A progress bar (tqdm) counts finished runs.
+input order. A progress bar (:func:`ccedi.progress.progress_bar`) counts finished runs.
+
+Ctrl-C reaches only the process that started a local cluster: its worker processes are
+started with SIGINT ignored, so an interrupt is one ``KeyboardInterrupt`` in the caller,
+which shuts the cluster down, rather than a traceback from every worker.
 """
 import logging
-from contextlib import ExitStack
+import signal
+import threading
+from contextlib import ExitStack, contextmanager
+
+from ccedi.progress import progress_bar
 
 from ccedi.errors import InputError
 
@@ -60,13 +68,35 @@ def client(stack, scheduler, n_workers=LOCAL_WORKERS):
         raise InputError("--scheduler needs dask.distributed: pip install 'dask[distributed]' "
                          "(or use --scheduler serial)") from None
     if scheduler == LOCAL:
-        cluster = stack.enter_context(LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                                                   dashboard_address=None, silence_logs=logging.CRITICAL))
-        return stack.enter_context(Client(cluster))
+        with _interrupt_ignored():
+            cluster = stack.enter_context(LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
+                                                       dashboard_address=":0", silence_logs=logging.CRITICAL))
+            return stack.enter_context(Client(cluster))
     try:
         return stack.enter_context(Client(scheduler, timeout=CONNECT_TIMEOUT))
     except OSError as err:
         raise InputError(f"--scheduler {scheduler}: cannot connect ({err})") from None
+
+
+@contextmanager
+def _interrupt_ignored():
+    """Ignore SIGINT in the body, which starts a local cluster and its client.
+
+    The worker processes started in the body inherit the disposition and keep it, so only
+    this process acts on a later Ctrl-C, and shuts the cluster down. And the cluster and
+    its client are made together or not at all: an interrupt in between used to leave a
+    half-made client that failed in its finaliser. A Ctrl-C during the start (a few
+    seconds) is therefore lost. (Blocking SIGINT instead, to deliver it afterwards, does
+    not reach the workers: they are started from Dask's event-loop thread, whose signal
+    mask they inherit.) Only the main thread handles signals; elsewhere this does nothing."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def _in_worker():
@@ -106,17 +136,16 @@ def map_runs(function, items, scheduler=SERIAL, n_workers=LOCAL_WORKERS, label="
     list
         The results, in the order of ``items``, identical to the serial ones.
     """
-    from tqdm import tqdm
-
     items = list(items)
     if scheduler == SERIAL or not items:
-        return [function(item) for item in tqdm(items, desc=label, unit="run", leave=False)]
+        return [function(item) for item in progress_bar(items, desc=label, unit="run")]
     from dask.distributed import as_completed, worker_client
 
     with ExitStack() as stack:
         dask = stack.enter_context(worker_client()) if _in_worker() else client(stack, scheduler, n_workers)
         futures = dask.map(function, items, pure=False, priority=RUN_PRIORITY)
-        for _ in tqdm(as_completed(futures), total=len(futures), desc=label, unit="run", leave=False):
-            pass
+        with progress_bar(total=len(futures), desc=label, unit="run") as bar:
+            for _ in as_completed(futures):
+                bar.update()
         return dask.gather(futures)
 

@@ -30,6 +30,7 @@ import numpy as np
 import pandas as pd
 
 from ccedi.errors import InputError, SolverError, require_finite_positive
+from ccedi.progress import progress_bar
 
 from .contact import PLANE, STEP_SHRINK, contact_forces, penalty_stiffness
 from .fastmath import FASTMATH
@@ -603,8 +604,7 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     wall0 = _time.perf_counter()
     times = np.linspace(0.0, t_end_s, n_outputs + 1)[1:]
     if progress:
-        from tqdm import tqdm
-        times = tqdm(times, unit="output", desc=f"t_end {t_end_s:g} s")
+        times = progress_bar(times, desc=f"t_end {t_end_s:g} s", unit="output")
     for i_out, t_out in enumerate(times):
         t, dt_prev, n, status, info, dt_seen = advance(*kernels, t, t_out, dt_prev, *groups, energy)
         steps += n

@@ -14,6 +14,7 @@ import argparse
 import sys
 
 from ccedi.errors import InputError, SolverError
+from ccedi.progress import close_progress_bars
 from ccedi.study.commands import calibrate, design, fea, rom, study
 from ccedi.study.commands.arguments import check_output_paths
 
@@ -58,13 +59,19 @@ def main(argv=None):
         check_output_paths(args)
         args.func(args)
     except (InputError, SolverError) as err:
-        print(f"ccedi {args.command}: error: {err}", file=sys.stderr)
-        return 1
+        return _fail(args.command, f"error: {err}", 1)
     except OSError as err:
         where = f"{err.filename}: " if err.filename else ""
-        print(f"ccedi {args.command}: error: {where}{err.strerror or err}", file=sys.stderr)
-        return 1
+        return _fail(args.command, f"error: {where}{err.strerror or err}", 1)
     except KeyboardInterrupt:
-        print(f"ccedi {args.command}: interrupted; no partial outputs were written", file=sys.stderr)
-        return 130
+        return _fail(args.command, "interrupted; no partial outputs were written", 130)
     return 0
+
+
+def _fail(command, message, status):
+    """Print ``ccedi COMMAND: MESSAGE`` as one line on stderr, after clearing any progress
+    bar, and return the exit ``status``."""
+    close_progress_bars()
+    sys.stderr.flush()
+    print(f"ccedi {command}: {message}", file=sys.stderr)
+    return status

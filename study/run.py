@@ -26,6 +26,7 @@ from pathlib import Path
 
 from ccedi.errors import InputError
 from ccedi.fea.outputs import write_json, write_text
+from ccedi.progress import progress_bar
 
 from . import paper_steps
 from .config import finger_inputs, to_toml
@@ -158,8 +159,6 @@ def run_study(cfg, out, scheduler=None, quick=False, only=None):
     ccedi.errors.InputError
         A measured record or its sidecar is missing.
     """
-    from tqdm import tqdm
-
     from ccedi.fea.distributed import SERIAL
     from ccedi.fea.outputs import remove_temporaries
 
@@ -178,11 +177,11 @@ def run_study(cfg, out, scheduler=None, quick=False, only=None):
     finished = ((name, _run_step(name, cfg, out, scheduler)) for name, _, _ in todo) if scheduler == SERIAL \
         else _distributed(sorted(todo, key=lambda st: LONGEST_FIRST.index(st[0])), cfg, out, scheduler)
     try:
-        for name, wall in tqdm(finished, total=len(todo), desc="ccedi study", unit="step"):
-            print(f"ccedi study: {name} done in {wall:.0f} s", flush=True)
+        for name, wall in progress_bar(finished, total=len(todo), desc="ccedi study", unit="step"):
             record["wall_time_s"][name] = wall
             record["elapsed_s"] = time.perf_counter() - t0
             write_json(out / "study.json", record)
+            print(f"ccedi study: {name} done in {wall:.0f} s", flush=True)
     except KeyboardInterrupt:
         remove_temporaries(out)
         raise
