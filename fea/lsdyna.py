@@ -1,8 +1,9 @@
 """LS-DYNA keyword decks: write a ccedi :class:`ccedi.fea.model.Model` so that a user with LS-DYNA
-can run the same model, and read back the cards ccedi writes (round-trip check).
+can run the same model as it is (``ls-dyna i=deck.k``), and read back the cards ccedi writes
+(round-trip check).
 
-Format: LS-DYNA's standard fixed-width fields, 10 characters per field except *NODE
-(node id 8, coordinates 16 each), *ELEMENT_SOLID / *ELEMENT_SHELL (8 each) and the
+Format: LS-DYNA's standard fixed-width fields, 10 characters per field, 8 per line, except
+*NODE (node id 8, coordinates 16 each), *ELEMENT_SOLID / *ELEMENT_SHELL (8 each) and the
 *DEFINE_CURVE points (20 each). A real number is written in the shortest form that
 round-trips exactly and fits the field less one character (so fields stay separated by
 a blank); one that cannot fit keeps as many significant digits as fit (node coordinates
@@ -11,35 +12,87 @@ also accepts comma-separated (free format) lines.
 
 Cards written (SI units: m, kg, s, N, Pa):
 
+* *CONTROL_TERMINATION (ENDTIM), *CONTROL_TIMESTEP (TSSFAC 0.9), *CONTROL_ENERGY (hourglass,
+  contact and damping energies computed, so that glstat balances like ccedi's energy terms);
+* *DATABASE_GLSTAT, *DATABASE_NODOUT with *DATABASE_HISTORY_NODE on the ``tip`` node set
+  (ccedi's tip displacement is their area-weighted mean, :func:`ccedi.fea.model.face_node_weights`),
+  *DATABASE_SPCFORC for a clamp, *DATABASE_RCFORC for contact (ASCII files, every
+  ``output_dt_s``), and *DATABASE_BINARY_D3PLOT (every ``plot_dt_s``);
 * *NODE, *PART / *SECTION_SOLID (ELFORM 1, one-point hexahedron, as ccedi's element) /
-  *ELEMENT_SOLID;
+  *ELEMENT_SOLID, with *HOURGLASS (:data:`HOURGLASS_IHQ`, QM = ccedi's hourglass coefficient,
+  Q1/Q2 = ccedi's bulk viscosity) linked by the part's HGID;
 * *MAT_ELASTIC (E, nu, rho of the rubber: ccedi's neo-Hookean solid coincides with it at
   small strain; for large strain use *MAT_HYPERELASTIC_RUBBER with C10 = mu/2, D1 = 2/K);
-* *DAMPING_GLOBAL with VALDMP = alpha (force d m v, the paper's mass-proportional term;
-  beta, if any, is noted in a comment: LS-DYNA sets it per part with *DAMPING_PART_STIFFNESS);
-* *CONTROL_TERMINATION, *CONTROL_TIMESTEP with TSSFAC 0.9;
+* *DAMPING_GLOBAL with VALDMP = alpha: the manual's nodal damping force f = -d m v is
+  ccedi's mass-proportional term -alpha m v (beta, if any, is noted in a comment: LS-DYNA
+  sets it per part with *DAMPING_PART_STIFFNESS);
 * *SET_NODE_LIST + *BOUNDARY_SPC_SET for the clamped nodes;
 * *SET_NODE_LIST + *LOAD_NODE_SET + *DEFINE_CURVE for each force pulse: nodes grouped by
   their share of the pulse (*LOAD_NODE_SET applies one force to every node), the curve
   holding the share, SF the force component [N] (per-node force = SF x curve);
-* for a rotating root (the drum): *BOUNDARY_PRESCRIBED_MOTION_SET (DOF 11, rotation about
-  z through the origin at constant rate) and *INITIAL_VELOCITY_GENERATION;
+* for a rotating root (the drum): solid nodes have no rotational degrees of freedom, so the
+  root nodes are made *CONSTRAINED_EXTRA_NODES_SET of a rigid drum part (*PART_INERTIA with
+  its centre of mass on the axis, *MAT_RIGID with translations and the x, y rotations
+  constrained), whose z-rotational degree of freedom (DOF 7) is prescribed at omega by
+  *BOUNDARY_PRESCRIBED_MOTION_RIGID; *INITIAL_VELOCITY_GENERATION starts the finger turning
+  rigidly (ccedi's v0 = omega x r);
 * for contact: the rigid elliptical object as a shell part (*MAT_RIGID, fully constrained)
   and *CONTACT_AUTOMATIC_NODES_TO_SURFACE from the finger's surface nodes, static and
   dynamic friction = mu.
+
+Card layouts (field order, columns, meaning) follow the LS-DYNA Keyword User's Manual
+(Vol. I, the keyword's own page), as transcribed field by field in Ansys PyDyna's keyword
+classes, which are generated from the manual
+(https://github.com/ansys/pydyna, ``src/ansys/dyna/core/keywords/keyword_classes/auto/
+<group>/<keyword>.py``); each card writer names its keyword page. ``tests/test_lsdyna.py``
+checks every card field by field against those layouts.
 """
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ccedi.errors import InputError
+from ccedi.errors import InputError, require_finite_positive
 
 from .explicit import TSSFAC
+from .hex8 import BULK_VISCOSITY_C0, BULK_VISCOSITY_C1
 from .outputs import write_text
 
-FINGER_PART, OBJECT_PART = 1, 2
+FINGER_PART, OBJECT_PART, DRUM_PART = 1, 2, 3
+HOURGLASS_ID = 1
 CLAMP_SET, CONTACT_SET, ROTATING_SET, FIRST_LOAD_SET = 1, 2, 3, 10
 OBJECT_SHELLS_AROUND, OBJECT_SHELLS_THROUGH = 72, 4
+DRUM_SHELLS_AROUND = 36
+RIGID_DENSITY, RIGID_E, RIGID_NU, RIGID_SHELL_T = 2700.0, 69e9, 0.33, 1e-3
+"""Rigid object and drum: aluminium (Table 2); E and nu only set the contact stiffness of a
+rigid part, the shell thickness [m] only its drawn mass."""
+OUTPUTS_PER_RUN, OUTPUTS_PER_PLOT = 400, 10
+"""Default history interval t_end / 400 (the rows of :func:`ccedi.fea.explicit.run`) and
+d3plot interval 10 history intervals (the frames of ``ccedi export --format vtu``)."""
+
+HOURGLASS_IHQ = 6
+"""LS-DYNA hourglass type closest to ccedi's (:mod:`ccedi.fea.hex8`), with QM = ccedi's Q_hg.
+
+ccedi's hourglass control is a stiffness form (force proportional to the hourglass
+displacement ``q_a = gamma_a . x``, not to its rate) on the Flanagan-Belytschko shape
+vectors, scaled by Young's modulus and normalised so that Q_hg = 1 gives a rectangular
+element in pure bending the exact bending energy without locking as nu -> 0.5.
+
+* IHQ 1-3 are viscous forms (resisting hourglass velocities, not displacements); LS-DYNA
+  uses one of them for a part without an *HOURGLASS card.
+* IHQ 4 and 5 are the Flanagan-Belytschko stiffness form (5: exact volume integration),
+  which Flanagan & Belytschko scale by the dilatational modulus lam + 2 mu (about 17 E at
+  the rubber's nu = 0.49, the locking :mod:`ccedi.fea.hex8` avoids); their QM has another
+  normalisation (manual, *HOURGLASS, QM: "Values of QM that exceed 0.15 (for IHQ<6) may
+  cause instabilities"), so ccedi's Q_hg = 1 has no counterpart there.
+* IHQ 6 is the Belytschko-Bindeman assumed-strain stiffness form, scaled by the elastic
+  constants; the manual (*HOURGLASS, QM): "For type 6 solid element hourglass control,
+  QM=1.0 gives an accurate coarse mesh bending stiffness that does not lock in the
+  incompressible limit" -- the calibration of ccedi's Q_hg = 1. So QM = Q_hg.
+
+Remaining difference: type 6 updates its hourglass forces incrementally in a co-rotational
+frame, ccedi's are total (linear in the nodal positions); the manual's type 7 ("linear total
+strain form of type 6") is the total variant with the same QM meaning.
+"""
 
 
 def _num(value, width=10):
@@ -55,6 +108,7 @@ def _num(value, width=10):
 
 
 def _card(values, width=10):
+    """One data line: ints and strings right-justified in ``width`` columns, reals by :func:`_num`."""
     return "".join(v.rjust(width) if isinstance(v, str) else
                    (str(v).rjust(width) if isinstance(v, (int, np.integer)) else _num(v, width - 1).rjust(width))
                    for v in values)
@@ -66,10 +120,16 @@ def _node_line(i, xyz):
 
 
 def _node_set(sid, nodes):
+    """*SET_NODE_LIST: SID (DA1..DA4, SOLVER defaulted), then node ids 8 per line."""
     lines = ["*SET_NODE_LIST", _card([sid])]
     ids = np.asarray(nodes, dtype=np.int64) + 1
     lines += [_card(list(ids[i:i + 8])) for i in range(0, len(ids), 8)]
     return lines
+
+
+def _curve(lcid, points):
+    """*DEFINE_CURVE: LCID (SIDR, SFA, SFO, OFFA, OFFO defaulted), then (A, O) pairs in 20 columns."""
+    return ["*DEFINE_CURVE", _card([lcid]), *[_card([a, o], 20) for a, o in points]]
 
 
 def _pulse_curve(lcid, share, t0, t1, t_end_s):
@@ -79,26 +139,156 @@ def _pulse_curve(lcid, share, t0, t1, t_end_s):
     points = (([(0.0, 0.0), (max(t0 - eps, 0.0), 0.0)] if t0 > 0.0 else [])
               + [(t0, share), (t1, share), (t1 + eps, 0.0)])
     points.append((max(10.0 * t_end_s, t1 + 2 * eps), 0.0))
-    return ["*DEFINE_CURVE", _card([lcid]), *[_card([t, f], 20) for t, f in points]]
+    return _curve(lcid, points)
 
 
-def _object_shells(surface, first_node):
-    """Quad shells on the lateral surface of the rigid elliptical cylinder."""
-    ca, sa = np.cos(surface.angle_rad), np.sin(surface.angle_rad)
-    th = np.linspace(0.0, 2 * np.pi, OBJECT_SHELLS_AROUND, endpoint=False)
-    ex, ey = surface.a_m * np.cos(th), surface.b_m * np.sin(th)
-    x = surface.center_m[0] + ca * ex - sa * ey
-    y = surface.center_m[1] + sa * ex + ca * ey
-    zs = np.linspace(surface.z_min_m, surface.z_max_m, OBJECT_SHELLS_THROUGH + 1)
+def _ring_shells(center, radius, angle, z0, z1, n_around, n_through, first_node):
+    """Nodes and 1-based quad connectivity of an elliptical cylinder's lateral surface:
+    semi-axes ``radius`` = (a, b) turned by ``angle`` about z, centre (x, y), z0..z1."""
+    ca, sa = np.cos(angle), np.sin(angle)
+    th = np.linspace(0.0, 2 * np.pi, n_around, endpoint=False)
+    ex, ey = radius[0] * np.cos(th), radius[1] * np.sin(th)
+    x = center[0] + ca * ex - sa * ey
+    y = center[1] + sa * ex + ca * ey
+    zs = np.linspace(z0, z1, n_through + 1)
     pts = np.array([[xi, yi, z] for z in zs for xi, yi in zip(x, y)])
-    n = OBJECT_SHELLS_AROUND
+    n = n_around
     quads = [[k * n + i, k * n + (i + 1) % n, (k + 1) * n + (i + 1) % n, (k + 1) * n + i]
-             for k in range(OBJECT_SHELLS_THROUGH) for i in range(n)]
-    return pts, np.asarray(quads) + first_node
+             for k in range(n_through) for i in range(n)]
+    return pts, np.asarray(quads) + first_node + 1
 
 
-def keyword_lines(model, t_end_s, title="ccedi model"):
+def _rigid_shell_part(pid, heading, pts, quads, first_node, first_element, con2, inertia=()):
+    """A rigid shell part: *PART (or *PART_INERTIA followed by the ``inertia`` cards),
+    *SECTION_SHELL (ELFORM 2, thickness RIGID_SHELL_T), *MAT_RIGID (CMO = 1: CON1 = 7 fixes
+    the translations, CON2 the rotations), *NODE and *ELEMENT_SHELL (EID, PID, N1..N4).
+
+    Layouts: Keyword Manual *PART (Card 2: PID SECID MID EOSID HGID GRAV ADPOPT TMID),
+    *SECTION_SHELL (Card 1: SECID ELFORM SHRF NIP ...; Card 2: T1 T2 T3 T4 ...), *MAT_RIGID
+    (Card 1: MID RO E PR N COUPLE M ALIAS; Card 2: CMO CON1 CON2 ...; Card 3: LCO or A1 ...).
+    """
+    return ([f"*PART{'_INERTIA' if inertia else ''}", heading, _card([pid, pid, pid, 0, 0]), *inertia,
+             "*SECTION_SHELL", "$     SECID    ELFORM", _card([pid, 2]), _card([RIGID_SHELL_T] * 4),
+             "*MAT_RIGID", "$       MID        RO         E        PR", _card([pid, RIGID_DENSITY, RIGID_E, RIGID_NU]),
+             "$       CMO      CON1      CON2", _card([1.0, 7, con2]), "$       LCO", _card([0.0]),
+             "*NODE"] + [_node_line(i, p) for i, p in enumerate(pts, first_node)]
+            + ["*ELEMENT_SHELL"] + [_card([first_element + k + 1, pid, *q], 8) for k, q in enumerate(quads)])
+
+
+def _output_interval(name, value, default, t_end_s):
+    """``value`` (``default`` when None) as a float in 0 < dt <= t_end_s, else InputError."""
+    dt = require_finite_positive(name, default if value is None else value)
+    if dt > t_end_s:
+        raise InputError(f"{name} = {value!r}: must be in 0..{t_end_s:g} (s), > 0 and at most t_end_s")
+    return dt
+
+
+def _controls(t_end_s):
+    """*CONTROL_TERMINATION (ENDTIM ENDCYC DTMIN ENDENG ENDMAS NOSOL), *CONTROL_TIMESTEP
+    (DTINIT TSSFAC ...) and *CONTROL_ENERGY (HGEN RWEN SLNTEN RYLEN: 2 = computed and
+    included in the energy balance; without it glstat has no hourglass or damping energy).
+    Layouts: Keyword Manual *CONTROL_TERMINATION, *CONTROL_TIMESTEP, *CONTROL_ENERGY, Card 1."""
+    return ["*CONTROL_TERMINATION", "$    ENDTIM", _card([t_end_s]),
+            "*CONTROL_TIMESTEP", "$    DTINIT    TSSFAC", _card([0.0, TSSFAC]),
+            "*CONTROL_ENERGY", "$      HGEN      RWEN    SLNTEN     RYLEN", _card([2, 2, 2, 2])]
+
+
+def _databases(model, output_dt_s, plot_dt_s):
+    """*DATABASE_GLSTAT, _NODOUT, _SPCFORC (clamped model), _RCFORC (contact): Card 1
+    DT BINARY LCUR IOOPT, BINARY = 1 (ASCII file); *DATABASE_BINARY_D3PLOT: Card 1 DT LCDT
+    BEAM NPLTC PSETID; *DATABASE_HISTORY_NODE: ID1..ID8 per line, the ``tip`` node set.
+    Layouts: Keyword Manual *DATABASE_OPTION (ASCII files), *DATABASE_BINARY_OPTION,
+    *DATABASE_HISTORY_OPTION."""
+    ascii_ = ["GLSTAT", "NODOUT"] + (["SPCFORC"] if len(model.fixed_nodes) else []) \
+        + (["RCFORC"] if model.contact is not None else [])
+    lines = []
+    for name in ascii_:
+        lines += [f"*DATABASE_{name}", "$        DT    BINARY", _card([output_dt_s, 1])]
+    lines += ["*DATABASE_BINARY_D3PLOT", "$        DT", _card([plot_dt_s])]
+    tip = model.mesh.node_sets.get("tip")
+    if tip is not None and len(tip):
+        ids = np.sort(np.asarray(tip, dtype=np.int64)) + 1
+        lines += ["*DATABASE_HISTORY_NODE", "$ the tip face: ccedi's tip_u* is their area-weighted mean"]
+        lines += [_card(list(ids[i:i + 8])) for i in range(0, len(ids), 8)]
+    return lines
+
+
+def _finger_part(model, q_hg, alpha, beta):
+    """*PART (PID SECID MID EOSID HGID), *SECTION_SOLID (SECID ELFORM), *HOURGLASS (HGID IHQ
+    QM IBQ Q1 Q2), *MAT_ELASTIC (MID RO E PR) and *DAMPING_GLOBAL (LCID VALDMP STX STY STZ
+    SRX SRY SRZ: the scale factors written as 1 so every direction is damped).
+    Layouts: Keyword Manual *PART, *SECTION_SOLID, *HOURGLASS, *MAT_ELASTIC (MAT_001),
+    *DAMPING_GLOBAL, Card 1."""
+    m = model.material
+    lines = ["*PART", "finger", "$       PID     SECID       MID     EOSID      HGID",
+             _card([FINGER_PART, FINGER_PART, FINGER_PART, 0, HOURGLASS_ID]),
+             "*SECTION_SOLID", "$     SECID    ELFORM", _card([FINGER_PART, 1]),
+             "*HOURGLASS", "$      HGID       IHQ        QM       IBQ        Q1        Q2",
+             _card([HOURGLASS_ID, HOURGLASS_IHQ, q_hg, 0, BULK_VISCOSITY_C0, BULK_VISCOSITY_C1]),
+             "*MAT_ELASTIC", "$       MID        RO         E        PR", _card([FINGER_PART, m.rho, m.E, m.nu]),
+             "*DAMPING_GLOBAL", "$      LCID    VALDMP       STX       STY       STZ       SRX       SRY       SRZ",
+             _card([0, alpha, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0])]
+    if beta:
+        lines.append(f"$ ccedi beta = {beta!r} s (not exported: use *DAMPING_PART_STIFFNESS)")
+    return lines
+
+
+def _drum(model, lcid, first_node, first_element, t_end_s):
+    """The rigid drum carrying the rotating root nodes, turning at omega about z.
+
+    The root nodes become *CONSTRAINED_EXTRA_NODES_SET (PID NSID) of a rigid shell ring
+    (radius: the root nodes' nearest distance to the axis, width: their extent along it).
+    A rigid body's computed mass properties include its extra nodes' masses (manual,
+    *CONSTRAINED_EXTRA_NODES, IFLAG), which would move its centre of mass off the axis;
+    *PART_INERTIA (Card 3: XC YC ZC TM IRCS NODEID; Card 4:
+    IXX IXY IXZ IYY IYZ IZZ; Card 5: VTX VTY VTZ VRX VRY VRZ) puts it on the axis with the
+    ring's own mass and inertia and the initial spin VRZ = omega. *MAT_RIGID constrains the
+    translations (CON1 = 7) and the x and y rotations (CON2 = 4), and
+    *BOUNDARY_PRESCRIBED_MOTION_RIGID (PID DOF VAD LCID SF VID DEATH BIRTH) drives the
+    z-rotational degree of freedom (DOF 7, about the global z axis through the centre of
+    mass) with velocity (VAD 0) SF x curve = omega [rad/s] for all t.
+    *INITIAL_VELOCITY_GENERATION (ID STYP OMEGA VX VY VZ IVATN ICID; XC YC ZC NX NY NZ PHASE
+    IRIGID) gives the finger part (STYP 2) the rigid spin omega about the drum's axis.
+
+    Layouts: Keyword Manual *CONSTRAINED_EXTRA_NODES, *PART_INERTIA, *MAT_RIGID,
+    *BOUNDARY_PRESCRIBED_MOTION (DOF: "EQ.7: z-rotational degree of freedom"; DOF 9-11, the
+    nodal rotations, are "not applicable to rigid bodies" and leave the axial degree of
+    freedom free), *INITIAL_VELOCITY_GENERATION.
+    """
+    rot = model.rotating
+    if not (np.allclose(rot.axis, [0, 0, 1]) and np.allclose(rot.center_m, 0.0)):
+        raise InputError("LS-DYNA export supports rotation about the global z axis through the origin only")
+    root = model.mesh.nodes[rot.nodes]
+    r = float(np.hypot(root[:, 0], root[:, 1]).min())
+    z0, z1 = float(root[:, 2].min()), float(root[:, 2].max())
+    if not r > 0.0 or not z1 > z0:
+        raise InputError("LS-DYNA export: the rotating nodes must span a face off the axis")
+    pts, quads = _ring_shells((0.0, 0.0), (r, r), 0.0, z0, z1, DRUM_SHELLS_AROUND, 1, first_node)
+    width = z1 - z0
+    mass = RIGID_DENSITY * RIGID_SHELL_T * 2 * np.pi * r * width
+    i_axis, i_diam = mass * r ** 2, mass * (r ** 2 / 2 + width ** 2 / 12)
+    omega = rot.omega_rad_s
+    inertia = ["$        XC        YC        ZC        TM      IRCS", _card([0.0, 0.0, 0.5 * (z0 + z1), mass, 0]),
+               "$       IXX       IXY       IXZ       IYY       IYZ       IZZ",
+               _card([i_diam, 0.0, 0.0, i_diam, 0.0, i_axis]),
+               "$       VTX       VTY       VTZ       VRX       VRY       VRZ", _card([0.0, 0.0, 0.0, 0.0, 0.0, omega])]
+    lines = _rigid_shell_part(DRUM_PART, "drum (rigid)", pts, quads, first_node, first_element, 4, inertia)
+    lines += _node_set(ROTATING_SET, rot.nodes)
+    lines += ["*CONSTRAINED_EXTRA_NODES_SET", "$       PID      NSID", _card([DRUM_PART, ROTATING_SET])]
+    lines += _curve(lcid, [(0.0, 1.0), (10.0 * t_end_s, 1.0)])
+    lines += ["*BOUNDARY_PRESCRIBED_MOTION_RIGID", "$       PID       DOF       VAD      LCID        SF",
+              _card([DRUM_PART, 7, 0, lcid, omega]),
+              "*INITIAL_VELOCITY_GENERATION", "$        ID      STYP     OMEGA        VX        VY        VZ",
+              _card([FINGER_PART, 2, omega, 0.0, 0.0, 0.0]),
+              "$        XC        YC        ZC        NX        NY        NZ",
+              _card([*rot.center_m, *rot.axis])]
+    return lines
+
+
+def keyword_lines(model, t_end_s, title="ccedi model", output_dt_s=None, plot_dt_s=None):
     """The LS-DYNA keyword deck of ``model`` as a list of lines (cards in the module docstring).
+
+    Every value is checked before a line is built, so a refused model writes nothing.
 
     Parameters
     ----------
@@ -107,9 +297,15 @@ def keyword_lines(model, t_end_s, title="ccedi model"):
         must turn about the global z axis through the origin, and contact must be with
         the rigid elliptical object.
     t_end_s : float
-        Termination time (*CONTROL_TERMINATION) [s].
+        Termination time (*CONTROL_TERMINATION ENDTIM) [s], finite and > 0.
     title : str, optional
         *TITLE text, truncated to 80 characters. Default ``"ccedi model"``.
+    output_dt_s : float or None, optional
+        Interval of the ASCII histories (glstat, nodout, spcforc, rcforc) [s], in
+        0 < dt <= t_end_s. Default None: ``t_end_s / 400``.
+    plot_dt_s : float or None, optional
+        Interval of the d3plot states [s], in 0 < dt <= t_end_s. Default None: 10 history
+        intervals.
 
     Returns
     -------
@@ -119,25 +315,29 @@ def keyword_lines(model, t_end_s, title="ccedi model"):
     Raises
     ------
     InputError
-        If the model has rods or point masses, relative damping, a rotation about
-        another axis, contact with another surface, or a number that does not fit
-        its fixed-width field.
+        If ``t_end_s`` or an output interval is not finite and in range, alpha, beta or the
+        hourglass coefficient is out of range, the model has rods or point masses, relative
+        damping, a rotation about another axis, contact with another surface, or a number
+        does not fit its fixed-width field.
     """
+    t_end_s = require_finite_positive("t_end_s (termination time, s)", t_end_s)
+    output_dt_s = _output_interval("output_dt_s (history output interval, s)", output_dt_s,
+                                   t_end_s / OUTPUTS_PER_RUN, t_end_s)
+    plot_dt_s = _output_interval("plot_dt_s (d3plot interval, s)", plot_dt_s,
+                                 min(OUTPUTS_PER_PLOT * output_dt_s, t_end_s), t_end_s)
+    alpha = require_finite_positive("alpha (mass-proportional damping, 1/s)", model.alpha, allow_zero=True)
+    beta = require_finite_positive("beta (stiffness-proportional damping, s)", model.beta, allow_zero=True)
+    q_hg = require_finite_positive("hourglass_coefficient", model.hourglass_coefficient)
     if model.rods or model.point_masses:
         raise InputError("LS-DYNA export covers solid models; this model has rods or point masses")
     if model.damping != "global":
         raise InputError("LS-DYNA export writes *DAMPING_GLOBAL; relative damping is not exported")
-    m, mesh = model.material, model.mesh
+    if model.contact is not None and not hasattr(model.contact.surface, "a_m"):
+        raise InputError("LS-DYNA export writes contact with the rigid elliptical object only")
+    mesh = model.mesh
     lines = ["*KEYWORD", "*TITLE", title[:80],
              "$ units: m, kg, s, N, Pa. Written by ccedi (fea.lsdyna).",
-             "*CONTROL_TERMINATION", _card([t_end_s]),
-             "*CONTROL_TIMESTEP", "$    DTINIT    TSSFAC", _card([0.0, TSSFAC]),
-             "*PART", "finger", _card([FINGER_PART, 1, 1]),
-             "*SECTION_SOLID", _card([1, 1]),
-             "*MAT_ELASTIC", "$       MID        RO         E        PR", _card([1, m.rho, m.E, m.nu]),
-             "*DAMPING_GLOBAL", "$      LCID    VALDMP", _card([0, model.alpha])]
-    if model.beta:
-        lines.append(f"$ ccedi beta = {model.beta!r} s (not exported: use *DAMPING_PART_STIFFNESS)")
+             *_controls(t_end_s), *_databases(model, output_dt_s, plot_dt_s), *_finger_part(model, q_hg, alpha, beta)]
     lines += ["*NODE"] + [_node_line(i, xyz) for i, xyz in enumerate(mesh.nodes)]
     lines += ["*ELEMENT_SOLID"] + [_card([e + 1, FINGER_PART, *(h + 1)], 8) for e, h in enumerate(mesh.hexes)]
     if len(model.fixed_nodes):
@@ -149,38 +349,26 @@ def keyword_lines(model, t_end_s, title="ccedi model"):
             lines += _node_set(sid, pulse.nodes[pulse.weights == w])
             lines += ["*LOAD_NODE_SET"] + [_card([sid, dof + 1, sid, f]) for dof, f in enumerate(pulse.force_N) if f]
             sid += 1
-    lcid = sid
-    if model.rotating is not None:
-        rot = model.rotating
-        if not (np.allclose(rot.axis, [0, 0, 1]) and np.allclose(rot.center_m, 0.0)):
-            raise InputError("LS-DYNA export supports rotation about the global z axis through the origin only")
-        lines += _node_set(ROTATING_SET, rot.nodes)
-        lines += ["*DEFINE_CURVE", _card([lcid]), _card([0.0, 1.0], 20), _card([10.0 * t_end_s, 1.0], 20),
-                  "*BOUNDARY_PRESCRIBED_MOTION_SET", _card([ROTATING_SET, 11, 0, lcid, rot.omega_rad_s]),
-                  _card([0.0, 0.0]),
-                  "*INITIAL_VELOCITY_GENERATION", _card([FINGER_PART, 2, rot.omega_rad_s, 0.0, 0.0, 0.0]),
-                  _card([0.0, 0.0, 0.0, 0.0, 0.0, 1.0])]
+    n_nodes, n_elements = mesh.n_nodes, mesh.n_elements
     if model.contact is not None:
-        surface = model.contact.surface
-        if not hasattr(surface, "a_m"):
-            raise InputError("LS-DYNA export writes contact with the rigid elliptical object only")
-        pts, quads = _object_shells(surface, mesh.n_nodes)
-        lines += ["*PART", "object (rigid)", _card([OBJECT_PART, 2, 2]),
-                  "*SECTION_SHELL", _card([2, 2]), _card([1e-3, 1e-3, 1e-3, 1e-3]),
-                  "*MAT_RIGID", _card([2, 2700.0, 69e9, 0.33]), _card([1.0, 7, 7]),
-                  "*NODE"] + [_node_line(i, p) for i, p in enumerate(pts, mesh.n_nodes)]
-        lines += ["*ELEMENT_SHELL"] + [_card([mesh.n_elements + k + 1, OBJECT_PART, *(q + 1)], 8)
-                                       for k, q in enumerate(quads)]
+        s = model.contact.surface
+        pts, quads = _ring_shells(s.center_m, (s.a_m, s.b_m), s.angle_rad, s.z_min_m, s.z_max_m,
+                                  OBJECT_SHELLS_AROUND, OBJECT_SHELLS_THROUGH, n_nodes)
+        lines += _rigid_shell_part(OBJECT_PART, "object (rigid)", pts, quads, n_nodes, n_elements, 7)
+        n_nodes, n_elements = n_nodes + len(pts), n_elements + len(quads)
         lines += _node_set(CONTACT_SET, model.contact.nodes)
         lines += ["*CONTACT_AUTOMATIC_NODES_TO_SURFACE", "$      SSID      MSID     SSTYP     MSTYP",
                   _card([CONTACT_SET, OBJECT_PART, 4, 3]), "$        FS        FD",
-                  _card([surface.mu, surface.mu]), _card([1.0, 1.0])]
+                  _card([s.mu, s.mu]), _card([1.0, 1.0])]
+    if model.rotating is not None:
+        lines += _drum(model, sid, n_nodes, n_elements, t_end_s)
     lines.append("*END")
     return lines
 
 
-def write_keyword(model, path, t_end_s, title="ccedi model"):
-    """Write the LS-DYNA deck of ``model`` to ``path``, atomically.
+def write_keyword(model, path, t_end_s, title="ccedi model", output_dt_s=None, plot_dt_s=None):
+    """Write the LS-DYNA deck of ``model`` to ``path``, atomically; nothing is written when
+    the model or a value is refused.
 
     Parameters
     ----------
@@ -189,9 +377,13 @@ def write_keyword(model, path, t_end_s, title="ccedi model"):
     path : str or pathlib.Path
         Output ``.k`` file; parent directories are created.
     t_end_s : float
-        Termination time [s].
+        Termination time [s], finite and > 0.
     title : str, optional
         *TITLE text. Default ``"ccedi model"``.
+    output_dt_s : float or None, optional
+        ASCII history interval [s] (see :func:`keyword_lines`). Default ``t_end_s / 400``.
+    plot_dt_s : float or None, optional
+        d3plot interval [s]. Default 10 history intervals.
 
     Returns
     -------
@@ -201,9 +393,9 @@ def write_keyword(model, path, t_end_s, title="ccedi model"):
     Raises
     ------
     InputError
-        If the model cannot be exported (see :func:`keyword_lines`).
+        If the model or a value cannot be exported (see :func:`keyword_lines`).
     """
-    return write_text(path, "\n".join(keyword_lines(model, t_end_s, title)) + "\n")
+    return write_text(path, "\n".join(keyword_lines(model, t_end_s, title, output_dt_s, plot_dt_s)) + "\n")
 
 
 @dataclass
@@ -257,8 +449,20 @@ def _fields(line, width):
     return [line[i:i + width].strip() for i in range(0, len(line), width)]
 
 
-def _blocks(text):
-    """{keyword: [list of data-line lists, one per occurrence]} without comments."""
+def keyword_blocks(text):
+    """Split a keyword deck into its cards, comment (``$``) and blank lines dropped.
+
+    Parameters
+    ----------
+    text : str
+        The deck.
+
+    Returns
+    -------
+    dict
+        ``{keyword: [data lines of each occurrence, in order]}``, the keyword upper-cased
+        with its ``*`` (``"*PART"``), each occurrence a list of the raw data lines.
+    """
     blocks, current = {}, None
     for raw in text.splitlines():
         if raw.startswith("$") or not raw.strip():
@@ -292,7 +496,7 @@ def read_keyword(path):
         If a required card (*MAT_ELASTIC, *DAMPING_GLOBAL, *CONTROL_TIMESTEP,
         *CONTROL_TERMINATION) is missing.
     """
-    blocks = _blocks(open(path).read())
+    blocks = keyword_blocks(open(path).read())
 
     def one(key, width=10):
         if key not in blocks:
