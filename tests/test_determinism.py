@@ -4,7 +4,6 @@ A process that compiles the kernels and one that loads them from numba's on-disk
 must produce the same bits: an impulse run and a contact run on the drum, each done once
 with an empty cache directory and once with the cache the first run wrote.
 """
-import hashlib
 import os
 import subprocess
 import sys

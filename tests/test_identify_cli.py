@@ -13,13 +13,16 @@ from ccedi.study.cli import main
 
 
 @pytest.mark.slow
-def test_alpha_cr_of_3_in_finger(tmp_path):
+def test_alpha_cr_of_3_in_finger(tmp_path, capsys):
     path = tmp_path / "acr.json"
     assert main(["identify", "--length-in", "3", "--alpha-cr", "--rtol", "0.02", "--json", str(path)]) == 0
     out = json.loads(path.read_text())
     assert out["alpha_cr_per_s"] == pytest.approx(float(paper_alpha_cr(3.0)), rel=0.15)
     assert out["alpha_cr_per_s"] == pytest.approx(out["two_omega1_per_s"], rel=0.05)
     assert out["n_fe_runs"] == len(out["runs"])
+    run_lines = [line for line in capsys.readouterr().out.splitlines() if line.startswith("identify: run ")]
+    assert [float(line.split("alpha = ")[1].split()[0]) for line in run_lines] == \
+        pytest.approx([run["alpha_per_s"] for run in out["runs"]], rel=1e-3)   # one line per FE run, as it runs
 
 
 @pytest.mark.slow

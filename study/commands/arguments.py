@@ -4,11 +4,48 @@ Output paths are declared with :func:`add_output_argument` and checked by
 :func:`check_output_paths` before a command computes anything, so that a run is never
 lost to a path it cannot write at the end.
 """
+import argparse
 import os
 from pathlib import Path
 
 from ccedi.errors import InputError
 from ccedi.fea.distributed import SERIAL
+
+
+class DefaultsHelpFormatter(argparse.HelpFormatter):
+    """Help that ends every option's text with its default, unless the text already says
+    it or there is none to say (no default, a switch that is off, a required option)."""
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        default = action.default
+        if ("default" in text.lower() or action.required or default in (None, False, argparse.SUPPRESS)
+                or not action.option_strings):
+            return text
+        shown = " ".join(map(str, default)) if isinstance(default, (list, tuple)) else default
+        return f"{text} (default: {shown})"
+
+
+def add_command(sub, name, help):
+    """Register the sub-command ``name`` on ``sub``, its one-line ``help`` also the
+    description of its own ``--help``, every option's default shown there.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The sub-command registry of the ``ccedi`` parser.
+    name : str
+        The sub-command.
+    help : str
+        What it does, in one sentence.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The sub-command's parser.
+    """
+    return sub.add_parser(name, help=help, description=help[0].upper() + help[1:] + ".",
+                          formatter_class=DefaultsHelpFormatter)
 
 
 def add_scheduler_argument(parser, default=SERIAL):

@@ -6,7 +6,7 @@ Everything is loaded, validated and computed before the first file is written, a
 file is written atomically, so bad data leaves no output behind.
 """
 from ccedi.errors import InputError
-from ccedi.study.commands.arguments import add_output_argument
+from ccedi.study.commands.arguments import add_command, add_output_argument
 
 
 def add_parsers(sub):
@@ -19,7 +19,7 @@ def add_parsers(sub):
     """
     from ccedi.calibrate.effects import CATALOGUE
 
-    c = sub.add_parser("calibrate", help="fit the declared finger to a measured record, find the effects its "
+    c = add_command(sub, "calibrate", help="fit the declared finger to a measured record, find the effects its "
                        "residual points to, report the error before and after")
     c.add_argument("csv", help="measured record: time_s, tip_displacement_m[, force_N, reaction_force_N]")
     c.add_argument("--meta", help="JSON sidecar describing the experiment (default: DATA.json beside DATA.csv)")

@@ -4,7 +4,13 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ccedi.errors import InputError
-from ccedi.study.commands.arguments import add_config_argument, add_output_argument, add_scheduler_argument, load_config
+from ccedi.study.commands.arguments import (
+    add_command,
+    add_config_argument,
+    add_output_argument,
+    add_scheduler_argument,
+    load_config,
+)
 
 
 def add_parsers(sub):
@@ -15,7 +21,7 @@ def add_parsers(sub):
     sub : argparse._SubParsersAction
         The sub-command registry of the ``ccedi`` parser.
     """
-    d = sub.add_parser("design", help="design optimiser: alpha and finger length trading contact stress, duration "
+    d = add_command(sub, "design", help="design optimiser: alpha and finger length trading contact stress, duration "
                        "and residual oscillation (ROM surrogate, casadi/IPOPT, Pareto front, FEA re-check)")
     d.add_argument("--weights", default="1,1,1",
                    help="w_stress,w_duration,w_oscillation (>= 0, not all zero; normalised to sum 1)")

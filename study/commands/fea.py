@@ -10,6 +10,7 @@ from pathlib import Path
 
 from ccedi.errors import InputError
 from ccedi.study.commands.arguments import (
+    add_command,
     add_config_argument,
     add_output_argument,
     add_scheduler_argument,
@@ -281,14 +282,14 @@ def add_parsers(sub):
     sub : argparse._SubParsersAction
         The sub-command registry of the ``ccedi`` parser.
     """
-    t = sub.add_parser("table1", help="paper Table 1: nodes, elements, stable time step and tip stiffness "
+    t = add_command(sub, "table1", help="paper Table 1: nodes, elements, stable time step and tip stiffness "
                        "of SM-A and SM-B")
     t.add_argument("--length-in", type=float, default=4.5, help="finger length [in] (default 4.5)")
     add_output_argument(t, "--json", "file", help="write the table as JSON to this path")
     t.add_argument("--no-stiffness", action="store_true", help="skip the static stiffness solves")
     add_config_argument(t)
     t.set_defaults(func=_cmd_table1)
-    i = sub.add_parser("impulse", help="tip impulse response of the SM-A finger for several alpha "
+    i = add_command(sub, "impulse", help="tip impulse response of the SM-A finger for several alpha "
                        "(paper Fig. 7): CSV, plot, JSON")
     i.add_argument("--alpha", type=float, nargs="+", default=[70.0, 120.0, 160.0, 180.0, 200.0],
                    help="mass-proportional damping values [1/s]")
@@ -300,20 +301,21 @@ def add_parsers(sub):
     add_scheduler_argument(i)
     add_config_argument(i)
     i.set_defaults(func=_cmd_impulse)
-    c = sub.add_parser("contact", help="finger on the rotating drum over the elliptical object (paper 3.3-3.4)")
+    c = add_command(sub, "contact", help="finger on the rotating drum over the elliptical object (paper 3.3-3.4)")
     c.add_argument("--alpha", type=float, required=True, help="mass-proportional damping [1/s]")
     add_output_argument(c, "--json", "file", help="summary JSON path (default: OUT/contact_alpha<A>_<damping>.json)")
     add_output_argument(c, "--vtu", "dir", help="directory for a VTU/PVD animation of the finger")
     add_output_argument(c, "--out", "dir", default="reports/contact", help="output directory for the CSV history")
     _contact_arguments(c)
     c.set_defaults(func=_cmd_contact)
-    w = sub.add_parser("contact-sweep", help="the contact run for several alpha; paper Figs. 10, 13, 14 analogues")
-    w.add_argument("--alphas", type=float, nargs="+", default=[1.0, 7.5, 20.0, 50.0, 180.0, 600.0])
+    w = add_command(sub, "contact-sweep", help="the contact run for several alpha; paper Figs. 10, 13, 14 analogues")
+    w.add_argument("--alphas", type=float, nargs="+", default=[1.0, 7.5, 20.0, 50.0, 180.0, 600.0],
+                   help="mass-proportional damping values [1/s], one contact run each")
     add_output_argument(w, "--out", "dir", default="reports/contact", help="output directory")
     add_scheduler_argument(w, default="local")
     _contact_arguments(w)
     w.set_defaults(func=_cmd_contact_sweep)
-    r = sub.add_parser("contact-report", help="contact_report.md from the CSVs a contact-sweep wrote")
+    r = add_command(sub, "contact-report", help="contact_report.md from the CSVs a contact-sweep wrote")
     r.add_argument("--out", default="reports/contact", help="directory holding the sweep CSVs")
     _contact_arguments(r)
     r.set_defaults(func=lambda args: write_contact_report(_setup_of(args), args.out))

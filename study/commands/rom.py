@@ -6,6 +6,7 @@
 """
 from ccedi.errors import InputError
 from ccedi.study.commands.arguments import (
+    add_command,
     add_config_argument,
     add_output_argument,
     add_scheduler_argument,
@@ -22,7 +23,7 @@ def add_parsers(sub):
     sub : argparse._SubParsersAction
         The sub-command registry of the ``ccedi`` parser.
     """
-    i = sub.add_parser("identify", help="CCEDI damping identification: alpha, zeta and alpha_cr from a "
+    i = add_command(sub, "identify", help="CCEDI damping identification: alpha, zeta and alpha_cr from a "
                        "measured impulse response, or alpha_cr of an SM-A finger (--alpha-cr)")
     i.add_argument("csv", nargs="?", help="measured response CSV: time_s, tip_displacement_m[, force_N]")
     i.add_argument("--model", choices=("finger", "steel-rod"), default="finger",
@@ -39,14 +40,15 @@ def add_parsers(sub):
     add_output_argument(i, "--json", "file", help="write the result as JSON to this path")
     add_config_argument(i)
     i.set_defaults(func=cmd_identify)
-    f = sub.add_parser("damping-fits", help="alpha_cr of the 3, 4.5, 6 and 8-in SM-A fingers and the paper's "
+    f = add_command(sub, "damping-fits", help="alpha_cr of the 3, 4.5, 6 and 8-in SM-A fingers and the paper's "
                        "Eq. (7) and (8) refitted from them (slow: ~30 FE runs)")
-    f.add_argument("--lengths-in", type=float, nargs="+", default=[3.0, 4.5, 6.0, 8.0])
+    f.add_argument("--lengths-in", type=float, nargs="+", default=[3.0, 4.5, 6.0, 8.0],
+                   help="finger lengths [in], one alpha_cr search each")
     add_output_argument(f, "--out", "dir", default="reports/damping_fits", help="output directory")
     add_scheduler_argument(f, default="local")
     add_config_argument(f)
     f.set_defaults(func=cmd_damping_fits)
-    r = sub.add_parser("rom-check", help="reduced models against the full FEA: modal ROM on the 4.5-in impulse, "
+    r = add_command(sub, "rom-check", help="reduced models against the full FEA: modal ROM on the 4.5-in impulse, "
                        "superelement chain (co-rotational and linear) on the 8-in contact case (~7 min)")
     add_output_argument(r, "--json", "file", required=True, help="output JSON path (one entry per case)")
     r.add_argument("--alphas", type=float, nargs="*", default=[7.5, 180.0, 600.0],
@@ -54,7 +56,9 @@ def add_parsers(sub):
     r.add_argument("--impulse-alphas", type=float, nargs="*", default=[20.0, 180.0],
                    help="impulse cases: alpha values [1/s] (none: skip)")
     r.add_argument("--modes", type=int, default=6, help="modes of the impulse ROM")
-    r.add_argument("--damping", choices=("global", "relative"), default="global")
+    r.add_argument("--damping", choices=("global", "relative"), default="global",
+                   help="mass damping of the contact cases on the absolute velocity (global, the paper) or "
+                        "relative to the rotating drum")
     r.add_argument("--t-end-s", type=float, default=1.5, help="contact run length [s]")
     r.add_argument("--n-outputs", type=int, default=300,
                    help="contact cases: output times over the run (300: every 5 ms; the alpha = 7.5 finger "
@@ -76,6 +80,51 @@ def _pulse_from_force(t, force):
     on = np.flatnonzero(np.abs(force) >= 0.5 * peak)
     dt = float(np.median(np.diff(t)))
     return float(force[on[np.argmax(np.abs(force[on]))]]), float(t[on[-1]] - t[on[0]] + dt)
+
+
+class RunLog:
+    """An impulse model that prints one line per run: the wrapped model's name, force,
+    duration and responses, so it answers the same interface
+    (:class:`ccedi.models.ImpulseModel`). The CCEDI searches run their model 10-20 times,
+    each run seconds to a minute; the line says what is being run and how long it took.
+
+    Parameters
+    ----------
+    model : ccedi.models.ImpulseModel
+        The model to run.
+    label : str
+        Start of each line (the command's name).
+    """
+
+    def __init__(self, model, label):
+        self.model, self.label, self.runs = model, label, 0
+        self.name, self.force_N, self.duration_s = model.name, model.force_N, model.duration_s
+
+    def run(self, alpha, t_end_s, n_outputs=400):
+        """The wrapped model's response, and a line on stdout.
+
+        Parameters
+        ----------
+        alpha : float
+            Mass-proportional damping [1/s].
+        t_end_s : float
+            Simulated time [s].
+        n_outputs : int, optional
+            Output times. Default 400.
+
+        Returns
+        -------
+        ccedi.models.ImpulseResponse
+            The wrapped model's response.
+        """
+        import time
+
+        t0 = time.perf_counter()
+        response = self.model.run(alpha, t_end_s, n_outputs)
+        self.runs += 1
+        print(f"{self.label}: run {self.runs}: alpha = {alpha:.4g} 1/s, {t_end_s:.3g} s simulated in "
+              f"{time.perf_counter() - t0:.1f} s", flush=True)
+        return response
 
 
 def _impulse_run(args, t_end_s):
@@ -158,6 +207,7 @@ def cmd_identify(args):
         raise InputError(f"--noise-band {args.noise_band}: must be in 0..1 (fraction of the peak)")
     if args.alpha_cr:
         model, t_end, n_outputs, guess, omega1 = _impulse_run(args, None)
+        model = RunLog(model, "identify")
         print(f"identify: alpha_cr by bisection from 2 omega_1 = {guess:.4g} 1/s, FE runs of {t_end:.3g} s each",
               flush=True)
         crit = critical_alpha(model, guess, t_end, rtol=args.rtol, n_outputs=n_outputs)
@@ -177,6 +227,7 @@ def cmd_identify(args):
             args.duration_s = duration if args.duration_s is None else args.duration_s
         model, t_end, n_outputs, guess, omega1 = _impulse_run(args, float(data.time_s[-1]))
         check_sampling(data.time_s, omega1, data.source)
+        model = RunLog(model, "identify")
         print(f"identify: CCEDI on {data.source}: FE runs of {t_end:.3g} s each, alpha_cr bracketed from "
               f"2 omega_1 = {guess:.4g} 1/s", flush=True)
         crit = critical_alpha(model, guess, t_end, rtol=args.rtol, n_outputs=n_outputs)

@@ -8,6 +8,7 @@ from pathlib import Path
 
 from ccedi.errors import InputError
 from ccedi.study.commands.arguments import (
+    add_command,
     add_config_argument,
     add_output_argument,
     add_scheduler_argument,
@@ -26,7 +27,7 @@ def add_parsers(sub):
     sub : argparse._SubParsersAction
         The sub-command registry of the ``ccedi`` parser.
     """
-    s = sub.add_parser("study", help="the whole design study on the bundled data: identification, ROMs, design, "
+    s = add_command(sub, "study", help="the whole design study on the bundled data: identification, ROMs, design, "
                        "FEA re-check, calibration -> OUT/index.html")
     s.add_argument("--config", help="study TOML (default: built-in defaults; see ccedi init)")
     add_output_argument(s, "--out", "dir", default="reports", help="output directory (default reports)")
@@ -36,16 +37,18 @@ def add_parsers(sub):
     s.add_argument("--only", nargs="+", metavar="STEP", help="run only these steps (table1 steel_rod impulse mesh "
                    "damping_fits contact design calibrate), then rewrite index.html")
     s.set_defaults(func=cmd_study)
-    i = sub.add_parser("init", help="write a commented example study TOML (every key, its unit, range and default)")
+    i = add_command(sub, "init", help="write a commented example study TOML (every key, its unit, range and default)")
     add_output_argument(i, "path", "file", nargs="?", default="study.toml", help="file to write (default study.toml)")
     i.add_argument("--force", action="store_true", help="overwrite an existing file")
     i.set_defaults(func=cmd_init)
-    e = sub.add_parser("export", help="a model as an LS-DYNA keyword deck, or its run as VTU (ParaView), "
+    e = add_command(sub, "export", help="a model as an LS-DYNA keyword deck, or its run as VTU (ParaView), "
                        "CSV or Parquet time series")
     e.add_argument("--case", choices=("impulse", "contact"), default="impulse",
                    help="impulse: clamped SM-A finger, tip pulse; contact: the finger on the drum "
                    "([finger] contact_length_in of --config, default 8 in)")
-    e.add_argument("--format", choices=("lsdyna", "vtu", "csv", "parquet"), default="lsdyna")
+    e.add_argument("--format", choices=("lsdyna", "vtu", "csv", "parquet"), default="lsdyna",
+                   help="lsdyna: a keyword deck of the model; vtu, csv, parquet: run the case and write its "
+                        "animation (ParaView) or time history")
     e.add_argument("--alpha", type=float, default=180.0, help="mass-proportional damping [1/s]")
     e.add_argument("--length-in", type=float, default=4.5, help="finger length of the impulse case [in]")
     e.add_argument("--t-end-s", type=float, help="simulated time [s] (default 0.2 impulse, 1.5 contact)")
