@@ -13,7 +13,7 @@ Building the parser imports no library, so ``ccedi --help`` answers at once.
 import argparse
 import sys
 
-from ccedi.errors import InputError, SolverError
+from ccedi.errors import InputError, ModelInadequate, SolverError
 from ccedi.study.commands import calibrate, design, fea, rom, study
 from ccedi.study.commands.arguments import check_output_paths
 
@@ -46,8 +46,11 @@ def main(argv=None):
     -------
     int
         Exit status: 0 done, 1 bad input, a file that cannot be read or written, or a
-        solver failure (one line on stderr), 2 no sub-command, 130 interrupted. Output
-        paths are checked before anything is computed.
+        solver failure (one line on stderr), 2 no sub-command, 3 the declared model
+        cannot explain a measured record (``calibrate``: its JSON, with
+        ``model_adequate: false`` and the evidence, is written; one line on stderr names
+        the failed check and the record's own first-mode frequency), 130 interrupted.
+        Output paths are checked before anything is computed.
     """
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -60,6 +63,9 @@ def main(argv=None):
     except (InputError, SolverError) as err:
         print(f"ccedi {args.command}: error: {err}", file=sys.stderr)
         return 1
+    except ModelInadequate as err:
+        print(f"ccedi {args.command}: {err}", file=sys.stderr)
+        return 3
     except OSError as err:
         where = f"{err.filename}: " if err.filename else ""
         print(f"ccedi {args.command}: error: {where}{err.strerror or err}", file=sys.stderr)
