@@ -11,10 +11,16 @@ Sidecar (``DATA.json`` beside ``DATA.csv``; format in data/README.md)::
     sensor        (optional) noise_std_m [m]
     tolerances    (optional) E_Pa: relative tolerance of E (default 0.2)
 
+Every number is checked against its entry of :data:`ccedi.quantities.QUANTITIES` (the
+ranges of the study TOML and the command line), with the one message format
+``SIDECAR: sidecar field 'load.force_N' = 500: must be in 0.0001..100 (N)``.
+
 Plausibility ("units that cannot be right"): the tip displacement must stay below half
 the finger length, the sample interval must resolve the declared finger's first mode
-(below a quarter of its period at E x (1 + tolerance)), and a force_N column must peak
-within 20 % of load.force_N.
+(below a quarter of its period at E x (1 + tolerance)), the pulse must end before the
+record does, and a force_N column must peak within 20 % of load.force_N. Whether the
+record is long enough to test the declared finger, and whether that finger can explain
+it, is the calibration's adequacy check (:mod:`ccedi.calibrate.adequacy`).
 """
 import json
 from dataclasses import dataclass
@@ -22,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ccedi.errors import InputError, require_finite_positive
+from ccedi.errors import InputError
 from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties
 from ccedi.fea.units import inch_to_m
 from ccedi.quantities import QUANTITIES
@@ -106,7 +112,7 @@ class Experiment:
     noise_std_m : float or None
         Declared sensor noise standard deviation [m], or None.
     E_tolerance : float
-        Relative tolerance of the declared E, in [0, 1) [-].
+        Relative tolerance of the declared E [-]: E lies in E_Pa (1 +- E_tolerance).
     record : MeasuredResponse
         The CSV record (:class:`ccedi.rom.measurement.MeasuredResponse`).
     """
@@ -132,24 +138,27 @@ class Experiment:
         return self.record.tip_displacement_m
 
 
-def _section(sidecar, key, source):
+def _section(sidecar, key, source, optional=False):
+    """The object ``sidecar[key]`` ({} when ``optional`` and absent)."""
+    if optional and key not in sidecar:
+        return {}
     value = sidecar.get(key)
     if not isinstance(value, dict):
-        raise InputError(f"{source}: sidecar field '{key}' is missing or not an object")
+        raise InputError(f"{source}: sidecar field '{key}' " + ("must be an object" if optional
+                                                                 else "is missing or not an object"))
     return value
 
 
-def _number(section, key, name, source, allow_zero=False):
-    if key not in section:
-        raise InputError(f"{source}: sidecar field '{name}' is missing")
-    return require_finite_positive(f"{source}: sidecar field '{name}'", section[key], allow_zero)
-
-
-def _quantity(finger, key, quantity, source):
-    """``finger[key]`` checked against ``quantity`` (:mod:`ccedi.quantities`)."""
-    if key not in finger:
-        raise InputError(f"{source}: sidecar field 'finger.{key}' is missing")
-    return quantity.check(finger[key], f"{source}: sidecar field 'finger.{key}'")
+def _quantity(section, name, quantity, source, required=True, default=None):
+    """The sidecar field ``name`` (``"load.force_N"``: key ``force_N`` of ``section``) checked
+    against ``QUANTITIES[quantity]`` (:mod:`ccedi.quantities`); when absent (or null), an
+    error if ``required``, else ``default``."""
+    key = name.rsplit(".", 1)[-1]
+    if section.get(key) is None:
+        if required:
+            raise InputError(f"{source}: sidecar field '{name}' is missing")
+        return default
+    return QUANTITIES[quantity].check(section[key], f"{source}: sidecar field '{name}'")
 
 
 def parse_finger(finger, source):
@@ -178,9 +187,9 @@ def parse_finger(finger, source):
     has_in, has_m = "length_in" in finger, "length_m" in finger
     if has_in == has_m:
         raise InputError(f"{source}: sidecar field 'finger.length_in' or 'finger.length_m' is needed (exactly one)")
-    length_in = QUANTITIES["length_in"]
-    length = (inch_to_m(_quantity(finger, "length_in", length_in, source)) if has_in
-              else _quantity(finger, "length_m", length_in.in_unit(inch_to_m(1.0), "m"), source))
+    length = (inch_to_m(_quantity(finger, "finger.length_in", "length_in", source)) if has_in
+              else QUANTITIES["length_in"].in_unit(inch_to_m(1.0), "m").check(
+                  finger["length_m"], f"{source}: sidecar field 'finger.length_m'"))
     axes = finger.get("section_semi_axes_m")
     if not isinstance(axes, (list, tuple)) or len(axes) != 2:
         raise InputError(f"{source}: sidecar field 'finger.section_semi_axes_m' must be a list [a, b] of two "
@@ -190,9 +199,9 @@ def parse_finger(finger, source):
     if max(a, b) >= length:
         raise InputError(f"{source}: sidecar field 'finger.section_semi_axes_m' ({a}, {b} m) must be smaller than "
                          f"the finger length {length} m (units?)")
-    return Finger(length_m=length, semi_axes_m=(a, b), E_Pa=_quantity(finger, "E_Pa", QUANTITIES["E_Pa"], source),
-                  nu=_quantity(finger, "nu", QUANTITIES["nu"], source),
-                  rho_kg_m3=_quantity(finger, "rho_kg_m3", QUANTITIES["rho_kg_m3"], source))
+    return Finger(length_m=length, semi_axes_m=(a, b), E_Pa=_quantity(finger, "finger.E_Pa", "E_Pa", source),
+                  nu=_quantity(finger, "finger.nu", "nu", source),
+                  rho_kg_m3=_quantity(finger, "finger.rho_kg_m3", "rho_kg_m3", source))
 
 
 def load_experiment(csv_path, meta_path=None):
@@ -262,21 +271,16 @@ def experiment_from(record: MeasuredResponse, sidecar, source="<sidecar>"):
     if kind == "impulse":
         if load.get("at") != "tip":
             raise InputError(f"{source}: sidecar field 'load.at' must be \"tip\" for an impulse, got {load.get('at')!r}")
-        force = _number(load, "force_N", "load.force_N", source)
-        duration = _number(load, "duration_s", "load.duration_s", source)
-        start = float(_number(load, "start_s", "load.start_s", source, allow_zero=True)) if "start_s" in load else 0.0
-    alpha = sidecar.get("alpha_per_s")
-    alpha = None if alpha is None else require_finite_positive(f"{source}: sidecar field 'alpha_per_s'", alpha)
-    sensor = sidecar.get("sensor", {})
-    if not isinstance(sensor, dict):
-        raise InputError(f"{source}: sidecar field 'sensor' must be an object")
-    noise = sensor.get("noise_std_m")
-    noise = None if noise is None else require_finite_positive(f"{source}: sidecar field 'sensor.noise_std_m'", noise)
-    tol = sidecar.get("tolerances", {}).get("E_Pa", DEFAULT_E_TOLERANCE)
-    if not isinstance(tol, (int, float)) or not 0.0 <= tol < 1.0:
-        raise InputError(f"{source}: sidecar field 'tolerances.E_Pa' must be a relative tolerance in [0, 1), got {tol!r}")
+        force = _quantity(load, "load.force_N", "force_N", source)
+        duration = _quantity(load, "load.duration_s", "pulse_duration_s", source)
+        start = _quantity(load, "load.start_s", "pulse_start_s", source, required=False, default=0.0)
+    alpha = _quantity(sidecar, "alpha_per_s", "alpha_per_s", source, required=False)
+    noise = _quantity(_section(sidecar, "sensor", source, optional=True), "sensor.noise_std_m", "noise_std_m", source,
+                      required=False)
+    tol = _quantity(_section(sidecar, "tolerances", source, optional=True), "tolerances.E_Pa", "E_tolerance", source,
+                    required=False, default=DEFAULT_E_TOLERANCE)
     exp = Experiment(kind=kind, finger=finger, force_N=force, duration_s=duration, start_s=start, alpha_per_s=alpha,
-                     noise_std_m=noise, E_tolerance=float(tol), record=record)
+                     noise_std_m=noise, E_tolerance=tol, record=record)
     check_plausible(exp)
     return exp
 
@@ -285,8 +289,9 @@ def check_plausible(exp: Experiment):
     """Reject records whose units cannot be right for the declared finger.
 
     Checks: |tip displacement| below half the finger length; the largest sample interval
-    below a quarter of the first period at E x (1 + tolerance); for an impulse with a
-    ``force_N`` column, its peak within 20 % of the sidecar's ``load.force_N``.
+    below a quarter of the first period at E x (1 + tolerance); for an impulse, the pulse
+    ends before the last sample and a ``force_N`` column peaks within 20 % of the
+    sidecar's ``load.force_N``.
 
     Parameters
     ----------
@@ -305,6 +310,10 @@ def check_plausible(exp: Experiment):
         raise InputError(f"{src}: tip_displacement_m reaches {np.max(np.abs(y)):.4g} m, more than half the "
                          f"{exp.finger.length_m:.4g} m finger ({limit:.4g} m): not metres, or not this finger")
     check_sampling(exp.time_s, exp.finger.omega1_rad_s(1.0 + exp.E_tolerance), src)
+    end = exp.start_s + exp.duration_s
+    if exp.kind == "impulse" and end >= exp.time_s[-1]:
+        raise InputError(f"{src}: the pulse (load.start_s + load.duration_s) ends at {end:.4g} s but the record ends "
+                         f"at {exp.time_s[-1]:.4g} s: the record must hold the response after the pulse")
     f = exp.record.force_N
     if exp.kind == "impulse" and f is not None:
         peak = float(np.max(np.abs(f)))

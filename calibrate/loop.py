@@ -1,6 +1,10 @@
 """Closing the loop: fit the declared model, read its residual, add the missing effects.
 
 1. Baseline: alpha and E (within tolerance) fitted (:func:`ccedi.calibrate.fit.fit_baseline`).
+   Adequacy (:mod:`ccedi.calibrate.adequacy`): the record's own first frequency against the
+   declared finger's, E_factor against its bounds, the record's length against the declared
+   first period. If the declared finger cannot explain the record, the loop stops here:
+   no effect is added to cover a wrong declaration.
 2. Residual analysis (:mod:`ccedi.calibrate.residual`): signatures and suggested effects.
 3. Every catalogued effect not yet in the model is refitted together with it.
 4. Selection: the candidate with the lowest training BIC wins if it lowers BIC by more
@@ -13,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .adequacy import Adequacy, assess
 from .effects import CATALOGUE
 from .experiment import Experiment
 from .fit import Fit, fit, fit_baseline
@@ -36,7 +41,8 @@ class Round:
     evidence : dict
         Its residual signatures (:func:`ccedi.calibrate.residual.analyse`).
     suggested : list of (str, str)
-        (effect, reason) suggested by the residual.
+        (effect, reason) suggested by the residual (none when the declared model is
+        inadequate: its residual points at the declaration, not at an effect).
     candidates : dict
         {effect name: Fit} of every candidate tried (empty when the round stopped first).
     added : str or None
@@ -71,6 +77,9 @@ class Calibration:
         The selection rounds, the last one the stop.
     noise_std_m : float
         Noise standard deviation used by the stopping test [m].
+    adequacy : Adequacy
+        Whether the declared finger can explain the record, with the evidence; when it
+        cannot, ``final`` is the baseline.
     """
 
     experiment: Experiment
@@ -79,6 +88,7 @@ class Calibration:
     final: Fit
     rounds: list
     noise_std_m: float
+    adequacy: Adequacy
 
     @property
     def noise_floor_nrmse(self):
@@ -130,16 +140,21 @@ def calibrate(exp: Experiment, candidates=None, progress=None):
     Returns
     -------
     Calibration
-        Baseline and final fits, the rounds and the noise level.
+        Baseline and final fits, the rounds, the noise level and the adequacy of the
+        declared model (when it is inadequate, one round that adds nothing).
     """
     model = FingerModel(exp)
     names = list(CATALOGUE) if candidates is None else list(candidates)
     sigma = noise_std(exp)
     n = len(exp.time_s)
     current = baseline = fit_baseline(model)
+    adequacy = assess(model, baseline, sigma)
     rounds = []
     while True:
         evidence = analyse(model, current)
+        if not adequacy.adequate:
+            rounds.append(Round(current, evidence, [], {}, None, adequacy.message() + ": no effect added"))
+            break
         suggested = suggest(evidence)
         if at_noise_level(current, sigma, n):
             rounds.append(Round(current, evidence, suggested, {}, None,
@@ -168,7 +183,7 @@ def calibrate(exp: Experiment, candidates=None, progress=None):
                             f"{current.holdout_rms_m:.3g} -> {better[best].holdout_rms_m:.3g} m"))
         current = tried[best]
     return Calibration(experiment=exp, model=model, baseline=baseline, final=current, rounds=rounds,
-                       noise_std_m=sigma)
+                       noise_std_m=sigma, adequacy=adequacy)
 
 
 def summary(cal: Calibration):
@@ -182,7 +197,9 @@ def summary(cal: Calibration):
     Returns
     -------
     dict
-        ``source``, ``baseline`` (nrmse, max error [m], parameters, standard errors),
+        ``source``, ``model_adequate`` (bool) and ``adequacy`` (its evidence,
+        :meth:`ccedi.calibrate.adequacy.Adequacy.summary`), ``baseline`` (nrmse, max
+        error [m], parameters, standard errors),
         ``effects_found`` (per effect added: parameters and standard errors as fitted in
         its round and in the final model, error after, why, residual evidence and the
         candidates' scores), ``selected_effect``, final NRMSE, max error [m] and
@@ -209,6 +226,7 @@ def summary(cal: Calibration):
     last = cal.rounds[-1]
     b = cal.baseline
     return {"source": cal.experiment.record.source,
+            "model_adequate": cal.adequacy.adequate, "adequacy": cal.adequacy.summary(),
             "baseline": {"nrmse": b.nrmse, "max_error_m": b.max_error_m, "params": b.values, "stderr": b.stderr},
             "effects_found": found,
             "selected_effect": found[0]["name"] if found else None,

@@ -45,13 +45,38 @@ def baseline_parameters(exp: Experiment, s: Scales):
     Returns
     -------
     list of (Parameter, float)
-        ``alpha_per_s`` in [1e-3, 20] omega_1 [1/s], starting at the sidecar's value or
-        0.2 omega_1 (zeta_1 = 0.1); ``E_factor`` within 1 +- tolerance [-], starting at 1.
+        ``alpha_per_s`` in [1e-3, 20] omega_1 [1/s], starting at the sidecar's value
+        (moved into those bounds) or 0.2 omega_1 (zeta_1 = 0.1); ``E_factor`` within
+        1 +- tolerance [-], starting at 1.
     """
-    alpha0 = exp.alpha_per_s or 0.2 * s.omega1
+    alpha = Parameter("alpha_per_s", 1e-3 * s.omega1, 20.0 * s.omega1)
+    alpha0 = 0.2 * s.omega1 if exp.alpha_per_s is None else min(max(exp.alpha_per_s, alpha.lower), alpha.upper)
     tol = exp.E_tolerance
-    return [(Parameter("alpha_per_s", 1e-3 * s.omega1, 20.0 * s.omega1), alpha0),
+    return [(alpha, alpha0),
             (Parameter("E_factor", 1.0 - tol, 1.0 + tol + 1e-9, log=False, scale=0.01), 1.0)]
+
+
+def e_factor_bound(E_factor, tol):
+    """Which tolerance bound a fitted E_factor sits on.
+
+    On a bound means within 1 % of the tolerance (at least 1e-5) of it.
+
+    Parameters
+    ----------
+    E_factor : float
+        Fitted Young's modulus over the declared one [-].
+    tol : float
+        Relative tolerance of the declared E [-].
+
+    Returns
+    -------
+    int
+        -1 on the lower bound 1 - tol, +1 on the upper bound 1 + tol, else 0.
+    """
+    width = 0.01 * max(tol, 1e-3)
+    if E_factor - (1.0 - tol) < width:
+        return -1
+    return 1 if (1.0 + tol) - E_factor < width else 0
 
 
 class FingerModel:

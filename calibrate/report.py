@@ -4,7 +4,8 @@ residual time series as CSV, and a markdown summary of the evidence.
 Files: ``fit.png`` (record, baseline and final model [mm] against time [s]),
 ``residual.png`` (residual [mm] against time [s], and its amplitude spectrum [mm] against
 frequency [Hz], before and after), ``residuals.csv`` (time_s, tip_displacement_m,
-baseline_m, final_m) and ``report.md``.
+baseline_m, final_m) and ``report.md`` (the model's adequacy with its evidence, the errors
+before and after, each effect added).
 """
 from pathlib import Path
 
@@ -55,8 +56,18 @@ def _figures(cal: Calibration):
 
 def _markdown(summary):
     b = summary["baseline"]
+    a = summary["adequacy"]
+    own = a["record_first_frequency_hz"]
     lines = [f"# Calibration of {summary['source']}", "",
-             f"Noise floor NRMSE {summary['noise_floor_nrmse']:.4%}.", "",
+             f"Model adequacy: {a['message']}.", "",
+             "| evidence | value |", "|---|---|",
+             f"| record's first-mode frequency [Hz] | {'not measurable' if own is None else f'{own:.4g}'} |",
+             f"| declared finger's first frequency [Hz] | {a['declared_first_frequency_hz']:.4g} |",
+             f"| allowed band [Hz] | {a['allowed_band_hz'][0]:.4g}..{a['allowed_band_hz'][1]:.4g} |",
+             f"| baseline E factor [-] (bounds) | {a['E_factor']:.4g} ({a['E_factor_bounds'][0]:g}.."
+             f"{a['E_factor_bounds'][1]:g}) |",
+             f"| declared first periods covered [-] | {a['periods_covered']:.3g} (at least {a['min_periods']:g}) |",
+             "", f"Noise floor NRMSE {summary['noise_floor_nrmse']:.4%}.", "",
              "| model | NRMSE | max error [m] |", "|---|---|---|",
              f"| baseline | {b['nrmse']:.4%} | {b['max_error_m']:.4g} |"]
     for e in summary["effects_found"]:

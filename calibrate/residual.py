@@ -5,7 +5,8 @@ For the record y(t), the model's prediction u(t) and the residual r = y - u [m]:
   rms_over_noise        RMS(r) / sigma (sigma: the sensor noise, given or estimated)
   spectrum_peak_hz      frequency of the largest peak of |FFT(r)| (Hann window) and
   spectrum_peak_mode    the model mode it is nearest to (1-based)
-  frequency_shift       first-mode frequency of y over that of the *declared* model, minus 1
+  frequency_shift       first-mode frequency of y (:func:`ccedi.calibrate.adequacy.record_first_mode`;
+                        nan when not measurable) over that of the *declared* model, minus 1
   E_factor_at_bound     the fitted E_factor sits on its tolerance bound (stiffness or mass missing)
   decrement_vs_amplitude  change of the per-cycle log decrement across the amplitude range,
                         data minus model, relative to the model's mean decrement (> 0: decay
@@ -25,8 +26,9 @@ import numpy as np
 from ccedi.errors import InputError
 from ccedi.rom.damping import log_decrement, noise_level
 
+from .adequacy import record_first_mode
 from .fit import Fit
-from .model import FingerModel
+from .model import FingerModel, e_factor_bound
 
 SIGNIFICANT_CORRELATION = 0.2
 SIGNIFICANT_T = 5.0
@@ -56,14 +58,6 @@ def noise_std(exp):
         When estimating from a record of fewer than 5 samples.
     """
     return exp.noise_std_m if exp.noise_std_m is not None else noise_level(exp.displacement_m)
-
-
-def _first_mode_hz(t, y, f_guess):
-    """Frequency [Hz] of the largest spectral peak of y within 0.5-2 x f_guess."""
-    spec = np.abs(np.fft.rfft((y - y.mean()) * np.hanning(len(y)), n=16 * len(y)))
-    f = np.fft.rfftfreq(16 * len(y), d=float(np.median(np.diff(t))))
-    band = (f > 0.5 * f_guess) & (f < 2.0 * f_guess)
-    return float(f[band][np.argmax(spec[band])])
 
 
 def _cycle_slopes(t, y, y_final, band):
@@ -119,6 +113,8 @@ def analyse(model: FingerModel, fitted: Fit):
     mode_hz = model.modes(fitted.values).omega_rad_s / (2.0 * np.pi)
     nearest = int(np.argmin(np.abs(np.log(max(peak_hz, 1e-9) / mode_hz))))
     declared_hz = model.scales.omega1 / (2.0 * np.pi)
+    own = record_first_mode(exp, sigma)
+    own_hz = own.frequency_hz if own.measurable else float("nan")
     tol = exp.E_tolerance
     E = fitted.values["E_factor"]
     width = max(1, int(round(SMOOTH_S / float(np.median(np.diff(t))))))
@@ -133,8 +129,8 @@ def analyse(model: FingerModel, fitted: Fit):
     v = np.gradient(u, t)
     return {"rms_over_noise": float(np.sqrt(np.mean(r**2)) / sigma), "noise_std_m": float(sigma),
             "spectrum_peak_hz": peak_hz, "spectrum_peak_mode": nearest + 1, "mode_frequencies_hz": mode_hz[:3].tolist(),
-            "frequency_shift": _first_mode_hz(t[free], y[free], declared_hz) / declared_hz - 1.0, "E_factor": E,
-            "E_factor_at_bound": bool(min(E - (1 - tol), (1 + tol) - E) < 0.01 * max(tol, 1e-3)),
+            "frequency_shift": own_hz / declared_hz - 1.0, "E_factor": E,
+            "E_factor_at_bound": bool(e_factor_bound(E, tol)),
             "decrement_vs_amplitude": (sd[0] - sm[0]) * sm[4] / sm[2],
             "period_vs_amplitude": (sd[1] - sm[1]) * sm[4] / sm[3],
             "offset_sigma": float(rl.mean() / (sigma / np.sqrt(len(rl)))),

@@ -17,6 +17,20 @@ class SolverError(RuntimeError):
     """
 
 
+class ModelInadequate(Exception):
+    """The declared model cannot explain a measured record: exit status 3 on the command line.
+
+    Every input was valid, but the finger the sidecar declares is not the one in the record
+    (its first-mode frequency lies outside what the declared E tolerance allows, E is
+    pressed onto its bound, or the record is too short to show the declared first mode).
+    ``ccedi calibrate`` raises it *after* writing its complete JSON (``model_adequate:
+    false`` with the evidence) and report, having added no effect; the message is one line
+    naming the failed checks and the record's own first-mode frequency. Not an
+    :class:`InputError`: the exit status tells "fix the declaration" (3) from "fix the
+    input file" (1).
+    """
+
+
 def require_finite_positive(name, value, allow_zero=False):
     """Return ``float(value)`` or raise :class:`InputError` naming ``name``.
 

@@ -1,6 +1,7 @@
-"""The allowed range of every physical input of the finger, whichever way it comes (the
-study TOML, a command-line flag, a calibration sidecar): one table, one check, one
-message format, ``WHERE = VALUE: must be in LO..HI (UNIT)``."""
+"""The allowed range of every physical input (the finger, its load, the sensor), whichever
+way it comes (the study TOML, a command-line flag, a calibration sidecar, the Python API
+through them): one table, one check, one message format,
+``WHERE = VALUE: must be in LO..HI (UNIT)``."""
 from dataclasses import dataclass
 
 from ccedi.errors import InputError
@@ -69,6 +70,15 @@ QUANTITIES = {
     "rho_kg_m3": Quantity("kg/m^3", 1.0, 1e5),
     "length_in": Quantity("in", 1.0, 12.0),
     "section_semi_axis_m": Quantity("m", 1e-4, 0.1),
+    "E_tolerance": Quantity("-", 0.0, 0.9),
+    "alpha_per_s": Quantity("1/s", 0.0, 1e4),
+    "force_N": Quantity("N", 1e-4, 100.0),
+    "pulse_duration_s": Quantity("s", 1e-4, 1.0),
+    "pulse_start_s": Quantity("s", 0.0, 1e3),
+    "noise_std_m": Quantity("m", 1e-9, 1e-2),
 }
 """Finger material and geometry: Young's modulus, Poisson's ratio (neo-Hookean,
-compressible), density, length, and each semi-axis of the elliptical section."""
+compressible), density, length, and each semi-axis of the elliptical section; the
+relative tolerance of a declared E (E may lie in E (1 +- tolerance)); mass-proportional
+damping; the tip load: force, how long it is held and when it starts; and the standard
+deviation of a displacement sensor's white noise."""

@@ -13,7 +13,7 @@ Building the parser imports no library, so ``ccedi --help`` answers at once.
 import argparse
 import sys
 
-from ccedi.errors import InputError, SolverError
+from ccedi.errors import InputError, ModelInadequate, SolverError
 from ccedi.progress import close_progress_bars
 from ccedi.study.commands import calibrate, design, fea, rom, study
 from ccedi.study.commands.arguments import check_output_paths
@@ -47,8 +47,11 @@ def main(argv=None):
     -------
     int
         Exit status: 0 done, 1 bad input, a file that cannot be read or written, or a
-        solver failure (one line on stderr), 2 no sub-command, 130 interrupted. Output
-        paths are checked before anything is computed.
+        solver failure (one line on stderr), 2 no sub-command, 3 the declared model
+        cannot explain a measured record (``calibrate``: its JSON, with
+        ``model_adequate: false`` and the evidence, is written; one line on stderr names
+        the failed check and the record's own first-mode frequency), 130 interrupted.
+        Output paths are checked before anything is computed.
     """
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -60,6 +63,8 @@ def main(argv=None):
         args.func(args)
     except (InputError, SolverError) as err:
         return _fail(args.command, f"error: {err}", 1)
+    except ModelInadequate as err:
+        return _fail(args.command, str(err), 3)
     except OSError as err:
         where = f"{err.filename}: " if err.filename else ""
         return _fail(args.command, f"error: {where}{err.strerror or err}", 1)

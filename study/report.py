@@ -185,10 +185,19 @@ def _calibrate(out):
     results = sorted((out / "calibrate").glob("*.json")) if (out / "calibrate").exists() else []
     if not results:
         return _missing("calibrate")
-    rows, figs = [], []
+    rows, figs, inadequate = [], [], []
     for path in results:
         r = json.loads(path.read_text())
-        rows.append({"record": path.stem, "baseline NRMSE": r["baseline"]["nrmse"],
+        adequacy = r.get("adequacy", {})          # absent in the results of a version without the check
+        if r.get("model_adequate") is False:
+            inadequate.append(f"<li><code>{html.escape(path.stem)}</code>: {html.escape(adequacy['message'])}; "
+                              "no effect added</li>")
+        rows.append({"record": path.stem,
+                     "model adequate": {True: "yes", None: "not checked"}.get(
+                         r.get("model_adequate"), "NO: " + ", ".join(adequacy.get("failed_checks", []))),
+                     "record f1 [Hz]": adequacy.get("record_first_frequency_hz"),
+                     "declared f1 [Hz]": adequacy.get("declared_first_frequency_hz"),
+                     "baseline NRMSE": r["baseline"]["nrmse"],
                      "alpha_per_s": r["baseline"]["params"].get("alpha_per_s"),
                      "E factor": r["baseline"]["params"].get("E_factor"),
                      "effects found": ", ".join(e["name"] for e in r["effects_found"]) or "none",
@@ -196,10 +205,13 @@ def _calibrate(out):
                      "wall_time_s": r.get("wall_time_s")})
         if (out / "calibrate" / path.stem / "fit.png").exists():
             figs.append(_figure(f"calibrate/{path.stem}/fit.png", f"Calibrated model against {path.stem}"))
-    cols = [("record", "record"), ("baseline NRMSE [-]", "baseline NRMSE"), _col("alpha_per_s", "baseline alpha"),
-            ("E factor [-]", "E factor"), ("effects found", "effects found"), ("final NRMSE [-]", "final NRMSE"),
-            ("noise floor NRMSE [-]", "noise floor NRMSE"), _col("wall_time_s")]
-    return _table(rows, cols) + "".join(figs)
+    cols = [("record", "record"), ("model adequate", "model adequate"), ("record f1 [Hz]", "record f1 [Hz]"),
+            ("declared f1 [Hz]", "declared f1 [Hz]"), ("baseline NRMSE [-]", "baseline NRMSE"),
+            _col("alpha_per_s", "baseline alpha"), ("E factor [-]", "E factor"), ("effects found", "effects found"),
+            ("final NRMSE [-]", "final NRMSE"), ("noise floor NRMSE [-]", "noise floor NRMSE"), _col("wall_time_s")]
+    warning = (f"<p class='missing'>The declared finger cannot explain {len(inadequate)} record(s) "
+               f"(model_adequate: false):</p><ul>{''.join(inadequate)}</ul>" if inadequate else "")
+    return warning + _table(rows, cols) + "".join(figs)
 
 
 def _figure(src, caption):

@@ -12,6 +12,8 @@ function of :mod:`ccedi.study.paper_steps`):
   contact       the drum contact sweep (Figs. 10, 13, 14)          -> contact/
   design        ROM surrogate, optimum, Pareto front, FEA re-check -> design/
   calibrate     close the loop on the bundled measured records     -> calibrate/<record>/
+                (a record the declared finger cannot explain is reported, model_adequate:
+                false in its JSON and in index.html, and the next record is calibrated)
   report        index.html (and index.pdf) from the files above
 
 The inputs are parsed and validated once; every step gets them as objects, and the
@@ -55,7 +57,6 @@ def steps(cfg, out, scheduler):
     list of (str, str, callable)
         (name, description, thunk) per step, in the study's order.
     """
-    from ccedi.study.commands.calibrate import write_calibration
     from ccedi.study.commands.design import DesignOptions, write_design
     from ccedi.study.commands.fea import contact_setup, write_contact_sweep, write_impulse, write_table1
     from ccedi.study.commands.rom import write_damping_fits
@@ -82,9 +83,40 @@ def steps(cfg, out, scheduler):
             scheduler=scheduler)),
         ("design", "design optimisation and FEA re-check", lambda: write_design(
             contact_setup(cfg), design, out / "design" / "design.json", out / "design", scheduler=scheduler)),
-        ("calibrate", "close the loop on measured records", lambda: [write_calibration(
-            r, out / "calibrate" / f"{r.stem}.json", report_dir=out / "calibrate" / r.stem) for r in records]),
+        ("calibrate", "close the loop on measured records", lambda: calibrate_records(records, out / "calibrate")),
     ]
+
+
+def calibrate_records(records, out):
+    """Calibrate each measured record into ``out/RECORD.json`` and ``out/RECORD/``.
+
+    A record whose declared finger cannot explain it is a result, not a failure of the
+    study: its JSON and report say ``model_adequate: false`` with the evidence, one line
+    says so on stdout, and the next record is calibrated.
+
+    Parameters
+    ----------
+    records : sequence of Path
+        Measured impulse records (CSV with a JSON sidecar beside each).
+    out : Path
+        Output directory of the calibrate step.
+
+    Returns
+    -------
+    list of str
+        The one-line messages of the records whose declared model is inadequate.
+    """
+    from ccedi.errors import ModelInadequate
+    from ccedi.study.commands.calibrate import write_calibration
+
+    inadequate = []
+    for r in records:
+        try:
+            write_calibration(r, out / f"{r.stem}.json", report_dir=out / r.stem)
+        except ModelInadequate as err:
+            print(f"ccedi study: calibrate: {err}", flush=True)
+            inadequate.append(str(err))
+    return inadequate
 
 
 CONFIG_NAME = "config.toml"

@@ -142,3 +142,64 @@ def test_identify_refuses_a_record_in_milliseconds_before_any_fe_run(tmp_path, c
     csv.write_text("time_s,tip_displacement_m\n" + "".join(f"{t},{1e-3 * np.exp(-t / 50.0)}\n" for t in t_ms))
     _fails_in_one_line(["identify", str(csv), "--length-in", "3"], capsys, "time_s steps up to 1 s",
                        "not seconds")
+
+
+SIDECAR_FIELDS = [("load", "force_N", "force_N", 500.0), ("load", "duration_s", "pulse_duration_s", 0.0),
+                  ("load", "start_s", "pulse_start_s", -0.1), (None, "alpha_per_s", "alpha_per_s", -3.0),
+                  ("sensor", "noise_std_m", "noise_std_m", 0.5), ("tolerances", "E_Pa", "E_tolerance", 1.5),
+                  ("load", "force_N", "force_N", "1.5"), ("sensor", "noise_std_m", "noise_std_m", float("nan"))]
+
+
+@pytest.mark.parametrize("section, key, quantity, bad", SIDECAR_FIELDS)
+def test_sidecar_load_sensor_and_tolerances_are_on_the_one_table(tmp_path, capsys, section, key, quantity, bad):
+    import json
+    import shutil
+
+    from ccedi.calibrate.experiment import load_experiment
+    from ccedi.errors import InputError
+    from ccedi.quantities import QUANTITIES
+
+    csv = tmp_path / "rec.csv"
+    shutil.copy("data/measured/control_low.csv", csv)
+    meta = json.loads(open("data/measured/control_low.json").read())
+    (meta.setdefault(section, {}) if section else meta)[key] = bad
+    csv.with_suffix(".json").write_text(json.dumps(meta))
+    q = QUANTITIES[quantity]
+    name = f"{section}.{key}" if section else key
+    rule = f"must be in {q.lo:g}..{q.hi:g}" + (f" ({q.unit})" if q.unit != "-" else "")
+    with pytest.raises(InputError) as err:
+        load_experiment(csv)
+    assert str(err.value) == f"{csv.with_suffix('.json')}: sidecar field '{name}' = {bad!r}: {rule}"
+    assert cli.main(["calibrate", str(csv), "--json", str(tmp_path / "c.json")]) == 1
+    assert capsys.readouterr().err.strip() == f"ccedi calibrate: error: {err.value}"
+    assert not (tmp_path / "c.json").exists()
+
+
+@pytest.mark.parametrize("toml_key, quantity", [("impulse_force_N", "force_N"),
+                                                ("impulse_duration_s", "pulse_duration_s"),
+                                                ("impulse_alphas_per_s", "alpha_per_s"),
+                                                ("mesh_comparison_alpha_per_s", "alpha_per_s"),
+                                                ("contact_alphas_per_s", "alpha_per_s")])
+def test_the_toml_load_and_damping_keys_share_the_sidecar_range(toml_key, quantity):
+    from ccedi.quantities import QUANTITIES
+    from ccedi.study.config import SCHEMA
+
+    spec, q = SCHEMA["study"][toml_key], QUANTITIES[quantity]
+    assert (spec.unit, spec.lo, spec.hi) == (q.unit, q.lo, q.hi)
+
+
+def test_the_data_readme_states_the_table_ranges():
+    """data/README.md's sidecar table gives each field the range of ccedi.quantities."""
+    import re
+    from pathlib import Path
+
+    from ccedi.quantities import QUANTITIES
+
+    readme = (Path(__file__).parents[1] / "data" / "README.md").read_text()
+    rows = dict(re.findall(r"^\| `([A-Za-z0-9_.]+)`[^|]*\|[^|]*\| ([^|]*) \|", readme, re.MULTILINE))
+    for field, quantity in [("finger.E_Pa", "E_Pa"), ("finger.nu", "nu"), ("finger.rho_kg_m3", "rho_kg_m3"),
+                            ("load.force_N", "force_N"), ("load.duration_s", "pulse_duration_s"),
+                            ("load.start_s", "pulse_start_s"), ("alpha_per_s", "alpha_per_s"),
+                            ("sensor.noise_std_m", "noise_std_m"), ("tolerances.E_Pa", "E_tolerance")]:
+        q = QUANTITIES[quantity]
+        assert [float(x) for x in rows[field].split("..")] == [q.lo, q.hi], field

@@ -142,7 +142,9 @@ def test_cli_writes_the_documented_keys_and_the_report(record, tmp_path):
     assert main(["calibrate", str(csv), "--meta", str(csv.with_suffix(".json")), "--json", str(out),
                  "--report", str(rep)]) == 0
     result = json.loads(out.read_text())
-    assert {"baseline", "effects_found", "selected_effect", "final_nrmse", "noise_floor_nrmse"} <= set(result)
+    assert {"baseline", "effects_found", "selected_effect", "final_nrmse", "noise_floor_nrmse", "model_adequate",
+            "adequacy"} <= set(result)
+    assert result["model_adequate"] is True
     assert {"nrmse", "params"} <= set(result["baseline"])
     for e in result["effects_found"]:
         assert {"name", "params", "nrmse_after"} <= set(e)

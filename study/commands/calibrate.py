@@ -3,9 +3,12 @@
   calibrate DATA.csv [--meta DATA.json] --json OUT.json [--report DIR] [--effects NAME ...]
 
 Everything is loaded, validated and computed before the first file is written, and each
-file is written atomically, so bad data leaves no output behind.
+file is written atomically, so bad data leaves no output behind. A declared finger that
+cannot explain the record (:mod:`ccedi.calibrate.adequacy`) is not bad data: the JSON
+(``model_adequate: false``, the evidence, no effect) and the report are written in full,
+then :class:`ccedi.errors.ModelInadequate` gives exit status 3.
 """
-from ccedi.errors import InputError
+from ccedi.errors import InputError, ModelInadequate
 from ccedi.study.commands.arguments import add_command, add_output_argument
 
 
@@ -59,7 +62,12 @@ def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None):
     Raises
     ------
     ccedi.errors.InputError
-        The record or its sidecar is invalid, or the record is not an impulse record.
+        The record or its sidecar is invalid, or the record is not an impulse record
+        (nothing is written).
+    ccedi.errors.ModelInadequate
+        The declared finger cannot explain the record: raised after the JSON (with
+        ``model_adequate: false``) and the report are written; its message is one line
+        naming the failed checks and the record's own first-mode frequency.
     """
     import time
 
@@ -87,4 +95,7 @@ def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None):
             print(f"wrote {path}")
     write_json(json_path, result)
     print(f"wrote {json_path}")
+    if not result["model_adequate"]:
+        raise ModelInadequate(f"{csv}: {result['adequacy']['message']} (no effect added; {json_path} has "
+                              f"model_adequate: false and the evidence)")
     return result
