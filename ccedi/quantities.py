@@ -76,9 +76,18 @@ QUANTITIES = {
     "pulse_duration_s": Quantity("s", 1e-4, 1.0),
     "pulse_start_s": Quantity("s", 0.0, 1e3),
     "noise_std_m": Quantity("m", 1e-9, 1e-2),
+    "drum_radius_m": Quantity("m", 1e-3, 1.0),
+    "omega_rad_s": Quantity("rad/s", 1e-3, 100.0),
+    "angle_rad": Quantity("rad", -3.2, 3.2),
+    "object_position_m": Quantity("m", -10.0, 10.0),
+    "object_semi_axis_m": Quantity("m", 1e-3, 1.0),
+    "friction": Quantity("-", 0.0, 2.0),
 }
 """Finger material and geometry: Young's modulus, Poisson's ratio (neo-Hookean,
 compressible), density, length, and each semi-axis of the elliptical section; the
 relative tolerance of a declared E (E may lie in E (1 +- tolerance)); mass-proportional
-damping; the tip load: force, how long it is held and when it starts; and the standard
-deviation of a displacement sensor's white noise."""
+damping; the tip load: force, how long it is held and when it starts; the standard
+deviation of a displacement sensor's white noise; and the drum test: drum radius and
+speed, the finger's initial angle (and the object's rotation), each coordinate of the
+object's centre (an object 10 m away takes no part), each semi-axis of the object, and
+the Coulomb friction coefficient between finger and object."""

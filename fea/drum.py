@@ -37,6 +37,7 @@ import scipy.sparse.linalg as spla
 
 from ccedi.errors import InputError, require_finite_positive
 from ccedi.models import ContactResponse, contact_timing, validate_run_args
+from ccedi.quantities import QUANTITIES
 
 from .contact import Contact, RigidEllipse, boundary_nodes
 from .explicit import run
@@ -46,6 +47,7 @@ from .mesh import SEMI_AXES, Mesh, elliptical_cantilever, sm_a_elements_along
 from .model import Model, RotatingNodes
 from .rotating_frame import drum_to_object, frame_velocities
 from .static import free_dofs, tangent_stiffness
+from .units import inch_to_m
 
 AL6061 = NeoHookean(E=69e9, nu=0.33, rho=2700.0)
 """Object and sensor material (Table 2)."""
@@ -120,18 +122,23 @@ class DrumSetup:
     finger_elements_along: int | None = None
 
     def __post_init__(self):
-        for name in ("drum_radius_m", "finger_length_m", "omega_rad_s", "object_thickness_m", "sensor_radius_m"):
-            require_finite_positive(name, getattr(self, name))
-        require_finite_positive("friction (coefficient)", self.friction, allow_zero=True)
-        for name in ("object_semi_axes_m", "finger_semi_axes_m"):
-            for s in getattr(self, name):
-                require_finite_positive(name, s)
+        q = QUANTITIES
+        checks = {"drum_radius_m": q["drum_radius_m"], "omega_rad_s": q["omega_rad_s"], "friction": q["friction"],
+                  "finger_length_m": q["length_in"].in_unit(inch_to_m(1.0), "m"), "theta0_rad": q["angle_rad"],
+                  "object_angle_rad": q["angle_rad"]}
+        for name, quantity in checks.items():
+            quantity.check(getattr(self, name), f"DrumSetup {name}")
+        for name, quantity in (("object_center_m", q["object_position_m"]),
+                               ("object_semi_axes_m", q["object_semi_axis_m"]),
+                               ("finger_semi_axes_m", q["section_semi_axis_m"])):
+            for value in _pair(getattr(self, name), name):
+                quantity.check(value, f"DrumSetup {name}")
+        for name in ("object_thickness_m", "sensor_radius_m"):
+            require_finite_positive(f"DrumSetup {name}", getattr(self, name))
         for name in ("finger_section_elements", "finger_elements_along"):
             n = getattr(self, name)
             if n is not None and (int(n) != n or n < 1):
                 raise InputError(f"{name} must be an integer >= 1, got {n!r}")
-        if not np.isfinite(self.theta0_rad):
-            raise InputError(f"theta0_rad must be finite, got {self.theta0_rad!r}")
         c = np.hypot(*self.object_center_m)
         if c - max(self.object_semi_axes_m) <= self.drum_radius_m:
             raise InputError("the object overlaps the drum: move object_center_m or shrink it")
@@ -143,6 +150,13 @@ class DrumSetup:
         return RigidEllipse(center_m=self.object_center_m, a_m=self.object_semi_axes_m[0],
                             b_m=self.object_semi_axes_m[1], angle_rad=self.object_angle_rad,
                             z_min_m=-h, z_max_m=h, mu=self.friction)
+
+
+def _pair(value, name):
+    """``value`` as two numbers, or :class:`ccedi.errors.InputError` naming ``name``."""
+    if not isinstance(value, (tuple, list, np.ndarray)) or len(value) != 2:
+        raise InputError(f"DrumSetup {name} = {value!r}: must be a pair (x, y) of numbers")
+    return tuple(value)
 
 
 def finger_frame(theta):

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
-from ccedi.errors import InputError, require_finite_positive
+from ccedi.quantities import QUANTITIES
 
 from .fastmath import FASTMATH
 
@@ -31,16 +31,17 @@ class NeoHookean:
     Parameters
     ----------
     E : float
-        Young's modulus [Pa], > 0.
+        Young's modulus [Pa], 1e4..1e12.
     nu : float
-        Poisson's ratio [-], in (-1, 0.5).
+        Poisson's ratio [-], 0..0.499.
     rho : float
-        Mass density [kg/m^3], > 0.
+        Mass density [kg/m^3], 1..1e5.
 
     Raises
     ------
-    InputError
-        If E or rho is not finite and positive, or nu is not a real number in (-1, 0.5).
+    ccedi.errors.InputError
+        If E, nu or rho is not a number within its range of
+        :data:`ccedi.quantities.QUANTITIES` (the one every input source uses).
     """
 
     E: float
@@ -48,15 +49,9 @@ class NeoHookean:
     rho: float
 
     def __post_init__(self):
-        object.__setattr__(self, "E", require_finite_positive("E (Young's modulus, Pa)", self.E))
-        object.__setattr__(self, "rho", require_finite_positive("rho (density, kg/m^3)", self.rho))
-        try:
-            nu = float(self.nu)
-        except (TypeError, ValueError):
-            raise InputError(f"nu (Poisson's ratio) must be a real number, got {self.nu!r}") from None
-        if not (-1.0 < nu < 0.5):
-            raise InputError(f"nu (Poisson's ratio) must lie in (-1, 0.5), got {self.nu!r}")
-        object.__setattr__(self, "nu", nu)
+        for name, quantity in (("E", "E_Pa"), ("nu", "nu"), ("rho", "rho_kg_m3")):
+            value = QUANTITIES[quantity].check(getattr(self, name), f"NeoHookean {name}")
+            object.__setattr__(self, name, value)
 
     @property
     def mu(self):

@@ -24,6 +24,7 @@ import numpy as np
 from scipy.integrate import cumulative_trapezoid
 
 from ccedi.errors import InputError, require_finite_positive
+from ccedi.quantities import QUANTITIES
 
 from .units import inch_to_m
 
@@ -158,12 +159,23 @@ def elliptical_cantilever(length_m, n_section, n_along, a=SEMI_AXIS_MAJOR, b=SEM
     return Mesh(nodes=nodes, hexes=hexes.astype(np.int64), node_sets=node_sets)
 
 
-def _length_m(length_in=None, length_m=None):
+def _finger_length_m(length_in=None, length_m=None):
+    """The finger length [m] from exactly one of ``length_in`` and ``length_m``, checked
+    against :data:`ccedi.quantities.QUANTITIES` ``length_in`` (1..12 in)."""
     if (length_in is None) == (length_m is None):
         raise InputError("give exactly one of length_in (inches) or length_m (metres)")
+    inches = QUANTITIES["length_in"]
     if length_in is not None:
-        return inch_to_m(require_finite_positive("length_in (finger length, in)", length_in))
-    return require_finite_positive("length_m (finger length, m)", length_m)
+        return inch_to_m(inches.check(length_in, "length_in"))
+    return inches.in_unit(inch_to_m(1.0), "m").check(length_m, "length_m")
+
+
+def _finger_section(semi_axes_m):
+    """``semi_axes_m`` as (a, b) [m], each within :data:`ccedi.quantities.QUANTITIES`
+    ``section_semi_axis_m``."""
+    if not isinstance(semi_axes_m, (tuple, list, np.ndarray)) or len(semi_axes_m) != 2:
+        raise InputError(f"semi_axes_m = {semi_axes_m!r}: must be a pair (a, b) of semi-axes in metres")
+    return tuple(QUANTITIES["section_semi_axis_m"].check(x, "semi_axes_m") for x in semi_axes_m)
 
 
 def sm_a_elements_along(length_m):
@@ -209,10 +221,11 @@ def sm_a(length_in=None, length_m=None, semi_axes_m=SEMI_AXES):
     Raises
     ------
     InputError
-        If neither or both lengths are given, or a length or semi-axis is not > 0.
+        If neither or both lengths are given, or the length (1..12 in) or a semi-axis
+        (1e-4..0.1 m) is outside :data:`ccedi.quantities.QUANTITIES`.
     """
-    L = _length_m(length_in, length_m)
-    return elliptical_cantilever(L, 5, sm_a_elements_along(L), *semi_axes_m)
+    L = _finger_length_m(length_in, length_m)
+    return elliptical_cantilever(L, 5, sm_a_elements_along(L), *_finger_section(semi_axes_m))
 
 
 def sm_b(length_in=None, length_m=None, semi_axes_m=SEMI_AXES):
@@ -238,7 +251,8 @@ def sm_b(length_in=None, length_m=None, semi_axes_m=SEMI_AXES):
     Raises
     ------
     InputError
-        If neither or both lengths are given, or a length or semi-axis is not > 0.
+        If neither or both lengths are given, or the length (1..12 in) or a semi-axis
+        (1e-4..0.1 m) is outside :data:`ccedi.quantities.QUANTITIES`.
     """
-    L = _length_m(length_in, length_m)
-    return elliptical_cantilever(L, 9, 2 * sm_a_elements_along(L), *semi_axes_m)
+    L = _finger_length_m(length_in, length_m)
+    return elliptical_cantilever(L, 9, 2 * sm_a_elements_along(L), *_finger_section(semi_axes_m))

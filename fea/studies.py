@@ -5,6 +5,7 @@ import math
 import pandas as pd
 
 from ccedi.models import ImpulseResponse, validate_run_args
+from ccedi.quantities import QUANTITIES
 
 from .explicit import TSSFAC, critical_time_step, run
 from .material import RUBBER
@@ -227,7 +228,15 @@ def finger_impulse_model(length_in=4.5, force_N=1.0, duration_s=0.01, material=R
     Returns
     -------
     FullImpulseModel
+
+    Raises
+    ------
+    ccedi.errors.InputError
+        A length, section, force or duration outside :data:`ccedi.quantities.QUANTITIES`
+        (the ranges of the study TOML and the calibration sidecar).
     """
+    force_N = QUANTITIES["force_N"].check(force_N, "force_N")
+    duration_s = QUANTITIES["pulse_duration_s"].check(duration_s, "duration_s")
     mesh = sm_a(length_in=length_in, semi_axes_m=semi_axes_m) if mesh is None else mesh
     return FullImpulseModel(lambda alpha: impulse_model(alpha=alpha, force_N=force_N, duration_s=duration_s,
                                                         material=material, beta=beta, mesh=mesh),

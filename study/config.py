@@ -62,16 +62,16 @@ SCHEMA = {
                                     True, 2, 2),
     },
     "drum": {
-        "drum_radius_m": Key(float, "m", 1e-3, 1.0, _DRUM["drum_radius_m"], "drum radius (the finger root's radius)"),
-        "omega_rad_s": Key(float, "rad/s", 1e-3, 100.0, _DRUM["omega_rad_s"], "drum speed"),
-        "theta0_rad": Key(float, "rad", -3.2, 3.2, _DRUM["theta0_rad"],
-                          "initial finger angle (default calibrated: alpha = 7.5 1/s first touches at 0.32 s; "
-                          "recalibrate with ccedi contact --calibrate after changing the set-up)"),
-        "object_center_m": Key(float, "m", -1.0, 1.0, list(_DRUM["object_center_m"]),
-                               "elliptical object centre [x, y] in the drum frame", True, 2, 2),
-        "object_semi_axes_m": Key(float, "m", 1e-3, 1.0, list(_DRUM["object_semi_axes_m"]),
-                                  "elliptical object semi-axes [a, b]", True, 2, 2),
-        "friction": Key(float, "-", 0.0, 2.0, _DRUM["friction"], "Coulomb friction coefficient finger-object"),
+        "drum_radius_m": _key("drum_radius_m", _DRUM["drum_radius_m"], "drum radius (the finger root's radius)"),
+        "omega_rad_s": _key("omega_rad_s", _DRUM["omega_rad_s"], "drum speed"),
+        "theta0_rad": _key("angle_rad", _DRUM["theta0_rad"],
+                           "initial finger angle (default calibrated: alpha = 7.5 1/s first touches at 0.32 s; "
+                           "recalibrate with ccedi contact --calibrate after changing the set-up)"),
+        "object_center_m": _key("object_position_m", list(_DRUM["object_center_m"]),
+                                "elliptical object centre [x, y] in the drum frame", True, 2, 2),
+        "object_semi_axes_m": _key("object_semi_axis_m", list(_DRUM["object_semi_axes_m"]),
+                                   "elliptical object semi-axes [a, b]", True, 2, 2),
+        "friction": _key("friction", _DRUM["friction"], "Coulomb friction coefficient finger-object"),
     },
     "study": {
         "impulse_alphas_per_s": _key("alpha_per_s", [70.0, 120.0, 160.0, 180.0, 200.0],
