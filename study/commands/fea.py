@@ -176,6 +176,7 @@ def _cmd_contact(args):
     check_flag("--alpha", [args.alpha], "study", "contact_alphas_per_s")
     setup = _setup_of(args)
     out = Path(args.out)
+    print(f"contact: alpha = {args.alpha:g} 1/s, {args.damping} damping, {args.t_end_s:g} s simulated", flush=True)
     result, model = contact_run(setup, args.alpha, damping=args.damping, t_end_s=args.t_end_s,
                                 n_outputs=args.n_outputs, progress=True, snapshot_every=5 if args.vtu else 0)
     summary = contact_summary(setup, result, model)

@@ -101,7 +101,6 @@ def _case(args, t_end_s):
 
 def cmd_export(args):
     """``ccedi export``: the impulse or contact case as an LS-DYNA deck, or its run as VTU, CSV or Parquet."""
-    from ccedi.errors import require_finite_positive
     from ccedi.fea.lsdyna import write_keyword
     from ccedi.fea.outputs import require_parquet, write_table
     from ccedi.fea.vtu import write_series
@@ -112,11 +111,13 @@ def cmd_export(args):
         output_dir(args.out, "--out")
     else:
         output_file(args.out if args.format == "lsdyna" else Path(args.out).with_suffix(f".{args.format}"), "--out")
-    require_finite_positive("--alpha (mass-proportional damping, 1/s)", args.alpha, allow_zero=True)
+    check_flag("--alpha", [args.alpha], "study", "contact_alphas_per_s")
     check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
     t_end_s = args.t_end_s if args.t_end_s is not None else {"impulse": 0.2, "contact": 1.5}[args.case]
-    t_end_s = require_finite_positive("--t-end-s (simulated time, s)", t_end_s)
+    check_flag("--t-end-s", t_end_s, "study", f"{args.case}_t_end_s")
     model, simulate = _case(args, t_end_s)
+    if args.format != "lsdyna":
+        print(f"export: running the {args.case} case, alpha = {args.alpha:g} 1/s, {t_end_s:g} s simulated", flush=True)
     if args.format == "lsdyna":
         path = write_keyword(model, args.out, t_end_s, title=f"ccedi {args.case}, alpha = {args.alpha:g} 1/s")
     elif args.format == "vtu":
