@@ -11,10 +11,15 @@
 A function mapped over a cluster may itself map runs (a study step sweeping alpha): the
 inner runs go to the same cluster. Each run is a pure function of its item, computed by the same code in whichever
 process runs it, so the results are identical to the serial ones; they come back in
-input order. A progress bar (tqdm) counts finished runs.
+input order. A progress bar (tqdm) counts finished runs. The warnings a run issues (e.g.
+the validity warnings of :mod:`ccedi.fea.validity`) are recorded where it runs and issued
+again in the caller, in input order, once the progress bar is closed: none is lost on a
+worker, none is printed into the bar.
 """
 import logging
+import warnings
 from contextlib import ExitStack
+from functools import partial
 
 from ccedi.errors import InputError
 
@@ -79,6 +84,43 @@ def _in_worker():
         return False
 
 
+def recording_warnings(function, *args):
+    """``function(*args)`` and the warnings it issued, recorded instead of shown.
+
+    Parameters
+    ----------
+    function : callable
+        The call.
+    *args
+        Its arguments.
+
+    Returns
+    -------
+    tuple
+        (result, list of ``(message, category, filename, lineno)``), for
+        :func:`reissue_warnings` (picklable, so it can come back from a Dask worker).
+    """
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = function(*args)
+    return result, [(w.message, w.category, w.filename, w.lineno) for w in caught]
+
+
+def reissue_warnings(recorded):
+    """Issue warnings recorded by :func:`recording_warnings` in this process, under its
+    warning filters (a warning repeated within ``recorded`` is shown once, unless the
+    filters say "always").
+
+    Parameters
+    ----------
+    recorded : list of tuple
+        ``(message, category, filename, lineno)`` each.
+    """
+    registry = {}
+    for message, category, filename, lineno in recorded:
+        warnings.warn_explicit(message, category, filename, lineno, registry=registry)
+
+
 def map_runs(function, items, scheduler=SERIAL, n_workers=LOCAL_WORKERS, label="runs"):
     """``[function(item) for item in items]``, computed according to ``scheduler``.
 
@@ -104,19 +146,28 @@ def map_runs(function, items, scheduler=SERIAL, n_workers=LOCAL_WORKERS, label="
     Returns
     -------
     list
-        The results, in the order of ``items``, identical to the serial ones.
+        The results, in the order of ``items``, identical to the serial ones. The runs'
+        warnings are issued again after the progress bar closes.
     """
     from tqdm import tqdm
 
     items = list(items)
-    if scheduler == SERIAL or not items:
-        return [function(item) for item in tqdm(items, desc=label, unit="run", leave=False)]
-    from dask.distributed import as_completed, worker_client
-
+    run = partial(recording_warnings, function)
     with ExitStack() as stack:
-        dask = stack.enter_context(worker_client()) if _in_worker() else client(stack, scheduler, n_workers)
-        futures = dask.map(function, items, pure=False, priority=RUN_PRIORITY)
-        for _ in tqdm(as_completed(futures), total=len(futures), desc=label, unit="run", leave=False):
-            pass
-        return dask.gather(futures)
+        bar = stack.enter_context(tqdm(total=len(items), desc=label, unit="run", leave=False))
+        if scheduler == SERIAL or not items:
+            runs = []
+            for item in items:
+                runs.append(run(item))
+                bar.update()
+        else:
+            from dask.distributed import as_completed, worker_client
+
+            dask = stack.enter_context(worker_client()) if _in_worker() else client(stack, scheduler, n_workers)
+            futures = dask.map(run, items, pure=False, priority=RUN_PRIORITY)
+            for _ in as_completed(futures):
+                bar.update()
+            runs = dask.gather(futures)
+    reissue_warnings([w for _, recorded in runs for w in recorded])
+    return [result for result, _ in runs]
 

@@ -12,8 +12,9 @@ Building the parser imports no library, so ``ccedi --help`` answers at once.
 """
 import argparse
 import sys
+import warnings
 
-from ccedi.errors import InputError, SolverError
+from ccedi.errors import InputError, SolverError, ValidityWarning
 from ccedi.study.commands import calibrate, design, fea, rom, study
 from ccedi.study.commands.arguments import check_output_paths
 
@@ -47,7 +48,9 @@ def main(argv=None):
     int
         Exit status: 0 done, 1 bad input, a file that cannot be read or written, or a
         solver failure (one line on stderr), 2 no sub-command, 130 interrupted. Output
-        paths are checked before anything is computed.
+        paths are checked before anything is computed. Each validity warning
+        (:class:`ccedi.errors.ValidityWarning`) is printed as one line on stderr,
+        ``ccedi <command>: warning: <message>``, and does not change the status.
     """
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -55,8 +58,11 @@ def main(argv=None):
         parser.print_help()
         return 2
     try:
-        check_output_paths(args)
-        args.func(args)
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", ValidityWarning)
+            warnings.showwarning = _warning_printer(args.command, warnings.showwarning)
+            check_output_paths(args)
+            args.func(args)
     except (InputError, SolverError) as err:
         print(f"ccedi {args.command}: error: {err}", file=sys.stderr)
         return 1
@@ -68,3 +74,15 @@ def main(argv=None):
         print(f"ccedi {args.command}: interrupted; no partial outputs were written", file=sys.stderr)
         return 130
     return 0
+
+
+def _warning_printer(command, fallback):
+    """A ``warnings.showwarning`` that prints a validity warning as one stderr line of
+    ``ccedi <command>``, above any progress bar (tqdm.write), and leaves other warnings
+    to ``fallback``."""
+    def show(message, category, filename, lineno, file=None, line=None):
+        if not issubclass(category, ValidityWarning):
+            return fallback(message, category, filename, lineno, file, line)
+        from tqdm import tqdm
+        tqdm.write(f"ccedi {command}: warning: {message}", file=sys.stderr)
+    return show
