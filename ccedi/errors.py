@@ -31,6 +31,15 @@ class ModelInadequate(Exception):
     """
 
 
+class ValidityWarning(UserWarning):
+    """A run's results leave the model's range of validity, but the numbers still mean
+    something (see :mod:`ccedi.fea.validity`).
+
+    The run records the same message in its summary (``warnings``); the command line
+    prints each one as ``ccedi <command>: warning: <message>`` on stderr.
+    """
+
+
 def require_finite_positive(name, value, allow_zero=False):
     """Return ``float(value)`` or raise :class:`InputError` naming ``name``.
 

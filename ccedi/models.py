@@ -73,6 +73,8 @@ IMPULSE_CORE_SUMMARY = (
     Column("model", "-", "name of the model (e.g. 'fea', 'modal-6')"),
     Column("alpha_per_s", "1/s", "mass-proportional damping coefficient of the run"),
     Column("wall_time_s", "s", "wall time of the run"),
+    Column("warnings", "-", "list of the run's validity warnings (str; empty for a healthy run), see "
+                            "ccedi.fea.validity"),
 )
 """Summary keys every impulse model answers."""
 
@@ -80,6 +82,7 @@ FE_IMPULSE_EXTRA_COLUMNS = (
     Column("tip_ux_m", "m", "tip displacement along x"),
     Column("tip_uz_m", "m", "tip displacement along z"),
     Column("max_von_mises_Pa", "Pa", "largest element von Mises stress"),
+    Column("max_log_strain", "-", "largest principal logarithmic strain of the solid elements (NaN without them)"),
     Column("reaction_y_N", "N", "clamp reaction along y (and the other solver columns: energies, "
                                 "reaction_x/z_N, ... of ccedi.fea.explicit.run)"),
 )
@@ -127,8 +130,11 @@ CONTACT_CORE_SUMMARY = (
     Column("first_contact_point_m", "m", "[x, y] contact point at contact_start_s (None without contact)"),
     Column("last_contact_point_m", "m", "[x, y] contact point at contact_end_s (None without contact)"),
     Column("peak_reaction_force_N", "N", "largest reaction_force_N over the run (0 without contact)"),
+    Column("warnings", "-", "list of the run's validity warnings (str; empty for a healthy run), see "
+                            "ccedi.fea.validity"),
 )
-"""Summary keys every contact model answers (the timing keys from :func:`contact_timing`)."""
+"""Summary keys every contact model answers (the timing keys from :func:`contact_timing`;
+``warnings`` from the model's validity checks, :mod:`ccedi.fea.validity`)."""
 
 FE_CONTACT_EXTRA_SUMMARY = (
     Column("theta0_rad", "rad", "initial finger angle"),
@@ -137,7 +143,10 @@ FE_CONTACT_EXTRA_SUMMARY = (
     Column("max_object_stress_Pa", "Pa", "largest object stress (None when run without it)"),
     Column("max_penetration_m", "m", "deepest penetration over the run"),
     Column("penetration_to_thickness", "-", "max_penetration_m over the finger's soft thickness"),
-    Column("energy_balance_error", "-", "largest |external work - stored energy| over the largest |work|"),
+    Column("energy_balance_error", "-", "largest |initial energy + external work - kinetic, stored and dissipated "
+                                        "energy| over the largest energy (ccedi.fea.validity.energy_balance_error)"),
+    Column("hourglass_energy_fraction", "-", "largest hourglass energy over largest internal energy"),
+    Column("max_log_strain", "-", "largest principal logarithmic strain in the finger over the run"),
     Column("friction_work_J", "J", "friction work at the end"),
     Column("max_penalty_energy_J", "J", "largest stored penalty energy"),
 )

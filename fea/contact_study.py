@@ -8,6 +8,9 @@ from .drum import DrumSetup, contact_run, contact_summary
 PAPER_ALPHAS = (1.0, 7.5, 20.0, 50.0, 180.0, 600.0)
 """The six damping coefficients of the paper's section 3.4 [1/s]."""
 
+WARNING_SEPARATOR = " | "
+"""How the summaries table (a CSV) joins a run's validity warnings into one cell."""
+
 HISTORY_COLUMNS = ["time_s", "reaction_force_N", "contact_force_x_N", "contact_force_y_N", "max_von_mises_Pa",
                    "max_object_von_mises_Pa", "contact_nodes", "contact_point_x_m", "contact_point_y_m",
                    "contact_patch_start_m", "contact_patch_end_m", "max_penetration_m", "tip_ux_m", "tip_uy_m",
@@ -57,7 +60,9 @@ def sweep(setup: DrumSetup, alphas=PAPER_ALPHAS, damping="global", t_end_s=1.5, 
     -------
     tuple
         (history DataFrame of :data:`HISTORY_COLUMNS` with alpha_per_s, summaries
-        DataFrame of :func:`ccedi.fea.drum.contact_summary`, shapes dict).
+        DataFrame of :func:`ccedi.fea.drum.contact_summary` (list values as text, the
+        ``warnings`` joined by :data:`WARNING_SEPARATOR`, empty for a healthy run),
+        shapes dict).
     """
     from functools import partial
 
@@ -67,7 +72,8 @@ def sweep(setup: DrumSetup, alphas=PAPER_ALPHAS, damping="global", t_end_s=1.5, 
                    progress=progress and scheduler == "serial")
     runs = map_runs(case, alphas, scheduler, label="contact runs")
     shapes = {float(a): shape for a, (_, _, shape) in zip(alphas, runs) if shape is not None}
-    table = pd.DataFrame([{k: (str(v) if isinstance(v, list) else v) for k, v in r.items()} for r, _, _ in runs])
+    table = pd.DataFrame([{k: (WARNING_SEPARATOR.join(v) if k == "warnings" else str(v) if isinstance(v, list) else v)
+                           for k, v in r.items()} for r, _, _ in runs])
     return pd.concat([h for _, h, _ in runs], ignore_index=True), table, shapes
 
 
@@ -234,6 +240,53 @@ def tip_lag_m(setup: DrumSetup, history, t_s):
     return float(tip_lag_series_m(setup, history)[k])
 
 
+def run_warnings(table):
+    """The validity warnings of every run of a summaries table, named by alpha.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame or None
+        Summaries of :func:`sweep` (or read back from its CSV, where a run without
+        warnings has an empty cell), with alpha_per_s, damping and warnings.
+
+    Returns
+    -------
+    list of str
+        ``"alpha = 7.5 1/s: <warning>"`` per warning, in table order (none for None).
+    """
+    from .validity import run_label
+
+    if table is None or "warnings" not in table:
+        return []
+    return [f"{run_label(float(r.alpha_per_s), r.damping)}: {w}" for _, r in table.iterrows()
+            if isinstance(r.warnings, str) and r.warnings for w in r.warnings.split(WARNING_SEPARATOR)]
+
+
+def validity_lines(global_table, relative_table=None):
+    """Markdown list of the sweeps' validity warnings (:func:`run_warnings`), or a line
+    saying there are none.
+
+    Parameters
+    ----------
+    global_table : pandas.DataFrame
+        Summaries of the global-damping sweep.
+    relative_table : pandas.DataFrame, optional
+        Summaries of the relative-damping sweep.
+
+    Returns
+    -------
+    list of str
+        Markdown lines.
+    """
+    if "warnings" not in global_table:
+        return ["Not recorded: these summaries were written without the validity checks."]
+    found = run_warnings(global_table) + run_warnings(relative_table)
+    if not found:
+        return ["None: every run kept its energy balance, hourglass energy and strains within the limits of "
+                "`ccedi.fea.validity`."]
+    return [f"- {w}" for w in found]
+
+
 def contact_report(setup: DrumSetup, global_table, global_history, relative_table=None, relative_history=None):
     """Markdown comparing the global-damping sweep with the paper (section 3.4) and with
     relative damping. Tables are the summaries of :func:`sweep`; histories the long frames.
@@ -277,6 +330,7 @@ def contact_report(setup: DrumSetup, global_table, global_history, relative_tabl
                      + (f" ({p_dur:g})" if p_dur else "") + f" | {last} | {r.peak_reaction_force_N:.2f} | "
                      f"{1e-6 * r.max_finger_stress_Pa:.3f} | {1e-6 * r.max_object_stress_Pa:.3f} | "
                      f"{r.penetration_to_thickness:.4f} | {r.energy_balance_error:.4f} |")
+    lines += ["", "## Validity warnings", ""] + validity_lines(global_table, relative_table)
     if relative_table is not None:
         lines += ["", "## Global against relative damping", "",
                   "Global mass damping acts on the absolute velocity, so it drags a turning finger back "

@@ -12,6 +12,9 @@ A function mapped over a cluster may itself map runs (a study step sweeping alph
 inner runs go to the same cluster. Each run is a pure function of its item, computed by the same code in whichever
 process runs it, so the results are identical to the serial ones; they come back in
 input order. A progress bar (:func:`ccedi.progress.progress_bar`) counts finished runs.
+The warnings a run issues (e.g. the validity warnings of :mod:`ccedi.fea.validity`) are
+recorded where it runs and issued again in the caller, in input order, once the progress
+bar is closed: none is lost on a worker, none is printed into the bar.
 
 Ctrl-C reaches only the process that started a local cluster: its worker processes are
 started with SIGINT ignored, so an interrupt is one ``KeyboardInterrupt`` in the caller,
@@ -20,7 +23,9 @@ which shuts the cluster down, rather than a traceback from every worker.
 import logging
 import signal
 import threading
+import warnings
 from contextlib import ExitStack, contextmanager
+from functools import partial
 
 from ccedi.progress import progress_bar
 
@@ -109,12 +114,49 @@ def _in_worker():
         return False
 
 
+def recording_warnings(function, *args):
+    """``function(*args)`` and the warnings it issued, recorded instead of shown.
+
+    Parameters
+    ----------
+    function : callable
+        The call.
+    *args
+        Its arguments.
+
+    Returns
+    -------
+    tuple
+        (result, list of ``(message, category, filename, lineno)``), for
+        :func:`reissue_warnings` (picklable, so it can come back from a Dask worker).
+    """
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = function(*args)
+    return result, [(w.message, w.category, w.filename, w.lineno) for w in caught]
+
+
+def reissue_warnings(recorded):
+    """Issue warnings recorded by :func:`recording_warnings` in this process, under its
+    warning filters (a warning repeated within ``recorded`` is shown once, unless the
+    filters say "always").
+
+    Parameters
+    ----------
+    recorded : list of tuple
+        ``(message, category, filename, lineno)`` each.
+    """
+    registry = {}
+    for message, category, filename, lineno in recorded:
+        warnings.warn_explicit(message, category, filename, lineno, registry=registry)
+
+
 def map_runs(function, items, scheduler=SERIAL, n_workers=LOCAL_WORKERS, label="runs"):
     """``[function(item) for item in items]``, computed according to ``scheduler``.
 
     Called from a task already running on a Dask worker (a study step), the runs go to
     that task's cluster (``worker_client``: the waiting task gives its worker slot to the
-    runs). A tqdm progress bar counts finished runs.
+    runs). A progress bar (:func:`ccedi.progress.progress_bar`) counts finished runs.
 
     Parameters
     ----------
@@ -134,18 +176,26 @@ def map_runs(function, items, scheduler=SERIAL, n_workers=LOCAL_WORKERS, label="
     Returns
     -------
     list
-        The results, in the order of ``items``, identical to the serial ones.
+        The results, in the order of ``items``, identical to the serial ones. The runs'
+        warnings are issued again after the progress bar closes.
     """
     items = list(items)
-    if scheduler == SERIAL or not items:
-        return [function(item) for item in progress_bar(items, desc=label, unit="run")]
-    from dask.distributed import as_completed, worker_client
-
+    run = partial(recording_warnings, function)
     with ExitStack() as stack:
-        dask = stack.enter_context(worker_client()) if _in_worker() else client(stack, scheduler, n_workers)
-        futures = dask.map(function, items, pure=False, priority=RUN_PRIORITY)
-        with progress_bar(total=len(futures), desc=label, unit="run") as bar:
+        bar = stack.enter_context(progress_bar(total=len(items), desc=label, unit="run"))
+        if scheduler == SERIAL or not items:
+            runs = []
+            for item in items:
+                runs.append(run(item))
+                bar.update()
+        else:
+            from dask.distributed import as_completed, worker_client
+
+            dask = stack.enter_context(worker_client()) if _in_worker() else client(stack, scheduler, n_workers)
+            futures = dask.map(run, items, pure=False, priority=RUN_PRIORITY)
             for _ in as_completed(futures):
                 bar.update()
-        return dask.gather(futures)
+            runs = dask.gather(futures)
+    reissue_warnings([w for _, recorded in runs for w in recorded])
+    return [result for result, _ in runs]
 

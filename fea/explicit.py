@@ -15,7 +15,9 @@ step to ``dt <= (2/w_max)(sqrt(1 + xi^2) - xi)``, ``xi = beta w_max / 2``, ``w_m
 
 Time step, paper Eq. (5): ``dt = TSSFAC x min_e dt_e`` (TSSFAC = 0.9), recomputed every step
 on the deformed mesh. Energies are accumulated so that
-``W_ext = KE + IE + HG + E_damping + E_bulk`` (checked by the tests).
+``E0 + W_ext = KE + IE + HG + E_damping + E_bulk`` (E0 the energy of the initial state;
+W_ext the work of the loads, the supports and the contact forces), which every run checks
+(:func:`ccedi.fea.validity.energy_balance_error`).
 
 The step loop is written once (``_advance``); it is compiled by numba with the numba
 force kernel, and run as plain Python with the numpy reference kernel
@@ -43,6 +45,7 @@ from .model import Model, face_node_weights
 from .prescribed import prescribed_rotation
 from .rod import rod_forces_numba, rod_forces_numpy, rod_max_stress
 from .rotating_frame import RotatingFrame, frame_velocity
+from .validity import issue, max_log_strain, run_checks, run_label
 
 TSSFAC = 0.9
 """Time-step scale factor of paper Eq. (5)."""
@@ -335,12 +338,17 @@ class RunResult:
     ----------
     history : pandas.DataFrame
         One row per output time, columns with units in their names (``time_s``,
-        ``tip_ux_m`` ..., ``reaction_x_N`` ..., ``max_von_mises_Pa``, the energy terms
-        [J], :data:`CONTACT_COLUMNS` with contact, and the output hook's columns).
+        ``tip_ux_m`` ..., ``reaction_x_N`` ..., ``max_von_mises_Pa``,
+        ``max_log_strain`` [-] (largest principal logarithmic strain of the solid
+        elements, NaN without them), the energy terms [J], :data:`CONTACT_COLUMNS` with
+        contact, and the output hook's columns).
     summary : dict
         Run statistics: ``nodes``, ``elements``, ``dt_initial_s``, ``dt_min_s``,
         ``steps``, ``t_end_s``, ``t_final_s``, ``wall_time_s``, ``backend``,
-        ``alpha_per_s``, ``beta_s``, ``ns_per_element_cycle``.
+        ``alpha_per_s``, ``beta_s``, ``ns_per_element_cycle``, and the validity checks
+        of :func:`ccedi.fea.validity.run_checks`: ``energy_balance_error``,
+        ``hourglass_energy_fraction``, ``max_log_strain`` and ``warnings`` (list of str,
+        empty for a healthy run).
     x : (n_nodes, 3) ndarray
         Final nodal positions [m], at ``summary["t_final_s"]``.
     v : (n_nodes, 3) ndarray
@@ -374,11 +382,19 @@ def max_von_mises(model, x):
         (:func:`ccedi.fea.material.max_von_mises_of`) and the rods' normal stress bound
         (:func:`ccedi.fea.rod.rod_max_stress`) [Pa].
     """
+    return _stress_and_strain(model, x)[0]
+
+
+def _stress_and_strain(model, x):
+    """(:func:`max_von_mises` [Pa], largest principal log strain of the solid elements
+    [-], NaN without them) from one evaluation of the deformation gradients."""
     sigma = rod_max_stress(x, model.rod_arrays)
+    strain = np.nan
     if model.mesh.n_elements:
         F = deformation_gradient(x[model.mesh.hexes], model.geometry)
         sigma = max(sigma, max_von_mises_of(F, model.material.mu, model.material.lam))
-    return sigma
+        strain = max_log_strain(F)
+    return sigma, strain
 
 
 def rod_time_step(model):
@@ -442,6 +458,21 @@ def _initial_state(name, value, shape):
     if a.shape != shape or not np.all(np.isfinite(a)):
         raise InputError(f"{name} must be finite with shape {shape}, got shape {a.shape}")
     return a
+
+
+def _initial_energy(model, x, v):
+    """Kinetic plus stored (strain, hourglass, rod) energy [J] of the initial state x, v
+    (v already zero on the constrained nodes); 0 for the stored part when an element is
+    inverted at x (the step loop then stops at step 0)."""
+    g = model.geometry
+    f = np.zeros_like(x)
+    _, w_s, w_hg, _, bad = internal_forces_numba(x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa,
+                                                  *model.solid_constants, f)
+    ra = model.rod_arrays
+    w_rod, _ = rod_forces_numba(x, ra.segments, ra.rest_length, ra.axial_stiffness, ra.hinges, ra.bending_stiffness,
+                                f)
+    stored = w_s + w_hg + w_rod if bad < 0 else 0.0
+    return 0.5 * float(np.sum(model.mass[:, None] * v * v)) + stored
 
 
 def _contact_group(model, dt_cfl):
@@ -521,7 +552,10 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     from them) are interpolated to the output time, exactly, since central differences
     move nodes linearly within a step; energies and reactions are those of the step
     that reaches it (at most one step later). The final state ``x, v`` is at
-    ``summary["t_final_s"]`` (>= t_end_s, by less than one step).
+    ``summary["t_final_s"]`` (>= t_end_s, by less than one step). After the run the
+    validity checks of :mod:`ccedi.fea.validity` (energy balance, hourglass energy,
+    strain) fill the summary; each warning is issued once as a
+    :class:`ccedi.errors.ValidityWarning`.
 
     Parameters
     ----------
@@ -590,6 +624,7 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     v = np.zeros_like(X) if v0 is None else _initial_state("v0 (initial velocities, m/s)", v0, X.shape)
     groups = _step_data(model, x, v, dt_user, tssfac, dt_cfl)
     state, contact = groups[2], groups[-1]
+    energy_0 = _initial_energy(model, x, v)
     tip = mesh.node_sets[tip_set]
     tip_w = face_node_weights(mesh, tip) if len(tip) > 1 else np.ones(1)
     react_nodes = mesh.node_sets[reaction_set]
@@ -605,38 +640,42 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     times = np.linspace(0.0, t_end_s, n_outputs + 1)[1:]
     if progress:
         times = progress_bar(times, desc=f"t_end {t_end_s:g} s", unit="output")
-    for i_out, t_out in enumerate(times):
-        t, dt_prev, n, status, info, dt_seen = advance(*kernels, t, t_out, dt_prev, *groups, energy)
-        steps += n
-        dt_min = min(dt_min, dt_seen)
-        if status == _INVERTED:
-            raise SolverError(f"element {info} inverted (J <= 0) at t = {t:.6g} s, step {steps}")
-        if status == _FOLDED:
-            raise SolverError(f"rod hinge {info} folded back on itself (turning angle >= 180 deg) "
-                              f"at t = {t:.6g} s, step {steps}")
-        if status == _DIVERGED:
-            raise SolverError(f"solution diverged (non-finite velocity) at step {steps + 1}, t = {t:.6g} s")
-        if status == _STEP_TOO_LARGE:
-            raise SolverError(f"dt_s = {dt_user:.4g} s exceeds the current stable step {dt_seen:.4g} s "
-                              f"at step {steps}, t = {t:.6g} s (the mesh deformed)")
-        # positions at t_out, which always lies within the last step (t - dt_prev, t]:
-        # central differences move each node linearly over a step
-        x_out = x - (t - t_out) * v
-        u_tip = tip_w @ (x_out[tip] - X[tip])
-        r = state.reaction[react_nodes].sum(axis=0)
-        row = (t_out, *u_tip, *r, max_von_mises(model, x_out), *energy[:_E_PENALTY])
-        if model.contact is not None:
-            out = contact.out
-            row += (*out[:3], energy[_E_PENALTY], *out[4:], energy[_W_NORMAL], energy[_W_FRICTION])
-        if output_hook is not None:
-            extra = output_hook(t_out, x_out, state.f_ext)
-            row += tuple(extra.values())
-        rows.append(row)
-        if snapshot_every and (i_out + 1) % snapshot_every == 0:
-            snapshots.append((t_out, x_out))
+    try:
+        for i_out, t_out in enumerate(times):
+            t, dt_prev, n, status, info, dt_seen = advance(*kernels, t, t_out, dt_prev, *groups, energy)
+            steps += n
+            dt_min = min(dt_min, dt_seen)
+            if status == _INVERTED:
+                raise SolverError(f"element {info} inverted (J <= 0) at t = {t:.6g} s, step {steps}")
+            if status == _FOLDED:
+                raise SolverError(f"rod hinge {info} folded back on itself (turning angle >= 180 deg) "
+                                  f"at t = {t:.6g} s, step {steps}")
+            if status == _DIVERGED:
+                raise SolverError(f"solution diverged (non-finite velocity) at step {steps + 1}, t = {t:.6g} s")
+            if status == _STEP_TOO_LARGE:
+                raise SolverError(f"dt_s = {dt_user:.4g} s exceeds the current stable step {dt_seen:.4g} s "
+                                  f"at step {steps}, t = {t:.6g} s (the mesh deformed)")
+            # positions at t_out, which always lies within the last step (t - dt_prev, t]:
+            # central differences move each node linearly over a step
+            x_out = x - (t - t_out) * v
+            u_tip = tip_w @ (x_out[tip] - X[tip])
+            r = state.reaction[react_nodes].sum(axis=0)
+            row = (t_out, *u_tip, *r, *_stress_and_strain(model, x_out), *energy[:_E_PENALTY])
+            if model.contact is not None:
+                out = contact.out
+                row += (*out[:3], energy[_E_PENALTY], *out[4:], energy[_W_NORMAL], energy[_W_FRICTION])
+            if output_hook is not None:
+                extra = output_hook(t_out, x_out, state.f_ext)
+                row += tuple(extra.values())
+            rows.append(row)
+            if snapshot_every and (i_out + 1) % snapshot_every == 0:
+                snapshots.append((t_out, x_out))
+    finally:
+        if progress:
+            times.close()       # before an error message is printed, so it starts a line of its own
     wall = _time.perf_counter() - wall0
     cols = ["time_s", "tip_ux_m", "tip_uy_m", "tip_uz_m", "reaction_x_N", "reaction_y_N", "reaction_z_N",
-            "max_von_mises_Pa", "external_work_J", "damping_energy_J", "bulk_viscosity_energy_J",
+            "max_von_mises_Pa", "max_log_strain", "external_work_J", "damping_energy_J", "bulk_viscosity_energy_J",
             "kinetic_energy_J", "internal_energy_J", "hourglass_energy_J"]
     if model.contact is not None:
         cols += CONTACT_COLUMNS
@@ -648,4 +687,6 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
                "dt_min_s": float(dt_min), "steps": int(steps), "t_end_s": t_end_s, "t_final_s": t,
                "wall_time_s": wall, "backend": backend, "alpha_per_s": model.alpha, "beta_s": model.beta,
                "ns_per_element_cycle": 1e9 * wall / max(1, steps * n_elements)}
+    summary.update(run_checks(history, energy_0))
+    issue(summary["warnings"], run_label(model.alpha, model.damping))
     return RunResult(history=history, summary=summary, x=x, v=v, snapshots=snapshots)

@@ -12,6 +12,7 @@ from .material import RUBBER
 from .mesh import SEMI_AXES, sm_a, sm_b
 from .model import cantilever_model, tip_pulse
 from .static import tip_stiffness
+from .validity import cantilever_length_m, issue, run_label, tip_deflection_warnings
 
 PAPER_TABLE1 = {
     "SM-A": {"nodes": 1080, "elements": 725, "dt_us": 4.04, "steps_to_0p2s": 49505, "step_ratio": 1.0,
@@ -129,10 +130,46 @@ def impulse_response(length_in=4.5, alpha=180.0, force_N=1.0, duration_s=0.01, t
     -------
     ccedi.fea.explicit.RunResult
         History (``tip_uy_m`` [m], ``max_von_mises_Pa`` [Pa], ``reaction_y_N`` [N], energies,
-        ...) and summary of the explicit run.
+        ...) and summary of the explicit run (:func:`impulse_run`, with its ``warnings``).
+
+    Raises
+    ------
+    SolverError
+        The solver cannot continue, or the tip deflection reaches the finger's length.
     """
     model = impulse_model(length_in, alpha, force_N, duration_s, material, beta, mesh, semi_axes_m)
-    return run(model, t_end_s, n_outputs=n_outputs)
+    return impulse_run(model, t_end_s, n_outputs)
+
+
+def impulse_run(model, t_end_s, n_outputs):
+    """Explicit run of an impulse test with its tip deflection check
+    (:func:`ccedi.fea.validity.tip_deflection_warnings`).
+
+    Parameters
+    ----------
+    model : ccedi.fea.model.Model
+        A cantilever (node sets ``root`` and ``tip``) under a tip pulse along +y.
+    t_end_s : float
+        Simulated time [s].
+    n_outputs : int
+        Output times.
+
+    Returns
+    -------
+    ccedi.fea.explicit.RunResult
+        The solver's result; a tip deflection warning is added to
+        ``summary["warnings"]`` (and issued as a :class:`ccedi.errors.ValidityWarning`).
+
+    Raises
+    ------
+    SolverError
+        The solver cannot continue, or the tip deflection reaches the length.
+    """
+    res = run(model, t_end_s, n_outputs=n_outputs)
+    found = tip_deflection_warnings(res.history.tip_uy_m, cantilever_length_m(model.mesh))
+    issue(found, run_label(model.alpha, model.damping))
+    res.summary["warnings"] += found
+    return res
 
 
 class FullImpulseModel:
@@ -189,17 +226,18 @@ class FullImpulseModel:
         ccedi.models.ImpulseResponse
             History: the solver's (core ``time_s``, ``tip_uy_m``; extras
             :data:`ccedi.models.FE_IMPULSE_EXTRA_COLUMNS`); summary: ``model``,
-            ``alpha_per_s`` and the solver's summary (``wall_time_s``, ``steps``, ...).
+            ``alpha_per_s`` and the solver's summary (``wall_time_s``, ``steps``,
+            ``warnings``, ...) of :func:`impulse_run`.
 
         Raises
         ------
         InputError
             Invalid arguments (:func:`ccedi.models.validate_run_args`).
         SolverError
-            The explicit solver cannot continue.
+            The explicit solver cannot continue, or the tip deflection reaches the length.
         """
         alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs)
-        res = run(self.model_factory(alpha), t_end_s, n_outputs=n_outputs)
+        res = impulse_run(self.model_factory(alpha), t_end_s, n_outputs)
         return ImpulseResponse(history=res.history,
                                summary={"model": self.name, "alpha_per_s": alpha, **res.summary})
 

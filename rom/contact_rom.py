@@ -231,7 +231,10 @@ class ReducedContactModel:
         ccedi.models.ContactResponse
             History: the core columns (:data:`ccedi.models.CONTACT_CORE_COLUMNS`;
             ``contact_nodes`` counts the contact points in penetration); summary: the core
-            keys and :data:`ccedi.models.ROM_CONTACT_EXTRA_SUMMARY`.
+            keys and :data:`ccedi.models.ROM_CONTACT_EXTRA_SUMMARY`. ``warnings`` is
+            empty: none of the checks of :mod:`ccedi.fea.validity` applies to the chain
+            (it has no energy record, elements or impulse); its range is checked against
+            the full model by ``ccedi rom-check``, and a chain that leaves it raises.
 
         Raises
         ------
@@ -278,7 +281,7 @@ class ReducedContactModel:
             "max_penetration_m": C_out[:, _PEN], "max_von_mises_Pa": stress,
             "tip_ux_m": tip_x - x0[0], "tip_uy_m": tip_y - x0[1]})
         summary = {"model": self.name, "alpha_per_s": float(alpha), "damping": damping,
-                   "wall_time_s": wall, "steps": int(steps), "dt_s": self.dt_s,
+                   "wall_time_s": wall, "steps": int(steps), "warnings": [], "dt_s": self.dt_s,
                    "segments": ch.n_segments, "stiffness_scale": ch.stiffness_scale}
         summary.update(contact_timing(history))
         return ContactResponse(history=history, summary=summary)

@@ -35,6 +35,7 @@ from scipy.optimize import least_squares
 from ccedi.errors import InputError, require_finite_positive
 from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import Model, face_node_weights
+from ccedi.fea.validity import cantilever_length_m, issue, run_label, tip_deflection_warnings
 from ccedi.models import ImpulseResponse, pulse_times, validate_run_args
 
 
@@ -350,13 +351,24 @@ class ModalImpulseModel:
         Pulse length [s].
     name : str, optional
         The ``model`` summary key (default ``"modal-N"``).
+    length_m : float, optional
+        Length of the structure from the clamp to the tip [m], for the tip deflection
+        check of every run (:func:`ccedi.fea.validity.tip_deflection_warnings`, the one
+        of the full model). None: unknown, not checked.
+
+    Raises
+    ------
+    InputError
+        A pulse length or structure length that is not finite and positive.
     """
 
-    def __init__(self, rom: ModalROM, force_N, duration_s, name=None):
+    def __init__(self, rom: ModalROM, force_N, duration_s, name=None, length_m=None):
         self.rom = rom
         self.force_N = float(force_N)
         self.duration_s = require_finite_positive("duration_s (pulse length, s)", duration_s)
         self.name = f"modal-{rom.n_modes}" if name is None else name
+        self.length_m = None if length_m is None else require_finite_positive("length_m (structure length, m)",
+                                                                                length_m)
 
     def run(self, alpha, t_end_s, n_outputs=400):
         """Exact modal response to the pulse (:meth:`ModalROM.pulse_response`).
@@ -373,20 +385,24 @@ class ModalImpulseModel:
         Returns
         -------
         ccedi.models.ImpulseResponse
-            History: the core columns only; summary: the core keys, ``beta_s`` and
-            ``n_modes``.
+            History: the core columns only; summary: the core keys (``warnings``: the tip
+            deflection check, when ``length_m`` is known), ``beta_s`` and ``n_modes``.
 
         Raises
         ------
         InputError
             Invalid arguments (:func:`ccedi.models.validate_run_args`).
+        SolverError
+            The tip deflection reaches the length: the linear answer means nothing.
         """
         alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs)
         t0 = time.perf_counter()
         t = pulse_times(t_end_s, n_outputs)
         y = self.rom.with_damping(alpha, self.rom.beta).pulse_response(t, self.force_N, self.duration_s)
+        found = [] if self.length_m is None else tip_deflection_warnings(y, self.length_m)
+        issue(found, f"{self.name}, {run_label(alpha)}")
         summary = {"model": self.name, "alpha_per_s": alpha, "wall_time_s": time.perf_counter() - t0,
-                   "beta_s": float(self.rom.beta), "n_modes": self.rom.n_modes}
+                   "warnings": found, "beta_s": float(self.rom.beta), "n_modes": self.rom.n_modes}
         return ImpulseResponse(history=pd.DataFrame({"time_s": t, "tip_uy_m": y}), summary=summary)
 
 
@@ -411,6 +427,8 @@ def reduce_impulse_model(full, n_modes=6, alpha=0.0, fit_t_end_s=None, fit_n_out
     Returns
     -------
     ModalImpulseModel
+        With the full model's length (root to tip node set), so that its runs get the
+        same tip deflection check.
 
     Raises
     ------
@@ -419,8 +437,9 @@ def reduce_impulse_model(full, n_modes=6, alpha=0.0, fit_t_end_s=None, fit_n_out
     """
     if full.force_N is None or full.duration_s is None:
         raise InputError("the full model's pulse (force_N, duration_s) must be known to reduce it")
-    rom = tip_modal_rom(full.fea_model(alpha), n_modes=n_modes)
+    model = full.fea_model(alpha)
+    rom = tip_modal_rom(model, n_modes=n_modes)
     if fit_t_end_s is not None:
         t, y = full.run(alpha, fit_t_end_s, fit_n_outputs).tip_signal()
         rom = fit_to_response(rom, t, y, full.force_N, full.duration_s).rom
-    return ModalImpulseModel(rom, full.force_N, full.duration_s)
+    return ModalImpulseModel(rom, full.force_N, full.duration_s, length_m=cantilever_length_m(model.mesh))

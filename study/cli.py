@@ -12,8 +12,9 @@ Building the parser imports no library, so ``ccedi --help`` answers at once.
 """
 import argparse
 import sys
+import warnings
 
-from ccedi.errors import InputError, ModelInadequate, SolverError
+from ccedi.errors import InputError, ModelInadequate, SolverError, ValidityWarning
 from ccedi.progress import close_progress_bars
 from ccedi.study.commands import calibrate, design, fea, rom, study
 from ccedi.study.commands.arguments import check_output_paths
@@ -51,7 +52,9 @@ def main(argv=None):
         cannot explain a measured record (``calibrate``: its JSON, with
         ``model_adequate: false`` and the evidence, is written; one line on stderr names
         the failed check and the record's own first-mode frequency), 130 interrupted.
-        Output paths are checked before anything is computed.
+        Output paths are checked before anything is computed. Each validity warning
+        (:class:`ccedi.errors.ValidityWarning`) is printed as one line on stderr,
+        ``ccedi <command>: warning: <message>``, and does not change the status.
     """
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -59,8 +62,11 @@ def main(argv=None):
         parser.print_help()
         return 2
     try:
-        check_output_paths(args)
-        args.func(args)
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", ValidityWarning)
+            warnings.showwarning = _warning_printer(args.command, warnings.showwarning)
+            check_output_paths(args)
+            args.func(args)
     except (InputError, SolverError) as err:
         return _fail(args.command, f"error: {err}", 1)
     except ModelInadequate as err:
@@ -80,3 +86,15 @@ def _fail(command, message, status):
     sys.stderr.flush()
     print(f"ccedi {command}: {message}", file=sys.stderr)
     return status
+
+
+def _warning_printer(command, fallback):
+    """A ``warnings.showwarning`` that prints a validity warning as one stderr line of
+    ``ccedi <command>``, above any progress bar (tqdm.write), and leaves other warnings
+    to ``fallback``."""
+    def show(message, category, filename, lineno, file=None, line=None):
+        if not issubclass(category, ValidityWarning):
+            return fallback(message, category, filename, lineno, file, line)
+        from tqdm import tqdm
+        tqdm.write(f"ccedi {command}: warning: {message}", file=sys.stderr)
+    return show

@@ -245,6 +245,20 @@ def _timings(out):
             + _table(rows, [("step", "step"), _col("wall_time_s", "wall time")]))
 
 
+def _warnings(out):
+    """The validity warnings every step recorded in ``study.json`` (:mod:`ccedi.fea.validity`)."""
+    s = _load(out, "study.json")
+    if s is None or "warnings" not in s:
+        return ""
+    found = [(step, w) for step, ws in s["warnings"].items() for w in ws]
+    if not found:
+        return ("<p>Validity warnings: none. Every run kept its energy balance, hourglass energy, strains and "
+                "impulse tip deflection within the limits of <code>ccedi.fea.validity</code>.</p>")
+    items = "".join(f"<li><b>{html.escape(step)}</b>: {html.escape(w)}</li>" for step, w in found)
+    return (f"<p class='missing'>Validity warnings ({len(found)}): these numbers leave the models' range of "
+            f"validity (<code>ccedi.fea.validity</code>); they are shown below as computed.</p><ul>{items}</ul>")
+
+
 def _inputs(out):
     """The finger and drum inputs of this run (``config.toml``), each with its unit."""
     from .config import SCHEMA
@@ -266,7 +280,7 @@ def write_index(out):
     stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     body = [f"<h1>ccedi design study</h1><p>Generated {stamp} from the files in this directory. Units: SI "
             "unless a header says otherwise; every number below was computed by this run.</p>",
-            "<h2>Run</h2>", _timings(out), _inputs(out)]
+            "<h2>Run</h2>", _timings(out), _warnings(out), _inputs(out)]
     for title, section, figures in SECTIONS:
         body += [f"<h2>{html.escape(title)}</h2>", section(out)]
         body += [_figure(src, cap) for src, cap in figures if (out / src).exists()]

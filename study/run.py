@@ -20,13 +20,13 @@ The inputs are parsed and validated once; every step gets them as objects, and t
 resolved inputs are written to ``config.toml`` first, for the record.
 Every output is written atomically, so an interrupted study (Ctrl-C) leaves the
 finished steps' files and no partial ones; ``study.json`` records each finished step's
-wall time [s].
+wall time [s] and validity warnings (:mod:`ccedi.fea.validity`; the index lists them).
 """
 import json
 import time
 from pathlib import Path
 
-from ccedi.errors import InputError
+from ccedi.errors import InputError, ValidityWarning
 from ccedi.fea.outputs import write_json, write_text
 from ccedi.progress import progress_bar
 
@@ -128,15 +128,29 @@ LONGEST_FIRST = ("design", "contact", "damping_fits", "steel_rod", "mesh", "tabl
 
 
 def _run_step(name, cfg, out, scheduler):
-    """Run the study step ``name`` (on a Dask worker or in this process); its wall time [s]."""
+    """Run the study step ``name`` (on a Dask worker or in this process): its wall time [s]
+    and the warnings it issued, recorded (:func:`ccedi.fea.distributed.recording_warnings`)."""
+    from ccedi.fea.distributed import recording_warnings
+
     thunk = next(t for n, _, t in steps(cfg, out, scheduler) if n == name)
     t0 = time.perf_counter()
-    thunk()
-    return time.perf_counter() - t0
+    _, recorded = recording_warnings(thunk)
+    return time.perf_counter() - t0, recorded
+
+
+def _step_warnings(name, recorded):
+    """Issue a finished step's recorded warnings here, a validity warning named by its
+    step; returns the validity warnings' messages."""
+    from ccedi.fea.distributed import reissue_warnings
+
+    validity = [str(m) for m, category, _, _ in recorded if issubclass(category, ValidityWarning)]
+    reissue_warnings([(f"{name}: {m}", category, f, n) if issubclass(category, ValidityWarning) else (m, category, f, n)
+                      for m, category, f, n in recorded])
+    return validity
 
 
 def _distributed(todo, cfg, out, scheduler):
-    """Yield (name, wall time [s]) as the steps finish, each step a task on the cluster
+    """Yield (name, wall time [s], recorded warnings) as the steps finish, each step a task on the cluster
     (its own sweeps go to the same cluster first, so the workers stay busy)."""
     from contextlib import ExitStack
 
@@ -149,7 +163,7 @@ def _distributed(todo, cfg, out, scheduler):
         futures = {dask.submit(_run_step, name, cfg, out, scheduler, key=f"ccedi-study-{name}", pure=False): name
                    for name, _, _ in todo}
         for future in as_completed(futures):
-            yield futures[future], future.result()
+            yield futures[future], *future.result()
 
 
 def _check_records(records):
@@ -202,14 +216,17 @@ def run_study(cfg, out, scheduler=None, quick=False, only=None):
     if any(name == "calibrate" for name, _, _ in todo):
         _check_records(cfg["study"]["measured_records"])
     write_text(out / CONFIG_NAME, to_toml(cfg))
-    record = {"config": cfg, "quick": quick, "scheduler": scheduler, "wall_time_s": {}}
-    if only is not None and (out / "study.json").exists():     # keep the other steps' timings
-        record["wall_time_s"] = json.loads((out / "study.json").read_text())["wall_time_s"]
+    record = {"config": cfg, "quick": quick, "scheduler": scheduler, "wall_time_s": {}, "warnings": {}}
+    if only is not None and (out / "study.json").exists():     # keep the other steps' timings and warnings
+        before = json.loads((out / "study.json").read_text())
+        record["wall_time_s"] = before["wall_time_s"]
+        record["warnings"] = before.get("warnings", {})
     t0 = time.perf_counter()
-    finished = ((name, _run_step(name, cfg, out, scheduler)) for name, _, _ in todo) if scheduler == SERIAL \
+    finished = ((name, *_run_step(name, cfg, out, scheduler)) for name, _, _ in todo) if scheduler == SERIAL \
         else _distributed(sorted(todo, key=lambda st: LONGEST_FIRST.index(st[0])), cfg, out, scheduler)
     try:
-        for name, wall in progress_bar(finished, total=len(todo), desc="ccedi study", unit="step"):
+        for name, wall, recorded in progress_bar(finished, total=len(todo), desc="ccedi study", unit="step"):
+            record["warnings"][name] = _step_warnings(name, recorded)
             record["wall_time_s"][name] = wall
             record["elapsed_s"] = time.perf_counter() - t0
             write_json(out / "study.json", record)

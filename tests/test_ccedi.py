@@ -38,7 +38,8 @@ class SDOF:
             r = np.sqrt(s**2 - w**2)
             y = (np.exp((-s + r) * t) - np.exp((-s - r) * t)) / (2 * r)
         return ImpulseResponse(history=pd.DataFrame({"time_s": t, "tip_uy_m": y}),
-                               summary={"model": self.name, "alpha_per_s": alpha, "wall_time_s": 0.0})
+                               summary={"model": self.name, "alpha_per_s": alpha, "wall_time_s": 0.0,
+                                        "warnings": []})
 
 
 RUN = {"t_end_s": 2.0, "n_outputs": 4000}

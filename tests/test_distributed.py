@@ -21,3 +21,18 @@ def test_unreachable_scheduler_is_one_clear_error(monkeypatch):
     monkeypatch.setattr("ccedi.fea.distributed.CONNECT_TIMEOUT", "1s")
     with pytest.raises(InputError, match="cannot connect"):
         map_runs(abs, [1.0], scheduler="tcp://127.0.0.1:1")
+
+
+@pytest.mark.slow
+def test_warnings_of_runs_on_workers_come_back_once():
+    """A warning issued on a Dask worker is issued again in the caller, once, in input order."""
+    import warnings
+    from functools import partial
+
+    from ccedi.errors import ValidityWarning
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        map_runs(partial(warnings.warn, category=ValidityWarning), ["first", "second"], scheduler="local")
+    assert [(str(w.message), w.category) for w in caught] == [("first", ValidityWarning),
+                                                               ("second", ValidityWarning)]

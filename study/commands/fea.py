@@ -62,7 +62,9 @@ def write_table1(cfg, length_in, json_path=None, stiffness=True):
 
 def write_impulse(cfg, alphas, out, length_in=4.5, force_N=1.0, duration_s=0.01, t_end_s=0.2, scheduler="serial"):
     """Impulse responses of the configured SM-A finger for several alpha: writes
-    ``impulse_response.csv``, ``.png`` and ``impulse_summary.json`` in ``out``.
+    ``impulse_response.csv``, ``.png`` and ``impulse_summary.json`` in ``out`` (each run's
+    summary with its validity ``warnings``, and all of them, named by alpha, under the
+    top-level ``warnings``).
 
     Parameters
     ----------
@@ -87,6 +89,7 @@ def write_impulse(cfg, alphas, out, length_in=4.5, force_N=1.0, duration_s=0.01,
 
     from ccedi.fea.outputs import write_csv, write_figure, write_json
     from ccedi.fea.studies import impulse_study, plot_impulse_study
+    from ccedi.fea.validity import run_label
     from ccedi.study.config import finger_inputs
 
     out = Path(out)
@@ -105,6 +108,7 @@ def write_impulse(cfg, alphas, out, length_in=4.5, force_N=1.0, duration_s=0.01,
                            "peak_von_mises_Pa": float(h.max_von_mises_Pa.max())}
     write_json(out / "impulse_summary.json", {
         "length_in": length_in, "force_N": force_N, "duration_s": duration_s,
+        "warnings": [f"{run_label(s['alpha_per_s'])}: {w}" for s in summaries for w in s["warnings"]],
         "runs": summaries, "peaks": peaks})
     for s in summaries:
         print(f"alpha = {s['alpha_per_s']:g} 1/s: {s['steps']} steps, dt0 = {s['dt_initial_s'] * 1e6:.3f} us, "
