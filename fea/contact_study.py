@@ -325,6 +325,10 @@ def contact_report(setup: DrumSetup, global_table, global_history, relative_tabl
         if last != "-":
             xy = [1e3 * float(v) for v in last.strip("[]").split(",")]
             last = f"({xy[0]:.1f}, {xy[1]:.1f})"
+        if pd.isna(r.contact_start_s):
+            lines.append(f"| {a:g} | no contact within the run | - | - | - | - | {r.peak_reaction_force_N:.2f} | "
+                         f"{1e-6 * r.max_finger_stress_Pa:.3f} | - | - | {r.energy_balance_error:.4f} |")
+            continue
         lines.append(f"| {a:g} | {r.contact_start_s:.3f}" + (f" ({p_first:g})" if p_first else "")
                      + f" | {r.first_contact_side} | {r.contact_end_s:.3f} | {r.contact_duration_s:.3f}"
                      + (f" ({p_dur:g})" if p_dur else "") + f" | {last} | {r.peak_reaction_force_N:.2f} | "

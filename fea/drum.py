@@ -413,7 +413,8 @@ def contact_summary(setup: DrumSetup, result, model):
                         "max_object_stress_Pa": _max_or_none(h.max_object_von_mises_Pa),
                         "max_penetration_m": float(h.max_penetration_m.max())})
     else:
-        summary.update({"max_object_stress_Pa": 0.0, "max_penetration_m": 0.0})
+        summary.update({"first_contact_side": None, "last_contact_side": None, "max_object_stress_Pa": 0.0,
+                        "max_penetration_m": 0.0})
     summary["penetration_to_thickness"] = summary["max_penetration_m"] / (2 * setup.finger_semi_axes_m[1])
     for key in ("energy_balance_error", "hourglass_energy_fraction", "max_log_strain"):
         summary[key] = result.summary[key]

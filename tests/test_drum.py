@@ -4,6 +4,7 @@ contact benchmark, not here."""
 import json
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from ccedi.errors import InputError
@@ -57,3 +58,14 @@ def test_cli_contact_short_run_writes_summary(tmp_path):
         assert key in summary
     assert summary["contact_start_s"] is None                      # 20 ms: the finger has not arrived yet
     assert (tmp_path / "contact_alpha7.5_global.csv").exists()
+
+
+def test_a_sweep_that_never_touches_reports_no_contact(tmp_path, capsys):
+    from ccedi.study.commands.fea import write_contact_sweep
+
+    coarse = DrumSetup(finger_section_elements=3, finger_elements_along=26)
+    write_contact_sweep(coarse, [180.0], tmp_path, t_end_s=0.05, n_outputs=5, scheduler="serial")
+    report = (tmp_path / "contact_report.md").read_text()
+    assert "| 180 | no contact within the run |" in report
+    summary = pd.read_csv(tmp_path / "contact_summary_global.csv")
+    assert summary.contact_start_s.isna().all() and summary.first_contact_side.isna().all()
