@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ccedi.errors import InputError
+from ccedi.errors import InputError, brief_repr, one_line
 from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties
 from ccedi.fea.units import inch_to_m
 from ccedi.quantities import QUANTITIES
@@ -193,7 +193,7 @@ def parse_finger(finger, source):
     axes = finger.get("section_semi_axes_m")
     if not isinstance(axes, (list, tuple)) or len(axes) != 2:
         raise InputError(f"{source}: sidecar field 'finger.section_semi_axes_m' must be a list [a, b] of two "
-                         f"semi-axes in metres, got {axes!r}")
+                         f"semi-axes in metres, got {brief_repr(axes)}")
     a, b = (QUANTITIES["section_semi_axis_m"].check(x, f"{source}: sidecar field 'finger.section_semi_axes_m'")
             for x in axes)
     if max(a, b) >= length:
@@ -230,9 +230,11 @@ def load_experiment(csv_path, meta_path=None):
     if not meta_path.is_file():
         raise InputError(f"sidecar not found: {meta_path} (give --meta, or put DATA.json beside DATA.csv)")
     try:
-        sidecar = json.loads(meta_path.read_text())
-    except (json.JSONDecodeError, UnicodeDecodeError) as err:
-        raise InputError(f"{meta_path}: not valid JSON ({err})") from None
+        sidecar = json.loads(meta_path.read_text(encoding="utf-8-sig"))
+    except RecursionError:
+        raise InputError(f"{meta_path}: not valid JSON (arrays or objects nested too deeply)") from None
+    except ValueError as err:   # JSONDecodeError, UnicodeDecodeError, or an integer of too many digits
+        raise InputError(f"{meta_path}: not valid JSON ({one_line(err)})") from None
     if not isinstance(sidecar, dict):
         raise InputError(f"{meta_path}: the sidecar must be a JSON object")
     return experiment_from(load_response(csv_path), sidecar, source=str(meta_path))
@@ -264,13 +266,14 @@ def experiment_from(record: MeasuredResponse, sidecar, source="<sidecar>"):
     """
     kind = sidecar.get("kind")
     if kind not in KINDS:
-        raise InputError(f"{source}: sidecar field 'kind' must be one of {', '.join(KINDS)}, got {kind!r}")
+        raise InputError(f"{source}: sidecar field 'kind' must be one of {', '.join(KINDS)}, got {brief_repr(kind)}")
     finger = parse_finger(_section(sidecar, "finger", source), source)
     load = _section(sidecar, "load", source) if kind == "impulse" else sidecar.get("load", {})
     force = duration = start = 0.0
     if kind == "impulse":
         if load.get("at") != "tip":
-            raise InputError(f"{source}: sidecar field 'load.at' must be \"tip\" for an impulse, got {load.get('at')!r}")
+            raise InputError(f"{source}: sidecar field 'load.at' must be \"tip\" for an impulse, "
+                             f"got {brief_repr(load.get('at'))}")
         force = _quantity(load, "load.force_N", "force_N", source)
         duration = _quantity(load, "load.duration_s", "pulse_duration_s", source)
         start = _quantity(load, "load.start_s", "pulse_start_s", source, required=False, default=0.0)

@@ -1,4 +1,11 @@
-"""Exceptions raised by ccedi with messages that name the offending field."""
+"""Exceptions raised by ccedi with messages that name the offending field, and the two
+helpers that keep such a message one short printable line whatever the input held."""
+import math
+import reprlib
+
+MAX_SHOWN = 120
+"""Most characters a message gives a value it shows (:func:`brief_repr`); twice that to
+another library's message it quotes (:func:`one_line`)."""
 
 
 class InputError(ValueError):
@@ -74,3 +81,60 @@ def require_finite_positive(name, value, allow_zero=False):
     if x < 0 or (x == 0 and not allow_zero):
         raise InputError(f"{name} must be {bound}, got {value!r}")
     return x
+
+
+class _BriefRepr(reprlib.Repr):
+    """:class:`reprlib.Repr` that never spells out a huge integer (``repr`` refuses one of
+    more than 4300 digits)."""
+
+    def repr_int(self, x, level):
+        if x.bit_length() > 4 * self.maxlong:
+            return f"<an integer of about {math.floor(x.bit_length() * math.log10(2)) + 1} digits>"
+        return super().repr_int(x, level)
+
+
+_BRIEF = _BriefRepr()
+_BRIEF.maxlevel, _BRIEF.maxlist, _BRIEF.maxdict = 3, 6, 4
+_BRIEF.maxstring = _BRIEF.maxother = 60
+
+
+def brief_repr(value):
+    """``repr(value)`` short enough for a one-line message: what the input held, elided.
+
+    Parameters
+    ----------
+    value : object
+        A value as it was read (a number, a string, a list or table of them, ...).
+
+    Returns
+    -------
+    str
+        Its ``repr`` (control characters and line breaks escaped), with long strings,
+        lists and tables elided (``'aaa...aaa'``, ``[1, 2, 3, 4, 5, 6, ...]``) and at most
+        :data:`MAX_SHOWN` characters.
+    """
+    text = _BRIEF.repr(value)
+    if len(text) <= MAX_SHOWN:
+        return text
+    half = (MAX_SHOWN - 3) // 2
+    return text[:half] + "..." + text[-half:]
+
+
+def one_line(err):
+    """The message of another library's exception as one line, for an :class:`InputError`.
+
+    Parameters
+    ----------
+    err : BaseException
+        The exception (a parser's, a decoder's).
+
+    Returns
+    -------
+    str
+        Its message, every run of whitespace (line breaks included) one space, non-printable
+        characters escaped, at most 2 :data:`MAX_SHOWN` characters.
+    """
+    text = " ".join(str(err).split())
+    if not text.isprintable():
+        text = repr(text)[1:-1]
+    return text if len(text) <= 2 * MAX_SHOWN else text[:2 * MAX_SHOWN - 3] + "..."

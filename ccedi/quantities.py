@@ -4,7 +4,7 @@ through them): one table, one check, one message format,
 ``WHERE = VALUE: must be in LO..HI (UNIT)``."""
 from dataclasses import dataclass
 
-from ccedi.errors import InputError
+from ccedi.errors import InputError, brief_repr
 
 
 @dataclass(frozen=True)
@@ -56,11 +56,11 @@ class Quantity:
         Raises
         ------
         InputError
-            ``WHERE = VALUE: must be in LO..HI (UNIT)``, in one line.
+            ``WHERE = VALUE: must be in LO..HI (UNIT)``, in one line (a long VALUE elided).
         """
         unit = f" ({self.unit})" if self.unit != "-" else ""
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not self.lo <= value <= self.hi:
-            raise InputError(f"{where} = {value!r}: must be in {self.lo:g}..{self.hi:g}{unit}")
+            raise InputError(f"{where} = {brief_repr(value)}: must be in {self.lo:g}..{self.hi:g}{unit}")
         return float(value)
 
 

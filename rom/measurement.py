@@ -7,7 +7,8 @@ A measured impulse response is a CSV with a header row and the columns
     force_N              (optional) applied force [N]
     reaction_force_N     (optional) reaction force at the clamp or object [N]
 
-Other columns are ignored. Lines starting with ``#`` are comments (for provenance).
+Other columns are ignored. Lines starting with ``#`` are comments (for provenance). Every
+row has at most as many fields as the header; each column is named once.
 """
 from dataclasses import dataclass
 from pathlib import Path
@@ -15,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ccedi.errors import InputError
+from ccedi.errors import InputError, brief_repr, one_line
 
 REQUIRED_COLUMNS = ("time_s", "tip_displacement_m")
 OPTIONAL_COLUMNS = ("force_N", "reaction_force_N")
@@ -66,16 +67,21 @@ def load_response(path):
     Raises
     ------
     InputError
-        If the file does not exist or is not a readable CSV, or the data fail the
-        checks of :func:`response_from_frame`.
+        If the file does not exist or is not a readable CSV (not UTF-8, an unclosed
+        quote, a row with more fields than the header), has no header row, or the data
+        fail the checks of :func:`response_from_frame`.
     """
     path = Path(path)
     if not path.is_file():
         raise InputError(f"measured response file not found: {path}")
-    try:
-        frame = pd.read_csv(path, comment="#")
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as err:
-        raise InputError(f"{path}: not a readable CSV ({err})") from None
+    try:        # all text: the header is a row like the others, and no cell is guessed a number
+        table = pd.read_csv(path, comment="#", header=None, dtype=str, keep_default_na=False)
+    except pd.errors.EmptyDataError:
+        raise InputError(f"{path}: no header row; expected a CSV with the columns {', '.join(REQUIRED_COLUMNS)}") \
+            from None
+    except (pd.errors.ParserError, UnicodeDecodeError) as err:
+        raise InputError(f"{path}: not a readable CSV ({one_line(err)})") from None
+    frame = pd.DataFrame(table.iloc[1:].to_numpy(), columns=table.iloc[0].to_numpy())
     return response_from_frame(frame, source=str(path))
 
 
@@ -98,27 +104,34 @@ def response_from_frame(frame, source="<frame>"):
     Raises
     ------
     InputError
-        If a required column is missing, a used column has a missing or non-numeric
-        value, there are fewer than 8 samples, or ``time_s`` is not strictly increasing.
+        If a required column is missing, a used column is there twice or has a missing,
+        non-numeric or non-finite value, there are fewer than 8 samples, or ``time_s`` is
+        not strictly increasing.
     """
     missing = [c for c in REQUIRED_COLUMNS if c not in frame.columns]
     if missing:
-        raise InputError(f"{source}: missing column(s) {', '.join(missing)}; "
-                         f"need {', '.join(REQUIRED_COLUMNS)} (and optionally force_N), found {list(frame.columns)}")
+        raise InputError(f"{source}: missing column(s) {', '.join(missing)}; need {', '.join(REQUIRED_COLUMNS)} "
+                         f"(and optionally force_N), found {brief_repr(list(frame.columns))}")
     cols = list(REQUIRED_COLUMNS) + [c for c in OPTIONAL_COLUMNS if c in frame.columns]
+    twice = [c for c in cols if list(frame.columns).count(c) > 1]
+    if twice:
+        raise InputError(f"{source}: column {twice[0]} is there {list(frame.columns).count(twice[0])} times; "
+                         f"expected once")
     data = {}
     for c in cols:
         values = pd.to_numeric(frame[c], errors="coerce").to_numpy(dtype=float)
         bad = np.flatnonzero(~np.isfinite(values))
         if len(bad):
-            raise InputError(f"{source}: column {c} has a missing or non-numeric value at data row {bad[0] + 1}")
+            got = frame[c].to_numpy(dtype=object)[bad[0]]
+            raise InputError(f"{source}: column {c} has a missing, non-numeric or non-finite value at data row "
+                             f"{bad[0] + 1} (got {brief_repr(got)}); expected a finite number")
         data[c] = values
     t = data["time_s"]
     if len(t) < MIN_SAMPLES:
         raise InputError(f"{source}: {len(t)} samples; at least {MIN_SAMPLES} are needed")
-    step = np.diff(t)
-    if np.any(step <= 0.0):
-        i = int(np.argmax(step <= 0.0))
+    back = np.flatnonzero(t[1:] <= t[:-1])          # compared, not subtracted: no overflow
+    if len(back):
+        i = int(back[0])
         raise InputError(f"{source}: time_s must be strictly increasing (row {i + 2}: {t[i + 1]} s after {t[i]} s)")
     return MeasuredResponse(time_s=t, tip_displacement_m=data["tip_displacement_m"],
                             force_N=data.get("force_N"), source=source,
@@ -146,7 +159,8 @@ def check_sampling(time_s, omega1_rad_s, source):
     InputError
         Naming the largest interval and the period it exceeds a quarter of.
     """
-    dt = float(np.max(np.diff(np.asarray(time_s, dtype=float))))
+    with np.errstate(over="ignore"):                # steps beyond the float range are inf: too coarse
+        dt = float(np.max(np.diff(np.asarray(time_s, dtype=float))))
     period = 2.0 * np.pi / float(omega1_rad_s)
     if dt > period / 4.0:
         raise InputError(f"{source}: time_s steps up to {dt:.4g} s, more than a quarter of the declared "

@@ -11,11 +11,13 @@ Every sub-command that builds a finger takes the same file with ``--config``
 inputs once, writes them to ``OUT/config.toml`` for the record and passes them to each
 step as objects.
 """
+import json
+import re
 import tomllib
 from dataclasses import dataclass, fields
 from pathlib import Path
 
-from ccedi.errors import InputError
+from ccedi.errors import InputError, brief_repr, one_line
 from ccedi.fea.drum import DrumSetup
 from ccedi.fea.material import RUBBER, NeoHookean
 from ccedi.fea.mesh import SEMI_AXES
@@ -23,6 +25,7 @@ from ccedi.fea.units import inch_to_m, m_to_inch
 from ccedi.quantities import QUANTITIES, Quantity
 
 _DRUM = {f.name: f.default for f in fields(DrumSetup)}
+_BARE_KEY = re.compile(r"[A-Za-z0-9_-]{1,60}")
 
 
 @dataclass(frozen=True)
@@ -99,6 +102,11 @@ SCHEMA = {
 }
 
 
+def _shown(key):
+    """A key of the file as a message shows it: as written when bare, else quoted and escaped."""
+    return key if _BARE_KEY.fullmatch(key) else brief_repr(key)
+
+
 def _hint(section, key):
     stem = key.split("_")[0]
     near = [k for k in SCHEMA[section] if k.split("_")[0] == stem]
@@ -133,7 +141,7 @@ def check_value(section, key, value, name=None):
 
 def _check(section, key, spec, value, name=None):
     name = name or f"[{section}] {key}"
-    where = f"{name} = {value!r}"
+    where = f"{name} = {brief_repr(value)}"
     if spec.is_list:
         if not isinstance(value, list) or not spec.min_items <= len(value) <= (spec.max_items or len(value)):
             unit = f" ({spec.unit})" if spec.unit != "-" else ""
@@ -142,14 +150,12 @@ def _check(section, key, spec, value, name=None):
             raise InputError(f"{where}: must be a list of {count} {spec.kind.__name__}{unit}")
         return [_check(section, key, Key(spec.kind, spec.unit, spec.lo, spec.hi, None, spec.help), v, name)
                 for v in value]
-    given = value                                   # the messages show the value as it was given
-    if spec.kind is float and isinstance(value, int) and not isinstance(value, bool):
-        value = float(value)
-    if not isinstance(value, spec.kind) or (spec.kind is int and isinstance(value, bool)):
+    number = spec.kind is float and isinstance(value, (int, float)) and not isinstance(value, bool)
+    if not (number or isinstance(value, spec.kind)) or (spec.kind is int and isinstance(value, bool)):
         raise InputError(f"{where}: must be {spec.kind.__name__}" + (f" ({spec.unit})" if spec.unit != "-" else ""))
-    if spec.lo is not None:
-        Quantity(spec.unit, spec.lo, spec.hi).check(given, name)
-    return value
+    if spec.lo is not None:         # before float(): an integer too large for a float is out of range
+        Quantity(spec.unit, spec.lo, spec.hi).check(value, name)
+    return float(value) if number else value
 
 
 def validate(data, source="config"):
@@ -158,12 +164,12 @@ def validate(data, source="config"):
     out = {section: {k: spec.default for k, spec in keys.items()} for section, keys in SCHEMA.items()}
     for section, entries in data.items():
         if section not in SCHEMA:
-            raise InputError(f"{source}: unknown section [{section}] (known: {', '.join(SCHEMA)})")
+            raise InputError(f"{source}: unknown section [{_shown(section)}] (known: {', '.join(SCHEMA)})")
         if not isinstance(entries, dict):
-            raise InputError(f"{source}: [{section}] must be a table of keys")
+            raise InputError(f"{source}: [{section}] must be a table of keys, got {brief_repr(entries)}")
         for key, value in entries.items():
             if key not in SCHEMA[section]:
-                raise InputError(f"[{section}] {key}: unknown key{_hint(section, key)}")
+                raise InputError(f"[{section}] {_shown(key)}: unknown key{_hint(section, key)}")
             out[section][key] = _check(section, key, SCHEMA[section][key], value)
     drum_setup(out)             # the set-up as a whole: the object must clear the drum, ...
     return out
@@ -194,7 +200,7 @@ def load(path):
     if path is None:
         return validate({})
     try:
-        data = tomllib.loads(Path(path).read_text())
+        data = tomllib.loads(Path(path).read_text(encoding="utf-8-sig"))
     except FileNotFoundError:
         raise InputError(f"{path}: no such file") from None
     except IsADirectoryError:
@@ -203,16 +209,18 @@ def load(path):
         raise InputError(f"{path}: not readable") from None
     except UnicodeDecodeError:
         raise InputError(f"{path}: not a text file; expected TOML") from None
-    except tomllib.TOMLDecodeError as err:
-        raise InputError(f"{path}: not valid TOML ({err})") from None
+    except RecursionError:
+        raise InputError(f"{path}: not valid TOML (arrays or tables nested too deeply)") from None
+    except ValueError as err:                       # TOMLDecodeError, or an integer of too many digits
+        raise InputError(f"{path}: not valid TOML ({one_line(err)})") from None
     return validate(data, str(path))
 
 
 def _toml_value(value):
     if isinstance(value, bool):
         return "true" if value else "false"
-    if isinstance(value, str):
-        return f'"{value}"'
+    if isinstance(value, str):                      # a TOML basic string: JSON's escapes, and DEL's
+        return json.dumps(value, ensure_ascii=False).replace("\x7f", "\\u007f")
     if isinstance(value, list):
         return "[" + ", ".join(_toml_value(v) for v in value) + "]"
     return repr(value)
