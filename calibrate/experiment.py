@@ -138,6 +138,23 @@ class Experiment:
         return self.record.tip_displacement_m
 
 
+FIELDS = {"": ("kind", "finger", "load", "alpha_per_s", "sensor", "tolerances"),
+          "finger": ("length_in", "length_m", "section_semi_axes_m", "E_Pa", "nu", "rho_kg_m3"),
+          "load": ("force_N", "duration_s", "start_s", "at"), "sensor": ("noise_std_m",), "tolerances": ("E_Pa",)}
+"""The sidecar's fields, by object ("" the top level). Any other is refused: a misspelt
+optional field (``tolerances.E``) would otherwise be ignored and its default used."""
+
+
+def _known_fields(mapping, where, source):
+    """Raise :class:`ccedi.errors.InputError` for the first key of ``mapping`` that
+    :data:`FIELDS` ``[where]`` does not list."""
+    for key in mapping:
+        if key not in FIELDS[where]:
+            name = f"{where}.{key}" if where else key
+            raise InputError(f"{source}: sidecar field {brief_repr(name)} is unknown (allowed"
+                             f"{' in ' + repr(where) if where else ''}: {', '.join(FIELDS[where])})")
+
+
 def _section(sidecar, key, source, optional=False):
     """The object ``sidecar[key]`` ({} when ``optional`` and absent)."""
     if optional and key not in sidecar:
@@ -146,6 +163,7 @@ def _section(sidecar, key, source, optional=False):
     if not isinstance(value, dict):
         raise InputError(f"{source}: sidecar field '{key}' " + ("must be an object" if optional
                                                                  else "is missing or not an object"))
+    _known_fields(value, key, source)
     return value
 
 
@@ -267,8 +285,9 @@ def experiment_from(record: MeasuredResponse, sidecar, source="<sidecar>"):
     kind = sidecar.get("kind")
     if kind not in KINDS:
         raise InputError(f"{source}: sidecar field 'kind' must be one of {', '.join(KINDS)}, got {brief_repr(kind)}")
+    _known_fields(sidecar, "", source)
     finger = parse_finger(_section(sidecar, "finger", source), source)
-    load = _section(sidecar, "load", source) if kind == "impulse" else sidecar.get("load", {})
+    load = _section(sidecar, "load", source, optional=kind != "impulse")
     force = duration = start = 0.0
     if kind == "impulse":
         if load.get("at") != "tip":

@@ -175,6 +175,24 @@ def test_sidecar_load_sensor_and_tolerances_are_on_the_one_table(tmp_path, capsy
     assert not (tmp_path / "c.json").exists()
 
 
+@pytest.mark.parametrize("section, key", [("tolerances", "E"), ("sensor", "noise_std"), (None, "alpha"),
+                                          ("finger", "length_mm"), ("load", "force")])
+def test_a_misspelt_sidecar_field_is_refused_not_ignored(tmp_path, capsys, section, key):
+    """A misspelt optional field would otherwise leave its default in force, silently."""
+    import json
+    import shutil
+
+    csv = tmp_path / "rec.csv"
+    shutil.copy("data/measured/control_low.csv", csv)
+    meta = json.loads(open("data/measured/control_low.json").read())
+    (meta.setdefault(section, {}) if section else meta)[key] = 0.5
+    csv.with_suffix(".json").write_text(json.dumps(meta))
+    name = f"{section}.{key}" if section else key
+    _fails_in_one_line(["calibrate", str(csv), "--json", str(tmp_path / "c.json")], capsys,
+                       f"sidecar field '{name}' is unknown")
+    assert not (tmp_path / "c.json").exists()
+
+
 @pytest.mark.parametrize("toml_key, quantity", [("impulse_force_N", "force_N"),
                                                 ("impulse_duration_s", "pulse_duration_s"),
                                                 ("impulse_alphas_per_s", "alpha_per_s"),
