@@ -13,6 +13,7 @@ step as objects.
 """
 import json
 import re
+import difflib
 import tomllib
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -108,8 +109,8 @@ def _shown(key):
 
 
 def _hint(section, key):
-    stem = key.split("_")[0]
-    near = [k for k in SCHEMA[section] if k.split("_")[0] == stem]
+    """`` (did you mean KEY? ...)`` naming the schema key of ``section`` closest to ``key``."""
+    near = difflib.get_close_matches(key, SCHEMA[section], n=1, cutoff=0.6)
     return f" (did you mean {near[0]}? units are part of the key)" if near else ""
 
 
