@@ -7,8 +7,8 @@ without (mu = 0). Per run: sampled peak at 0.5 ms and at the 5 ms of ``ccedi rom
 (every 10th output), largest 25 ms moving mean, contact impulse (integral of the force)
 and the chatter: rms of force minus its 25 ms mean over 0.5-1.0 s.
 
-Measured (2026-11-26): with friction the FE chatters at ~400 Hz with 3.5 N rms about a
-~15 N mean and the ROM with 1.0 (stations) / 2.0 N (face), their means and impulses within
+Measured (2026-12-01, IEEE-arithmetic kernels): with friction the FE chatters at ~400 Hz
+with 3.7 N rms about a ~15 N mean and the ROM with 1.0 (stations) / 2.0 N (face), their means and impulses within
 4 %; without friction both chatter by 1.1 N and their peaks agree within 4-6 %.
 
 Run: ``.venv/bin/python benchmarks/contact_chatter.py`` (two FE runs, ~5 min); writes
