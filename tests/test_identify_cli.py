@@ -20,9 +20,21 @@ def test_alpha_cr_of_3_in_finger(tmp_path, capsys):
     assert out["alpha_cr_per_s"] == pytest.approx(float(paper_alpha_cr(3.0)), rel=0.15)
     assert out["alpha_cr_per_s"] == pytest.approx(out["two_omega1_per_s"], rel=0.05)
     assert out["n_fe_runs"] == len(out["runs"])
+    assert out["warnings"] == []                                   # 1 N: a healthy small deflection
     run_lines = [line for line in capsys.readouterr().out.splitlines() if line.startswith("identify: run ")]
     assert [float(line.split("alpha = ")[1].split()[0]) for line in run_lines] == \
         pytest.approx([run["alpha_per_s"] for run in out["runs"]], rel=1e-3)   # one line per FE run, as it runs
+
+
+@pytest.mark.slow
+def test_alpha_cr_json_records_the_runs_validity_warnings(tmp_path, capsys):
+    path = tmp_path / "acr.json"
+    assert main(["identify", "--length-in", "3", "--alpha-cr", "--force-N", "30", "--rtol", "0.2",
+                 "--json", str(path)]) == 0
+    warned = json.loads(path.read_text())["warnings"]
+    assert warned and all("tip deflection" in w for w in warned)
+    err = capsys.readouterr().err
+    assert all(w in err for w in warned) and err.count("ccedi identify: warning: ") == len(warned)
 
 
 @pytest.mark.slow

@@ -87,6 +87,7 @@ class RunLog:
     duration and responses, so it answers the same interface
     (:class:`ccedi.models.ImpulseModel`). The CCEDI searches run their model 10-20 times,
     each run seconds to a minute; the line says what is being run and how long it took.
+    The runs' validity warnings are collected in ``warnings`` (each once), for the JSON.
 
     Parameters
     ----------
@@ -97,7 +98,7 @@ class RunLog:
     """
 
     def __init__(self, model, label):
-        self.model, self.label, self.runs = model, label, 0
+        self.model, self.label, self.runs, self.warnings = model, label, 0, []
         self.name, self.force_N, self.duration_s = model.name, model.force_N, model.duration_s
 
     def run(self, alpha, t_end_s, n_outputs=400):
@@ -122,6 +123,7 @@ class RunLog:
         t0 = time.perf_counter()
         response = self.model.run(alpha, t_end_s, n_outputs)
         self.runs += 1
+        self.warnings += [w for w in response.summary["warnings"] if w not in self.warnings]
         print(f"{self.label}: run {self.runs}: alpha = {alpha:.4g} 1/s, {t_end_s:.3g} s simulated in "
               f"{time.perf_counter() - t0:.1f} s", flush=True)
         return response
@@ -240,6 +242,7 @@ def cmd_identify(args):
                   **{k: (list(v) if isinstance(v, tuple) else v) for k, v in ident.detail.items()}}
         print(f"{ident.regime}: alpha = {ident.alpha_per_s:.4g} 1/s, zeta = {ident.zeta:.4g}, "
               f"alpha_cr = {ident.alpha_cr_per_s:.4g} 1/s ({result['n_fe_runs']} FE runs)")
+    result["warnings"] = model.warnings
     if args.json:
         write_json(args.json, result)
         print(f"wrote {args.json}")
