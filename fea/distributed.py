@@ -27,9 +27,8 @@ import warnings
 from contextlib import ExitStack, contextmanager
 from functools import partial
 
-from ccedi.progress import progress_bar
-
 from ccedi.errors import InputError
+from ccedi.progress import progress_bar
 
 SERIAL, LOCAL = "serial", "local"
 CONNECT_TIMEOUT = "10s"

@@ -11,9 +11,9 @@ Every sub-command that builds a finger takes the same file with ``--config``
 inputs once, writes them to ``OUT/config.toml`` for the record and passes them to each
 step as objects.
 """
+import difflib
 import json
 import re
-import difflib
 import tomllib
 from dataclasses import dataclass, fields
 from pathlib import Path
