@@ -5,7 +5,8 @@ rounds a kernel differently when it is inlined into a freshly compiled caller th
 is linked from numba's on-disk cache, so a run's result depended on the cache state (an
 impulse run's von Mises stress in its last bits; a contact run's peak force by 0.3 %,
 through the amplification of the contact chatter). Measured on the SM-A 4.5-in benchmark
-(benchmarks/fea_speed.py): 145 ns per element-cycle against 140 ns with the flags.
+(benchmarks/fea_speed.py): 145 ns per element-cycle against 140 ns with the flags on a
+shared machine; 207 / 192 against 208 / 210 ns in two later pairs (VM noise dominates).
 tests/test_determinism.py checks that a cold and a warm cache give the same bits.
 """
 
