@@ -206,8 +206,7 @@ def parse_finger(finger, source):
     if has_in == has_m:
         raise InputError(f"{source}: sidecar field 'finger.length_in' or 'finger.length_m' is needed (exactly one)")
     length = (inch_to_m(_quantity(finger, "finger.length_in", "length_in", source)) if has_in
-              else QUANTITIES["length_in"].in_unit(inch_to_m(1.0), "m").check(
-                  finger["length_m"], f"{source}: sidecar field 'finger.length_m'"))
+              else QUANTITIES["length_m"].check(finger["length_m"], f"{source}: sidecar field 'finger.length_m'"))
     axes = finger.get("section_semi_axes_m")
     if not isinstance(axes, (list, tuple)) or len(axes) != 2:
         raise InputError(f"{source}: sidecar field 'finger.section_semi_axes_m' must be a list [a, b] of two "

@@ -5,6 +5,7 @@ through them): one table, one check, one message format,
 from dataclasses import dataclass
 
 from ccedi.errors import InputError, brief_repr
+from ccedi.fea.units import INCH
 
 
 @dataclass(frozen=True)
@@ -91,3 +92,7 @@ deviation of a displacement sensor's white noise; and the drum test: drum radius
 speed, the finger's initial angle (and the object's rotation), each coordinate of the
 object's centre (an object 10 m away takes no part), each semi-axis of the object, and
 the Coulomb friction coefficient between finger and object."""
+
+QUANTITIES["length_m"] = QUANTITIES["length_in"].in_unit(INCH, "m")
+"""The finger length in metres: the same range as ``length_in``, for inputs given in SI."""
+

@@ -47,7 +47,6 @@ from .mesh import SEMI_AXES, Mesh, elliptical_cantilever, sm_a_elements_along
 from .model import Model, RotatingNodes
 from .rotating_frame import drum_to_object, frame_velocities
 from .static import free_dofs, tangent_stiffness
-from .units import inch_to_m
 
 AL6061 = NeoHookean(E=69e9, nu=0.33, rho=2700.0)
 """Object and sensor material (Table 2)."""
@@ -124,7 +123,7 @@ class DrumSetup:
     def __post_init__(self):
         q = QUANTITIES
         checks = {"drum_radius_m": q["drum_radius_m"], "omega_rad_s": q["omega_rad_s"], "friction": q["friction"],
-                  "finger_length_m": q["length_in"].in_unit(inch_to_m(1.0), "m"), "theta0_rad": q["angle_rad"],
+                  "finger_length_m": q["length_m"], "theta0_rad": q["angle_rad"],
                   "object_angle_rad": q["angle_rad"]}
         for name, quantity in checks.items():
             quantity.check(getattr(self, name), f"DrumSetup {name}")

@@ -164,10 +164,9 @@ def _finger_length_m(length_in=None, length_m=None):
     against :data:`ccedi.quantities.QUANTITIES` ``length_in`` (1..12 in)."""
     if (length_in is None) == (length_m is None):
         raise InputError("give exactly one of length_in (inches) or length_m (metres)")
-    inches = QUANTITIES["length_in"]
     if length_in is not None:
-        return inch_to_m(inches.check(length_in, "length_in"))
-    return inches.in_unit(inch_to_m(1.0), "m").check(length_m, "length_m")
+        return inch_to_m(QUANTITIES["length_in"].check(length_in, "length_in"))
+    return QUANTITIES["length_m"].check(length_m, "length_m")
 
 
 def _finger_section(semi_axes_m):
