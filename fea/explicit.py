@@ -460,17 +460,17 @@ def _initial_state(name, value, shape):
     return a
 
 
-def _initial_energy(model, x, v):
+def _initial_energy(model, x, v, forces, rod_forces):
     """Kinetic plus stored (strain, hourglass, rod) energy [J] of the initial state x, v
-    (v already zero on the constrained nodes); 0 for the stored part when an element is
-    inverted at x (the step loop then stops at step 0)."""
+    (v already zero on the constrained nodes), from the run's own force kernels
+    ``forces`` and ``rod_forces`` (compiled or numpy reference); 0 for the stored part
+    when an element is inverted at x (the step loop then stops at step 0)."""
     g = model.geometry
     f = np.zeros_like(x)
-    _, w_s, w_hg, _, bad = internal_forces_numba(x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa,
-                                                  *model.solid_constants, f)
+    _, w_s, w_hg, _, bad = forces(x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa,
+                                  *model.solid_constants, f)
     ra = model.rod_arrays
-    w_rod, _ = rod_forces_numba(x, ra.segments, ra.rest_length, ra.axial_stiffness, ra.hinges, ra.bending_stiffness,
-                                f)
+    w_rod, _ = rod_forces(x, ra.segments, ra.rest_length, ra.axial_stiffness, ra.hinges, ra.bending_stiffness, f)
     stored = w_s + w_hg + w_rod if bad < 0 else 0.0
     return 0.5 * float(np.sum(model.mass[:, None] * v * v)) + stored
 
@@ -624,7 +624,6 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     v = np.zeros_like(X) if v0 is None else _initial_state("v0 (initial velocities, m/s)", v0, X.shape)
     groups = _step_data(model, x, v, dt_user, tssfac, dt_cfl)
     state, contact = groups[2], groups[-1]
-    energy_0 = _initial_energy(model, x, v)
     tip = mesh.node_sets[tip_set]
     tip_w = face_node_weights(mesh, tip) if len(tip) > 1 else np.ones(1)
     react_nodes = mesh.node_sets[reaction_set]
@@ -633,6 +632,7 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
         advance, kernels = _advance_numba, (internal_forces_numba, rod_forces_numba, contact_forces)
     else:
         advance, kernels = _advance, (internal_forces_numpy, rod_forces_numpy, contact_forces.py_func)
+    energy_0 = _initial_energy(model, x, v, *kernels[:2])
 
     rows, snapshots = [], []
     t, dt_prev, steps, dt_min = 0.0, 0.0, 0, np.inf
