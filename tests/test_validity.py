@@ -63,6 +63,19 @@ def test_a_rigid_rotation_is_no_strain():
     assert max_log_strain(rotation([1.0, 2.0, 0.5], 2.0)[None]) == pytest.approx(0.0, abs=1e-12)
 
 
+def test_compiled_log_strain_equals_the_numpy_reference():
+    """The closed-form eigenvalues of the kernel against numpy's symmetric eigensolver."""
+    rng = np.random.default_rng(3)
+    F = np.eye(3) + 0.4 * rng.standard_normal((500, 3, 3))
+    F = F[np.linalg.det(F) > 0.1]
+    stretches_sq = np.linalg.eigvalsh(F.swapaxes(1, 2) @ F)
+    reference = float(np.abs(0.5 * np.log(stretches_sq)).max())
+    assert max_log_strain(F) == pytest.approx(reference, rel=1e-9)
+    for f in F[:50]:
+        one = float(np.abs(0.5 * np.log(np.linalg.eigvalsh(f.T @ f))).max())
+        assert max_log_strain(f[None]) == pytest.approx(one, rel=1e-9, abs=1e-12)
+
+
 @pytest.fixture(scope="module")
 def released():
     """The coarse finger let go from a static tip deflection: free vibration, no load."""
