@@ -38,21 +38,38 @@ SM_A_ELEMENT_LENGTH = 4.0e-3
 
 @dataclass
 class Mesh:
-    """A hexahedral mesh with named node sets.
+    """A solid mesh (hexahedra, 4-node and 10-node tetrahedra) with named node sets.
+
+    Node orders are those of VTK (and meshio, LS-DYNA, CalculiX): hexahedron nodes 0-3
+    on the face at the lower z, counter-clockwise seen from +z, nodes 4-7 above them;
+    tetrahedron corners 0-3 with the positive orientation
+    ``(x1 - x0) . ((x2 - x0) x (x3 - x0)) > 0``; the 10-node tetrahedron's mid-edge
+    nodes 4-9 on the edges 0-1, 1-2, 0-2, 0-3, 1-3, 2-3.
 
     Parameters
     ----------
     nodes : numpy.ndarray
         Nodal positions, shape (n, 3) [m].
     hexes : numpy.ndarray
-        8-node hexahedra, shape (e, 8), node ids in LS-DYNA / VTK order (module docstring).
+        8-node hexahedra, shape (e, 8).
     node_sets : dict, optional
         {name: array of node ids}, e.g. ``"root"`` and ``"tip"``. Default empty.
+    tets4 : numpy.ndarray, optional
+        4-node tetrahedra, shape (e4, 4). Default none.
+    tets10 : numpy.ndarray, optional
+        10-node tetrahedra, shape (e10, 10). Default none.
     """
 
     nodes: np.ndarray
-    hexes: np.ndarray
+    hexes: np.ndarray = field(default_factory=lambda: np.zeros((0, 8), dtype=np.int64))
     node_sets: dict = field(default_factory=dict)
+    tets4: np.ndarray = field(default_factory=lambda: np.zeros((0, 4), dtype=np.int64))
+    tets10: np.ndarray = field(default_factory=lambda: np.zeros((0, 10), dtype=np.int64))
+
+    def __post_init__(self):
+        self.hexes = np.asarray(self.hexes, dtype=np.int64).reshape(-1, 8)
+        self.tets4 = np.asarray(self.tets4, dtype=np.int64).reshape(-1, 4)
+        self.tets10 = np.asarray(self.tets10, dtype=np.int64).reshape(-1, 10)
 
     @property
     def n_nodes(self):
@@ -61,8 +78,15 @@ class Mesh:
 
     @property
     def n_elements(self):
-        """Number of hexahedra e."""
-        return len(self.hexes)
+        """Number of solid elements of every type."""
+        return len(self.hexes) + len(self.tets4) + len(self.tets10)
+
+    @property
+    def element_type(self):
+        """The solid element type: ``"hex8"``, ``"tet4"``, ``"tet10"``, ``"mixed"`` or
+        ``"none"`` (rods and point masses only)."""
+        kinds = [k for k, c in (("hex8", self.hexes), ("tet4", self.tets4), ("tet10", self.tets10)) if len(c)]
+        return kinds[0] if len(kinds) == 1 else ("none" if not kinds else "mixed")
 
 
 def _ellipse_arc_points(a, b, theta0, theta1, n):
