@@ -36,6 +36,13 @@ SM_A_ELEMENT_LENGTH = 4.0e-3
 """Nominal SM-A element length along the finger [m] (Table 1: 'average length 4 mm')."""
 
 
+_TET_EDGES = [[0, 1], [1, 2], [0, 2], [0, 3], [1, 3], [2, 3]]
+EDGES = {"hex8": np.array([[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4],
+                           [0, 4], [1, 5], [2, 6], [3, 7]]),
+         "tet4": np.array(_TET_EDGES), "tet10": np.array(_TET_EDGES)}
+"""Corner-to-corner edges (local node pairs) of each element type."""
+
+
 @dataclass
 class Mesh:
     """A solid mesh (hexahedra, 4-node and 10-node tetrahedra) with named node sets.
@@ -87,6 +94,22 @@ class Mesh:
         ``"none"`` (rods and point masses only)."""
         kinds = [k for k, c in (("hex8", self.hexes), ("tet4", self.tets4), ("tet10", self.tets10)) if len(c)]
         return kinds[0] if len(kinds) == 1 else ("none" if not kinds else "mixed")
+
+    def average_edge_length(self):
+        """Mean length of the element edges, each edge counted once (the paper's Table 1
+        "average length"); a 10-node tetrahedron's edge runs corner to corner.
+
+        Returns
+        -------
+        float
+            Mean edge length [m] (NaN for a mesh without solid elements).
+        """
+        edges = [c[:, EDGES[kind]].reshape(-1, 2)
+                 for kind, c in (("hex8", self.hexes), ("tet4", self.tets4), ("tet10", self.tets10)) if len(c)]
+        if not edges:
+            return float("nan")
+        unique = np.unique(np.sort(np.concatenate(edges), axis=1), axis=0)
+        return float(np.linalg.norm(self.nodes[unique[:, 1]] - self.nodes[unique[:, 0]], axis=1).mean())
 
 
 def _ellipse_arc_points(a, b, theta0, theta1, n):

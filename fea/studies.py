@@ -15,12 +15,18 @@ from .static import tip_stiffness
 from .validity import cantilever_length_m, issue, run_label, tip_deflection_warnings
 
 PAPER_TABLE1 = {
-    "SM-A": {"nodes": 1080, "elements": 725, "dt_us": 4.04, "steps_to_0p2s": 49505, "step_ratio": 1.0,
-             "stiffness_N_per_m": 73.8},
-    "SM-B": {"nodes": 5900, "elements": 4698, "dt_us": 1.43, "steps_to_0p2s": 139860, "step_ratio": 2.83,
-             "stiffness_N_per_m": 74.0},
+    "SM-A": {"element_type": "hex8", "average_length_mm": 4.0, "volume_cm3": 36.0, "nodes": 1080, "elements": 725,
+             "dt_us": 4.04, "steps_to_0_2_s": 49505, "step_ratio": 1.0, "stiffness_N_per_m": 73.8},
+    "SM-B": {"element_type": "hex8", "average_length_mm": 2.0, "volume_cm3": 36.0, "nodes": 5900, "elements": 4698,
+             "dt_us": 1.43, "steps_to_0_2_s": 139860, "step_ratio": 2.83, "stiffness_N_per_m": 74.0},
+    "SM-C": {"element_type": "tet10", "average_length_mm": 4.0, "volume_cm3": 36.0, "nodes": 7481,
+             "elements": 4682, "dt_us": 1.26, "steps_to_0_2_s": 158730, "step_ratio": 3.21,
+             "stiffness_N_per_m": 74.9},
+    "DM": {"element_type": "tet10", "average_length_mm": 2.8, "volume_cm3": 30.0, "nodes": 36782, "elements": 23147,
+           "dt_us": 0.22, "steps_to_0_2_s": 909091, "step_ratio": 18.36, "stiffness_N_per_m": 81.2},
 }
-"""The paper's Table 1 values for the 4.5-in finger (simplified hexahedral models)."""
+"""The paper's Table 1 for the 4.5-in finger: simplified models A, B (hexahedra), C and the
+detailed model DM (10-node tetrahedra); volumes as the paper gives them (36 and 30 cm^3)."""
 
 
 def is_paper_finger(length_in, material, semi_axes_m):
@@ -43,38 +49,76 @@ def is_paper_finger(length_in, material, semi_axes_m):
     return length_in == 4.5 and material == RUBBER and tuple(semi_axes_m) == SEMI_AXES
 
 
-def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES):
-    """Nodes, elements, stable step (TSSFAC x min dt_e) [us], steps to 0.2 s, step ratio to
-    SM-A and tip stiffness [N/m] (nonlinear static, mean over 1 N and 2 N) of SM-A and SM-B
-    with section semi-axes ``semi_axes_m`` [m].
+def table1_row(mesh, material, stiffness=True, omega1=False):
+    """One row of Table 1 for a clamped finger mesh (node sets ``root`` and ``tip``).
+
+    Parameters
+    ----------
+    mesh : ccedi.fea.mesh.Mesh
+        The finger.
+    material : ccedi.fea.material.NeoHookean
+        Finger material.
+    stiffness : bool, optional
+        Solve the nonlinear static tip stiffness (mean of F / delta at 1 N and 2 N along y,
+        as the paper's ANSYS runs).
+    omega1 : bool, optional
+        Also the first natural frequency (eigenvalue of the linearised model).
+
+    Returns
+    -------
+    dict
+        ``element_type``, ``nodes``, ``elements``, ``average_length_mm`` (mean edge length),
+        ``volume_cm3``, ``dt_us`` (TSSFAC x the smallest element step of paper Eq. 6),
+        ``steps_to_0_2_s``; with ``stiffness``, ``stiffness_N_per_m``; with ``omega1``,
+        ``omega1_rad_s``.
+    """
+    from .modal import natural_frequencies
+
+    model = cantilever_model(mesh, material)
+    dt = TSSFAC * critical_time_step(model)
+    row = {"element_type": mesh.element_type, "nodes": mesh.n_nodes, "elements": mesh.n_elements,
+           "average_length_mm": 1e3 * mesh.average_edge_length(),
+           "volume_cm3": 1e6 * model.total_mass / material.rho, "dt_us": dt * 1e6,
+           "steps_to_0_2_s": math.ceil(0.2 / dt)}
+    if stiffness:
+        row["stiffness_N_per_m"] = tip_stiffness(model, (1.0, 2.0))
+    if omega1:
+        row["omega1_rad_s"] = float(natural_frequencies(model, 1)[0])
+    return row
+
+
+def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES, finger=None):
+    """Table 1 of the paper for SM-A and SM-B with section semi-axes ``semi_axes_m`` [m]
+    (and a finger of the user's), each row from :func:`table1_row`, with the step ratio
+    to SM-A.
 
     Parameters
     ----------
     length_in : float, optional
-        Finger length [in].
+        Finger length [in] of the simplified models.
     material : ccedi.fea.material.NeoHookean, optional
         Finger material.
     stiffness : bool, optional
         Also solve the tip stiffness (two nonlinear static solves per mesh).
     semi_axes_m : tuple, optional
         Section semi-axes [m].
+    finger : ccedi.fea.mesh.Mesh, optional
+        A finger mesh of the user's: one more row, ``"finger"``, with its first natural
+        frequency ``omega1_rad_s`` too.
 
     Returns
     -------
     dict
-        {"SM-A": {...}, "SM-B": {...}} with ``nodes``, ``elements``, ``dt_us``,
-        ``steps_to_0p2s``, ``step_ratio`` and (with ``stiffness``) ``stiffness_N_per_m``.
+        ``{model name: row}``, rows as :func:`table1_row` plus ``step_ratio`` (steps to
+        0.2 s over SM-A's).
     """
-    out = {}
-    for name, make in (("SM-A", sm_a), ("SM-B", sm_b)):
-        model = cantilever_model(make(length_in=length_in, semi_axes_m=semi_axes_m), material)
-        dt = TSSFAC * critical_time_step(model)
-        out[name] = {"nodes": model.mesh.n_nodes, "elements": model.mesh.n_elements, "dt_us": dt * 1e6,
-                     "steps_to_0p2s": math.ceil(0.2 / dt)}
-        if stiffness:
-            out[name]["stiffness_N_per_m"] = tip_stiffness(model, (1.0, 2.0))
+    meshes = {"SM-A": sm_a(length_in=length_in, semi_axes_m=semi_axes_m),
+              "SM-B": sm_b(length_in=length_in, semi_axes_m=semi_axes_m)}
+    out = {name: table1_row(mesh, material, stiffness) for name, mesh in meshes.items()}
+    if finger is not None:
+        out["finger"] = table1_row(finger, material, stiffness, omega1=True)
     for name in out:
-        out[name]["step_ratio"] = out[name]["steps_to_0p2s"] / out["SM-A"]["steps_to_0p2s"]
+        out[name]["step_ratio"] = out[name]["steps_to_0_2_s"] / out["SM-A"]["steps_to_0_2_s"]
     return out
 
 

@@ -12,7 +12,7 @@ import pandas as pd
 from ccedi.fea.outputs import write_pdf_figures, write_text
 
 UNITS = (("_per_s", "1/s"), ("_rad_s", "rad/s"), ("_m_s", "m/s"), ("_N_per_m", "N/m"), ("_us", "us"),
-         ("_Pa", "Pa"), ("_N", "N"), ("_in", "in"), ("_s", "s"), ("_m", "m"), ("_J", "J"))
+         ("_cm3", "cm^3"), ("_mm", "mm"), ("_Pa", "Pa"), ("_N", "N"), ("_in", "in"), ("_s", "s"), ("_m", "m"), ("_J", "J"))
 """Column/key suffix -> unit, longest match first."""
 
 FIGURES = [
@@ -93,8 +93,9 @@ def _table1(out):
     paper = is_paper_finger(cfg["finger"]["impulse_length_in"], *finger_inputs(cfg))
     rows = [{"model": f"{name} {src}", **vals} for name in t for src, vals in
             ((("paper", PAPER_TABLE1.get(name, {})),) if paper else ()) + (("ccedi", t[name]),)]
-    cols = [("model", "model"), ("nodes", "nodes"), ("elements", "elements"), _col("dt_us", "stable step"),
-            ("steps to 0.2 s", "steps_to_0p2s"), ("step ratio", "step_ratio"),
+    cols = [("model", "model"), ("element type", "element_type"), _col("average_length_mm", "average length"),
+            _col("volume_cm3", "volume"), ("nodes", "nodes"), ("elements", "elements"), _col("dt_us", "stable step"),
+            ("steps to 0.2 s", "steps_to_0_2_s"), ("step ratio", "step_ratio"),
             _col("stiffness_N_per_m", "tip stiffness")]
     note = ("Paper rows are the paper's Table 1 (4.5-in finger)." if paper else
             "This run's finger is not the paper's (see the inputs), so the paper's Table 1 is not shown.")

@@ -38,9 +38,11 @@ def test_cli_table1_writes_every_key(tmp_path):
     table = json.loads(path.read_text())
     for name, (nodes, elements) in {"SM-A": (1080, 725), "SM-B": (5900, 4698)}.items():
         row = table[name]
-        assert set(row) == {"nodes", "elements", "dt_us", "steps_to_0p2s", "step_ratio", "stiffness_N_per_m"}
+        assert set(row) == {"element_type", "nodes", "elements", "average_length_mm", "volume_cm3", "dt_us",
+                            "steps_to_0_2_s", "step_ratio", "stiffness_N_per_m"}
+        assert row["element_type"] == "hex8" and row["volume_cm3"] == pytest.approx(36.0, rel=0.01)
         assert (row["nodes"], row["elements"]) == (nodes, elements)
-        assert row["steps_to_0p2s"] == pytest.approx(0.2 / (row["dt_us"] * 1e-6), abs=1)
+        assert row["steps_to_0_2_s"] == pytest.approx(0.2 / (row["dt_us"] * 1e-6), abs=1)
     assert table["SM-B"]["step_ratio"] == pytest.approx(2.83, rel=0.1)      # paper: 2.83
 
 

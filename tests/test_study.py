@@ -31,7 +31,7 @@ def test_interrupt_leaves_finished_steps_and_no_temporary_files(tmp_path, monkey
 
 def test_index_reports_the_numbers_of_the_run_and_marks_missing_steps(tmp_path):
     write_json(tmp_path / "table1.json", {"SM-A": {"nodes": 1080, "elements": 725, "dt_us": 4.411,
-                                                   "steps_to_0p2s": 45340, "step_ratio": 1.0,
+                                                   "steps_to_0_2_s": 45340, "step_ratio": 1.0,
                                                    "stiffness_N_per_m": 74.35}})
     page = write_index(tmp_path).read_text()
     assert "4.411" in page and "74.35" in page and "tip stiffness [N/m]" in page
@@ -62,7 +62,7 @@ def test_index_shows_the_inputs_and_the_paper_table_only_for_the_paper_finger(tm
     from ccedi.study.run import CONFIG_NAME
 
     write_json(tmp_path / "table1.json", {"SM-A": {"nodes": 1080, "elements": 725, "dt_us": 3.438,
-                                                   "steps_to_0p2s": 58179, "step_ratio": 1.0,
+                                                   "steps_to_0_2_s": 58179, "step_ratio": 1.0,
                                                    "stiffness_N_per_m": 202.6}})
     page = write_index(tmp_path).read_text()                # no config.toml: the paper's finger
     assert "SM-A paper" in page

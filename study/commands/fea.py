@@ -20,7 +20,7 @@ from ccedi.study.commands.arguments import (
 
 
 def _fmt(value):
-    return f"{value:d}" if isinstance(value, int) else f"{value:.4g}"
+    return value if isinstance(value, str) else (f"{value:d}" if isinstance(value, int) else f"{value:.4g}")
 
 
 def write_table1(cfg, length_in, json_path=None, stiffness=True):
