@@ -39,55 +39,61 @@ def run_length_s(duration_s, omega1_rad_s):
     return duration_s + SETTLE_PERIODS / omega1_rad_s
 
 
-def finger_omega1(length_in, material=RUBBER, semi_axes_m=SEMI_AXES):
-    """First natural frequency of the clamped SM-A finger (soft direction).
+def finger_omega1(length_in=None, material=RUBBER, semi_axes_m=SEMI_AXES, mesh=None):
+    """First natural frequency of the clamped finger: SM-A of ``length_in``, or ``mesh``.
 
     Parameters
     ----------
-    length_in : float
-        Finger length [in].
+    length_in : float, optional
+        Finger length [in] of the SM-A finger (when ``mesh`` is None).
     material : ccedi.fea.material.NeoHookean, optional
         Finger material.
     semi_axes_m : tuple, optional
-        Section semi-axes [m].
+        Section semi-axes [m] of the SM-A finger.
+    mesh : ccedi.fea.mesh.Mesh, optional
+        Any clamped finger mesh (node set ``root``) instead of SM-A.
 
     Returns
     -------
     float
         omega_1 [rad/s].
     """
-    mesh = sm_a(length_in=length_in, semi_axes_m=semi_axes_m)
+    mesh = sm_a(length_in=length_in, semi_axes_m=semi_axes_m) if mesh is None else mesh
     return float(natural_frequencies(cantilever_model(mesh, material), 1)[0])
 
 
-def finger_alpha_cr(length_in, rtol=0.01, material=RUBBER, semi_axes_m=SEMI_AXES, model=None, n_outputs=400):
-    """alpha_cr of the SM-A finger by bisection, starting from 2 omega_1.
+def finger_alpha_cr(length_in=None, rtol=0.01, material=RUBBER, semi_axes_m=SEMI_AXES, model=None, n_outputs=400,
+                    mesh=None):
+    """alpha_cr of the finger (SM-A of ``length_in``, or ``mesh``) by bisection, starting
+    from 2 omega_1.
 
     Parameters
     ----------
-    length_in : float
-        Finger length [in].
+    length_in : float, optional
+        Finger length [in] of the SM-A finger (when ``mesh`` is None).
     rtol : float, optional
         Relative bracket width at the end.
     material : ccedi.fea.material.NeoHookean, optional
         Finger material.
     semi_axes_m : tuple, optional
-        Section semi-axes [m].
+        Section semi-axes [m] of the SM-A finger.
     model : ccedi.models.ImpulseModel, optional
         The finger's impulse model, full or reduced (default:
         :func:`ccedi.fea.studies.finger_impulse_model`, 1 N for 10 ms); run for
         :func:`run_length_s` of its ``duration_s``.
     n_outputs : int, optional
         Output times per run.
+    mesh : ccedi.fea.mesh.Mesh, optional
+        Any clamped finger mesh (node sets ``root`` and ``tip``) instead of SM-A.
 
     Returns
     -------
     tuple
         (:class:`ccedi.rom.ccedi.CriticalAlpha`, omega_1 [rad/s]).
     """
-    omega1 = finger_omega1(length_in, material, semi_axes_m)
-    model = (finger_impulse_model(length_in, material=material, semi_axes_m=semi_axes_m) if model is None
-             else model)
+    mesh = sm_a(length_in=length_in, semi_axes_m=semi_axes_m) if mesh is None else mesh
+    omega1 = finger_omega1(material=material, mesh=mesh)
+    model = finger_impulse_model(material=material, mesh=mesh) if model is None else model
     t_end_s = run_length_s(model.duration_s, omega1)
     return critical_alpha(model, 2.0 * omega1, t_end_s, rtol=rtol, n_outputs=n_outputs), omega1
 
