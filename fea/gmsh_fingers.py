@@ -64,7 +64,7 @@ def _gmsh_model(name):
             gmsh.model.add(name)
             for option, value in (("General.NumThreads", 1), ("Mesh.MaxNumThreads3D", 1),
                                   ("Mesh.RandomSeed", 1), ("Mesh.Algorithm", 6), ("Mesh.Algorithm3D", 1),
-                                  ("Mesh.HighOrderOptimize", 2), ("Mesh.MeshSizeFromPoints", 0),
+                                  ("Mesh.HighOrderOptimize", 1), ("Mesh.MeshSizeFromPoints", 0),
                                   ("Mesh.MeshSizeExtendFromBoundary", 1), ("Mesh.MeshSizeFromCurvature", 0)):
                 gmsh.option.setNumber(option, value)
             yield gmsh

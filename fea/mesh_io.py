@@ -60,6 +60,8 @@ determinant times the reference cell's volume, at its corners and integration po
 at most this fraction of the mesh's mean element volume."""
 KEYWORD_SUFFIXES = (".k", ".key", ".dyn")
 """File suffixes read as LS-DYNA keyword decks."""
+MESHIO_SUFFIXES = {".msh": "gmsh", ".inp": "abaqus", ".vtu": "vtu", ".vtk": "vtk"}
+"""File suffixes read through meshio, with the meshio reader of each."""
 SOLID_CELLS = {"hexahedron": 8, "tetra": 4, "tetra10": 10}
 """meshio names of the solid cells ccedi reads, with their node counts."""
 BOUNDARY_CELLS = {"vertex": 0, "line": 1, "line3": 1, "triangle": 2, "triangle6": 2, "quad": 2, "quad8": 2,
@@ -168,7 +170,11 @@ def read_finger_mesh(path, mesh_unit="m", clamp="z_min", tip="z_max", bending_di
     path = Path(path)
     if not path.is_file():
         raise InputError(f"{path}: no such mesh file")
-    raw = _read_keyword(path) if path.suffix.lower() in KEYWORD_SUFFIXES else _read_meshio(path)
+    suffix = path.suffix.lower()
+    if suffix not in KEYWORD_SUFFIXES and suffix not in MESHIO_SUFFIXES:
+        raise InputError(f"{path}: unknown mesh format {suffix or '(no suffix)'!r}; ccedi reads "
+                         f"{', '.join([*MESHIO_SUFFIXES, *KEYWORD_SUFFIXES])}")
+    raw = _read_keyword(path) if suffix in KEYWORD_SUFFIXES else _read_meshio(path, MESHIO_SUFFIXES[suffix])
     kind, cells = _solid_cells(path, raw)
     used = np.unique(cells)
     _no_orphans(path, raw, used)
@@ -194,13 +200,14 @@ def _at(point, unit="m"):
     return "(" + ", ".join(f"{c:.4g}" for c in point) + f") {unit}"
 
 
-def _read_meshio(path):
-    """A meshio-readable file as a :class:`_RawMesh` (sets: cell sets, point sets and Gmsh
-    physical groups)."""
-    import meshio
+def _read_meshio(path, reader):
+    """A file read by meshio's ``reader`` module as a :class:`_RawMesh` (sets: cell sets,
+    point sets and Gmsh physical groups). The format's reader is called directly:
+    ``meshio.read`` prints and exits the process on a file it cannot read."""
+    import importlib
 
     try:
-        m = meshio.read(path)
+        m = importlib.import_module(f"meshio.{reader}").read(str(path))
     except Exception as err:        # meshio raises ReadError, ValueError, KeyError, ... on a bad file
         raise InputError(f"{path}: cannot read the mesh ({one_line(err) or type(err).__name__})") from None
     solids, boundary = {}, []
@@ -319,8 +326,8 @@ def _no_orphans(path, raw, used):
             raise InputError(f"{path}: a {cell_type} cell uses node {bad[0]}, which does not exist")
         free = ids[~on_solid[ids]]
         if len(free):
-            raise InputError(f"{path}: node {free[0]} (of a {cell_type} cell, at {_at(raw.points[free[0]], 'file units')}) "
-                             "belongs to no solid element")
+            where = _at(raw.points[free[0]], "file units")
+            raise InputError(f"{path}: node {free[0]} (of a {cell_type} cell, at {where}) belongs to no solid element")
 
 
 def _length_along_z(path, nodes, mesh_unit):
@@ -328,7 +335,7 @@ def _length_along_z(path, nodes, mesh_unit):
     length = float(np.ptp(nodes[:, 2]))
     if not q.lo <= length <= q.hi:
         raise InputError(f"{path}: the finger is {length:.4g} m long along z with mesh_unit = {mesh_unit!r}, "
-                         f"outside {q.lo:g}..{q.hi:g} m: is mesh_unit right (and the length along z)?")
+                         f"outside {q.lo:g}..{q.hi:g} m (the length runs along z): is mesh_unit right?")
 
 
 # --- element geometry -------------------------------------------------------------------

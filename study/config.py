@@ -207,15 +207,15 @@ def finger_inputs(cfg):
 
 def _mesh_path(value, base_dir):
     """``[finger] mesh`` as an absolute path to an existing file, relative to ``base_dir``."""
-    path = Path(base_dir or ".") / value
+    base = Path(base_dir or ".").resolve()
     try:
+        path = (base / value).resolve()
         exists = bool(value) and path.is_file()
-        resolved = str(path.resolve())
     except (OSError, ValueError):                   # a name too long, a NUL character
-        exists, resolved = False, str(path)
+        exists = False
     if not exists:
-        raise InputError(f"[finger] mesh = {brief_repr(value)}: no such file ({brief_repr(resolved)})")
-    return resolved
+        raise InputError(f"[finger] mesh = {brief_repr(value)}: no such file (relative to {base})")
+    return str(path)
 
 
 def finger_mesh(cfg):
