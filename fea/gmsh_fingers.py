@@ -165,6 +165,10 @@ TAPERED_TIP_SEMI_AXES = (8.0e-3, 5.6e-3)
 """Tip section semi-axes of :func:`tapered_finger` [m] (two thirds of the root's)."""
 TAPERED_HOLE_RADIUS = 3.0e-3
 """Radius of :func:`tapered_finger`'s transverse hole [m]."""
+TAPERED_REFINEMENT_SIZES = (6.0e-3, 4.0e-3, 3.0e-3)
+"""Average element lengths [m] of the tapered finger's refinement study: 2683, 6639 and
+13116 nodes (1376, 3714, 7796 10-node tetrahedra); mesh volumes within 1.7e-4, 1.9e-5 and
+5.4e-6 of the CAD volume 25.174 cm^3 (measured)."""
 
 
 def _tapered_geometry(length_m, root, tip, hole_radius_m):
