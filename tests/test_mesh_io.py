@@ -11,7 +11,7 @@ from ccedi.errors import InputError
 from ccedi.fea.gmsh_fingers import _gmsh_model, sm_c, tapered_finger, tapered_volume, write_tapered_finger
 from ccedi.fea.lsdyna import _card, _node_line, write_keyword
 from ccedi.fea.material import RUBBER
-from ccedi.fea.mesh import Mesh, elliptical_cantilever
+from ccedi.fea.mesh import Mesh, elliptical_cantilever, sm_a, sm_b
 from ccedi.fea.mesh_io import FingerMeshSpec, element_volumes, read_finger_mesh
 from ccedi.fea.model import cantilever_model
 
@@ -243,3 +243,14 @@ def test_generator_inputs_are_checked(tmp_path):
     _one_line(lambda: tapered_finger(5e-3, hole_radius_m=0.01), "hole_radius_m")
     _one_line(lambda: tapered_finger(5e-3, order=3), "order = 3")
     _one_line(lambda: write_tapered_finger(tmp_path / "x.msh", 5e-3, msh_version=3), "msh_version = 3")
+
+
+@pytest.mark.parametrize("generator", [sm_a, sm_b])
+def test_the_paper_hexahedral_meshes_pass_the_checks(tmp_path, generator):
+    """SM-A's and SM-B's wedge-like section-corner elements are valid, not degenerate, and
+    the planes z_min / z_max are the generators' own root and tip."""
+    mesh = generator(length_in=4.5)
+    path = _write(tmp_path, mesh.nodes, [("hexahedron", mesh.hexes)], name="sm.vtu")
+    back = read_finger_mesh(path)
+    assert all(np.array_equal(back.node_sets[k], mesh.node_sets[k]) for k in ("root", "tip"))
+    assert element_volumes(back).sum() == pytest.approx(np.pi * 12e-3 * 8.45e-3 * 4.5 * 0.0254, rel=0.02)
