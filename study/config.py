@@ -6,6 +6,11 @@ a key whose unit suffix is not the schema's (``length_mm``) is unknown, and the 
 names the key the schema expects. Any problem gives one :class:`ccedi.errors.InputError`
 line naming the section and key, e.g. ``[finger] length_in = 20: must be in 1..12 (in)``.
 
+``[finger] mesh`` names a finger mesh file (:mod:`ccedi.fea.mesh_io`) to use instead of
+the generated elliptical prism; a relative path is relative to the TOML file's directory,
+and the validated inputs hold it resolved (absolute), so that ``OUT/config.toml`` loads
+from anywhere. :func:`finger_mesh` gives its :class:`ccedi.fea.mesh_io.FingerMeshSpec`.
+
 Every sub-command that builds a finger takes the same file with ``--config``
 (:func:`finger_inputs`, :func:`drum_setup`); ``ccedi study`` loads and validates its
 inputs once, writes them to ``OUT/config.toml`` for the record and passes them to each
@@ -22,6 +27,7 @@ from ccedi.errors import InputError, brief_repr, one_line
 from ccedi.fea.drum import DrumSetup
 from ccedi.fea.material import RUBBER, NeoHookean
 from ccedi.fea.mesh import SEMI_AXES
+from ccedi.fea.mesh_io import BENDING_DIRECTIONS, PLANES, UNITS, FingerMeshSpec
 from ccedi.fea.units import inch_to_m, m_to_inch
 from ccedi.quantities import QUANTITIES, Quantity
 
@@ -32,7 +38,7 @@ _BARE_KEY = re.compile(r"[A-Za-z0-9_-]{1,60}")
 @dataclass(frozen=True)
 class Key:
     """One input: type (float, int, bool, str, or list of float), unit, allowed range,
-    default, one-line help."""
+    default (None: not set), one-line help, and the allowed values of a str (empty: any)."""
 
     kind: type
     unit: str
@@ -43,6 +49,7 @@ class Key:
     is_list: bool = False
     min_items: int = 1
     max_items: int | None = None
+    choices: tuple = ()
 
 
 def _key(quantity, default, help, *list_args):
@@ -64,6 +71,16 @@ SCHEMA = {
         "section_semi_axes_m": _key("section_semi_axis_m", list(SEMI_AXES),
                                     "elliptical section semi-axes [a along x, b along y, the bending direction]",
                                     True, 2, 2),
+        "mesh": Key(str, "-", None, None, None,
+                    "finger mesh file instead of the generated elliptical finger (Gmsh .msh, Abaqus .inp, .vtu, "
+                    ".vtk, LS-DYNA .k; relative to this file): hexahedra or 4-/10-node tetrahedra, length along z"),
+        "mesh_unit": Key(str, "-", None, None, "m", "unit of the mesh file's coordinates", choices=tuple(UNITS)),
+        "clamp": Key(str, "-", None, None, "z_min",
+                     f"the mesh's clamped root: a set / physical group name or a plane ({', '.join(PLANES)})"),
+        "tip": Key(str, "-", None, None, "z_max", "the mesh's loaded tip face: a set name or a plane"),
+        "bending_direction": Key(str, "-", None, None, "y",
+                                 "the mesh axis the finger bends along (x: the mesh is turned +90 deg about z)",
+                                 choices=BENDING_DIRECTIONS),
     },
     "drum": {
         "drum_radius_m": _key("drum_radius_m", _DRUM["drum_radius_m"], "drum radius (the finger root's radius)"),
@@ -156,12 +173,15 @@ def _check(section, key, spec, value, name=None):
         raise InputError(f"{where}: must be {spec.kind.__name__}" + (f" ({spec.unit})" if spec.unit != "-" else ""))
     if spec.lo is not None:         # before float(): an integer too large for a float is out of range
         Quantity(spec.unit, spec.lo, spec.hi).check(value, name)
+    if spec.choices and value not in spec.choices:
+        raise InputError(f"{where}: must be one of {', '.join(spec.choices)}")
     return float(value) if number else value
 
 
-def validate(data, source="config"):
+def validate(data, source="config", base_dir=None):
     """Check the parsed TOML ``data`` against :data:`SCHEMA`; returns {section: {key: value}}
-    with every default filled in."""
+    with every default filled in, and ``[finger] mesh`` resolved against ``base_dir`` (the
+    TOML file's directory; default the working directory)."""
     out = {section: {k: spec.default for k, spec in keys.items()} for section, keys in SCHEMA.items()}
     for section, entries in data.items():
         if section not in SCHEMA:
@@ -172,6 +192,9 @@ def validate(data, source="config"):
             if key not in SCHEMA[section]:
                 raise InputError(f"[{section}] {_shown(key)}: unknown key{_hint(section, key)}")
             out[section][key] = _check(section, key, SCHEMA[section][key], value)
+    if out["finger"]["mesh"] is not None:
+        out["finger"]["mesh"] = _mesh_path(out["finger"]["mesh"], base_dir)
+    finger_mesh(out)
     drum_setup(out)             # the set-up as a whole: the object must clear the drum, ...
     return out
 
@@ -180,6 +203,47 @@ def finger_inputs(cfg):
     """(material, section semi-axes [m]) of the finger in the validated inputs ``cfg``."""
     m = cfg["material"]
     return NeoHookean(E=m["E_Pa"], nu=m["nu"], rho=m["rho_kg_m3"]), tuple(cfg["finger"]["section_semi_axes_m"])
+
+
+def _mesh_path(value, base_dir):
+    """``[finger] mesh`` as an absolute path to an existing file, relative to ``base_dir``."""
+    base = Path(base_dir or ".").resolve()
+    try:
+        path = (base / value).resolve()
+        exists = bool(value) and path.is_file()
+    except (OSError, ValueError):                   # a name too long, a NUL character
+        exists = False
+    if not exists:
+        raise InputError(f"[finger] mesh = {brief_repr(value)}: no such file (relative to {base})")
+    return str(path)
+
+
+def finger_mesh(cfg):
+    """The imported finger of the validated inputs ``cfg``, or None for the generated one.
+
+    Parameters
+    ----------
+    cfg : dict
+        ``{section: {key: value}}`` as :func:`load` returns it.
+
+    Returns
+    -------
+    ccedi.fea.mesh_io.FingerMeshSpec or None
+        Path (absolute), mesh unit, clamp, tip and bending direction of ``[finger] mesh``
+        (its ``load()`` reads the :class:`ccedi.fea.mesh.Mesh`), or None when no mesh is set.
+
+    Raises
+    ------
+    InputError
+        ``[finger] clamp`` or ``tip`` is empty.
+    """
+    f = cfg["finger"]
+    for key in ("clamp", "tip"):
+        if not f[key].strip():
+            raise InputError(f"[finger] {key} = {brief_repr(f[key])}: must be a set name or one of {', '.join(PLANES)}")
+    if f["mesh"] is None:
+        return None
+    return FingerMeshSpec(f["mesh"], f["mesh_unit"], f["clamp"], f["tip"], f["bending_direction"])
 
 
 def drum_setup(cfg):
@@ -214,7 +278,7 @@ def load(path):
         raise InputError(f"{path}: not valid TOML (arrays or tables nested too deeply)") from None
     except ValueError as err:                       # TOMLDecodeError, or an integer of too many digits
         raise InputError(f"{path}: not valid TOML ({one_line(err)})") from None
-    return validate(data, str(path))
+    return validate(data, str(path), Path(path).parent)
 
 
 def _toml_value(value):
@@ -238,7 +302,11 @@ def to_toml(cfg):
         for key, spec in keys.items():
             rng = f", {spec.lo:g}..{spec.hi:g}" if spec.lo is not None else ""
             unit = f" [{spec.unit}{rng}]" if spec.unit != "-" or rng else ""
-            lines += [f"# {spec.help}{unit}", f"{key} = {_toml_value(cfg[section][key])}"]
+            allowed = f" [{' or '.join(spec.choices)}]" if spec.choices else ""
+            value = cfg[section][key]
+            line = (f"{key} = {_toml_value(value)}" if value is not None
+                    else f'# {key} = "my_finger.msh"   (not set; uncomment to use a mesh)')
+            lines += [f"# {spec.help}{unit}{allowed}", line]
     return "\n".join(lines) + "\n"
 
 

@@ -48,3 +48,35 @@ def test_bad_input_is_one_line_naming_the_key(tmp_path, capsys, text, message):
     err_lines = capsys.readouterr().err.strip().splitlines()
     assert len(err_lines) == 1 and message in err_lines[0]
     assert not (tmp_path / "r").exists()
+
+
+def test_finger_mesh_keys_resolve_relative_to_the_toml(tmp_path):
+    from ccedi.fea.gmsh_fingers import write_tapered_finger
+    from ccedi.study.config import finger_mesh, to_toml
+
+    assert finger_mesh(load(None)) is None
+    (tmp_path / "meshes").mkdir()
+    write_tapered_finger(tmp_path / "meshes" / "f.msh", 8e-3)
+    path = _write(tmp_path, '[finger]\nmesh = "meshes/f.msh"\nclamp = "clamp"\ntip = "z_max"\n')
+    cfg = load(path)
+    spec = finger_mesh(cfg)
+    assert spec.path == str((tmp_path / "meshes" / "f.msh").resolve()) and spec.clamp == "clamp"
+    assert spec.load().element_type == "tet10"
+    again = tmp_path / "meshes" / "again.toml"        # the written inputs load from anywhere
+    again.write_text(to_toml(cfg))
+    assert load(again) == cfg
+
+
+@pytest.mark.parametrize("text, message", [
+    ('[finger]\nmesh = "missing.msh"\n', "[finger] mesh = 'missing.msh': no such file"),
+    ('[finger]\nmesh_unit = "cm"\n', "[finger] mesh_unit = 'cm': must be one of m, mm"),
+    ('[finger]\nbending_direction = "z"\n', "[finger] bending_direction = 'z': must be one of y, x"),
+    ('[finger]\nclamp = ""\n', "[finger] clamp = '': must be a set name or one of x_min"),
+    ('[finger]\ntip = 3\n', "[finger] tip = 3: must be str"),
+])
+def test_bad_finger_mesh_keys_are_one_line(tmp_path, text, message):
+    with pytest.raises(InputError) as err:
+        load(_write(tmp_path, text))
+    assert message in str(err.value) and "\n" not in str(err.value)
+    if "missing" in text:
+        assert f"(relative to {tmp_path.resolve()})" in str(err.value)
