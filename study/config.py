@@ -246,6 +246,29 @@ def finger_mesh(cfg):
     return FingerMeshSpec(f["mesh"], f["mesh_unit"], f["clamp"], f["tip"], f["bending_direction"])
 
 
+def configured_mesh(cfg):
+    """The imported finger mesh of the validated inputs ``cfg``, read now (so that a bad
+    mesh stops a command before any run), or None when ``[finger] mesh`` is not set.
+
+    Parameters
+    ----------
+    cfg : dict
+        ``{section: {key: value}}`` as :func:`load` returns it.
+
+    Returns
+    -------
+    ccedi.fea.mesh.Mesh or None
+        The finger with node sets ``root`` and ``tip``.
+
+    Raises
+    ------
+    InputError
+        The mesh cannot be read or is not a valid finger (:func:`ccedi.fea.mesh_io.read_finger_mesh`).
+    """
+    spec = finger_mesh(cfg)
+    return None if spec is None else spec.load()
+
+
 def drum_setup(cfg):
     """The :class:`ccedi.fea.drum.DrumSetup` of the validated inputs ``cfg`` (contact-length finger);
     an inconsistent set-up is an InputError naming the [drum] section."""

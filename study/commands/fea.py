@@ -45,13 +45,15 @@ def write_table1(cfg, length_in, json_path=None, stiffness=True):
     """
     from ccedi.fea.outputs import write_json
     from ccedi.fea.studies import PAPER_TABLE1, is_paper_finger, table1
-    from ccedi.study.config import finger_inputs
+    from ccedi.study.config import configured_mesh, finger_inputs
 
     material, semi_axes = finger_inputs(cfg)
-    result = table1(length_in=length_in, material=material, stiffness=stiffness, semi_axes_m=semi_axes)
+    finger = configured_mesh(cfg)
+    result = table1(length_in=length_in, material=material, stiffness=stiffness, semi_axes_m=semi_axes,
+                    finger=finger)
     paper_finger = is_paper_finger(length_in, material, semi_axes)
     for name, row in result.items():
-        paper = PAPER_TABLE1[name] if paper_finger else {}
+        paper = PAPER_TABLE1.get(name, {}) if paper_finger else {}
         print(f"{name}: " + ", ".join(
             f"{k} = {_fmt(v)}" + (f" (paper {_fmt(paper[k])})" if k in paper else "") for k, v in row.items()))
     if json_path:
