@@ -63,3 +63,44 @@ def quadratic_tets(mesh):
         mids = n + np.flatnonzero(member[unique[:, 0]] & member[unique[:, 1]])
         node_sets[name] = np.concatenate([np.asarray(ids, dtype=np.int64), mids])
     return Mesh(nodes=nodes, node_sets=node_sets, tets10=tets10)
+
+
+def box_cantilever(length_m, width_m, height_m, nx, ny, nz):
+    """Hexahedral mesh of a rectangular prism along +z, root face at z = 0.
+
+    The section spans x in [-width/2, width/2] and y in [-height/2, height/2]; node sets
+    ``root`` (z = 0) and ``tip`` (z = length).
+
+    Parameters
+    ----------
+    length_m : float
+        Length along z [m].
+    width_m : float
+        Width along x [m].
+    height_m : float
+        Height along y [m].
+    nx : int
+        Elements along x, >= 1.
+    ny : int
+        Elements along y, >= 1.
+    nz : int
+        Elements along z, >= 1.
+
+    Returns
+    -------
+    Mesh
+        (nx+1)(ny+1)(nz+1) nodes and nx ny nz hexahedra.
+    """
+    x = np.linspace(-width_m / 2, width_m / 2, nx + 1)
+    y = np.linspace(-height_m / 2, height_m / 2, ny + 1)
+    z = np.linspace(0.0, length_m, nz + 1)
+    Z, Y, X = np.meshgrid(z, y, x, indexing="ij")
+    nodes = np.column_stack([X.ravel(), Y.ravel(), Z.ravel()])
+    row, layer = nx + 1, (nx + 1) * (ny + 1)
+    k, j, i = np.meshgrid(np.arange(nz), np.arange(ny), np.arange(nx), indexing="ij")
+    base = (k * layer + j * row + i).ravel()
+    quad = np.array([0, 1, row + 1, row])
+    hexes = np.concatenate([base[:, None] + quad, base[:, None] + quad + layer], axis=1)
+    ids = np.arange(len(nodes))
+    return Mesh(nodes=nodes, hexes=hexes, node_sets={"root": ids[nodes[:, 2] == 0.0],
+                                                     "tip": ids[nodes[:, 2] == z[-1]]})
