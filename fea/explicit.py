@@ -417,6 +417,15 @@ def _stress_and_strain(model, x):
     return sigma, strain
 
 
+def _hex_forces_numpy(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c, f):
+    """:func:`ccedi.fea.hex8.internal_forces_numpy`, also for no hexahedra (then f = 0 and
+    (inf, 0, 0, 0, -1), as the compiled kernel returns)."""
+    if len(hexes):
+        return internal_forces_numpy(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c, f)
+    f[:] = 0.0
+    return np.inf, 0.0, 0.0, 0.0, -1
+
+
 def element_name(mesh, index):
     """Name of a solid element from its index over the hexahedra, then the 4-node, then
     the 10-node tetrahedra.
@@ -693,7 +702,7 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
         advance, kernels = _advance_numba, (internal_forces_numba, tet4_forces_numba, tet10_forces_numba,
                                             rod_forces_numba, contact_forces)
     else:
-        advance, kernels = _advance, (internal_forces_numpy, tet4_forces_numpy, tet10_forces_numpy,
+        advance, kernels = _advance, (_hex_forces_numpy, tet4_forces_numpy, tet10_forces_numpy,
                                       rod_forces_numpy, contact_forces.py_func)
     energy_0 = _initial_energy(model, x, v, *kernels[:4])
 

@@ -113,10 +113,11 @@ def internal_force(model: Model, x):
     """
     g, mat = model.geometry, model.material
     f = np.zeros_like(x)
-    *_, bad = internal_forces_numpy(x, np.zeros_like(x), model.mesh.hexes, g.b, g.volume, g.gamma,
-                                    model.kappa, mat.mu, mat.lam, mat.rho, mat.wave_speed, f)
-    if bad >= 0:
-        raise SolverError(f"element {bad} inverted (J <= 0)")
+    if len(model.mesh.hexes):
+        *_, bad = internal_forces_numpy(x, np.zeros_like(x), model.mesh.hexes, g.b, g.volume, g.gamma,
+                                        model.kappa, mat.mu, mat.lam, mat.rho, mat.wave_speed, f)
+        if bad >= 0:
+            raise SolverError(f"element {bad} inverted (J <= 0)")
     material = SolidMaterial(*model.solid_constants)
     for offset, module, group in ((len(model.mesh.hexes), tet4, model.tet4),
                                   (len(model.mesh.hexes) + len(model.tet4.tets), tet10, model.tet10)):
