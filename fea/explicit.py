@@ -45,6 +45,11 @@ from .model import Model, face_node_weights
 from .prescribed import prescribed_rotation
 from .rod import rod_forces_numba, rod_forces_numpy, rod_max_stress
 from .rotating_frame import RotatingFrame, frame_velocity
+from .tet4 import internal_forces_numba as tet4_forces_numba
+from .tet4 import internal_forces_numpy as tet4_forces_numpy
+from .tet10 import internal_forces_numba as tet10_forces_numba
+from .tet10 import internal_forces_numpy as tet10_forces_numpy
+from .tetra import deformation_gradients
 from .validity import issue, max_log_strain, run_checks, run_label
 
 TSSFAC = 0.9
@@ -108,7 +113,7 @@ kappa : (n_elem,) ndarray
     Hourglass stiffness per element [N/m].
 """
 SolidMaterial = namedtuple("SolidMaterial", "mu lam rho c")
-SolidMaterial.__doc__ = """The hexahedra's neo-Hookean constants.
+SolidMaterial.__doc__ = """The solid elements' neo-Hookean constants.
 
 Attributes
 ----------
@@ -267,14 +272,17 @@ def _record_energy(energy, w_ext, w_damp, bulk, ke, w_int, w_hg):
     energy[_HG] = w_hg
 
 
-def _advance(forces, rod_forces, contact_kernel, t, t_stop, dt_prev, control, damping, state, nodes, hexes,
-             material, rods, loads, frame, contact, energy):
+def _advance(forces, tet4_forces, tet10_forces, rod_forces, contact_kernel, t, t_stop, dt_prev, control, damping,
+             state, nodes, hexes, tets4, tets10, material, rods, loads, frame, contact, energy):
     """Advance until t >= t_stop (the last step is not shortened: cutting a step to land on
     an output time perturbs the highest mode and, repeated, can destabilise a mesh whose
     CFL estimate is tight). Returns (t, dt_prev, steps, status, info, dt_min_seen).
 
-    ``forces``, ``rod_forces`` and ``contact_kernel`` are the force kernels (compiled or
-    numpy reference); the rest are the groups of :func:`_step_data`."""
+    ``forces`` (hexahedra, zeroes f_int), ``tet4_forces``, ``tet10_forces`` (add to
+    f_int), ``rod_forces`` and ``contact_kernel`` are the force kernels (compiled or
+    numpy reference); the rest are the groups of :func:`_step_data`. An inverted element
+    is reported by its index over the solid elements in the order hexahedra, 4-node,
+    10-node tetrahedra."""
     x, v, f_int, f_ext = state.x, state.v, state.f_int, state.f_ext
     beta = damping.beta
     steps = 0
@@ -284,6 +292,15 @@ def _advance(forces, rod_forces, contact_kernel, t, t_stop, dt_prev, control, da
                                                material.mu, material.lam, material.rho, material.c, f_int)
         if bad >= 0:
             return t, dt_prev, steps, _INVERTED, bad, dt_seen
+        dt4, w4, p4, bad4 = tet4_forces(x, v, tets4, material, f_int)
+        if bad4 >= 0:
+            return t, dt_prev, steps, _INVERTED, hexes.hexes.shape[0] + bad4, dt_seen
+        dt10, w10, p10, bad10 = tet10_forces(x, v, tets10, material, f_int)
+        if bad10 >= 0:
+            return t, dt_prev, steps, _INVERTED, hexes.hexes.shape[0] + tets4.tets.shape[0] + bad10, dt_seen
+        dte = min(dte, dt4, dt10)
+        w_int += w4 + w10
+        p_bulk += p4 + p10
         w_rod, folded = rod_forces(x, rods.segments, rods.rest_length, rods.axial_stiffness, rods.hinges,
                                    rods.bending_stiffness, f_int)
         if folded >= 0:
@@ -387,14 +404,51 @@ def max_von_mises(model, x):
 
 def _stress_and_strain(model, x):
     """(:func:`max_von_mises` [Pa], largest principal log strain of the solid elements
-    [-], NaN without them) from one evaluation of the deformation gradients."""
+    [-], NaN without them) from one evaluation of the deformation gradients (of every
+    hexahedron and every tetrahedron's integration points)."""
     sigma = rod_max_stress(x, model.rod_arrays)
     strain = np.nan
     if model.mesh.n_elements:
-        F = deformation_gradient(x[model.mesh.hexes], model.geometry)
+        F = np.concatenate([deformation_gradient(x[model.mesh.hexes], model.geometry),
+                            deformation_gradients(x, model.tet4.tets, model.tet4.grad[:, None]).reshape(-1, 3, 3),
+                            deformation_gradients(x, model.tet10.tets, model.tet10.grad).reshape(-1, 3, 3)])
         sigma = max(sigma, max_von_mises_of(F, model.material.mu, model.material.lam))
         strain = max_log_strain(F)
     return sigma, strain
+
+
+def _hex_forces_numpy(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c, f):
+    """:func:`ccedi.fea.hex8.internal_forces_numpy`, also for no hexahedra (then f = 0 and
+    (inf, 0, 0, 0, -1), as the compiled kernel returns)."""
+    if len(hexes):
+        return internal_forces_numpy(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c, f)
+    f[:] = 0.0
+    return np.inf, 0.0, 0.0, 0.0, -1
+
+
+def element_name(mesh, index):
+    """Name of a solid element from its index over the hexahedra, then the 4-node, then
+    the 10-node tetrahedra.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh.
+    index : int
+        Element index over all solid elements, 0 <= index < ``mesh.n_elements``.
+
+    Returns
+    -------
+    str
+        E.g. ``"element 12"`` (a hexahedron, as before tetrahedra existed),
+        ``"tet4 element 3"`` or ``"tet10 element 0"`` (index within its type).
+    """
+    n_hex, n_tet4 = len(mesh.hexes), len(mesh.tets4)
+    if index < n_hex:
+        return f"element {index}"
+    if index < n_hex + n_tet4:
+        return f"tet4 element {index - n_hex}"
+    return f"tet10 element {index - n_hex - n_tet4}"
 
 
 def rod_time_step(model):
@@ -417,8 +471,9 @@ def rod_time_step(model):
 def critical_time_step(model, x=None, v=None):
     """Smallest critical step of the model, before the TSSFAC scale factor.
 
-    ``min(min_e dt_e, rod step)`` with the element step of paper Eq. (6),
-    ``dt_e = Le / (Q + sqrt(Q^2 + c^2))`` (Q from the bulk viscosity, zero at rest).
+    ``min(min_e dt_e, rod step)`` over every solid group with the element step of paper
+    Eq. (6), ``dt_e = Le / (Q + sqrt(Q^2 + c^2))`` (Q from the bulk viscosity, zero at
+    rest; Le of :mod:`ccedi.fea.hex8`, :mod:`ccedi.fea.tet4`, :mod:`ccedi.fea.tet10`).
 
     Parameters
     ----------
@@ -446,7 +501,14 @@ def critical_time_step(model, x=None, v=None):
     dt, *_ , bad = internal_forces_numba(x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa,
                                         *model.solid_constants, f)
     if bad >= 0:
-        raise SolverError(f"element {bad} is inverted (J <= 0)")
+        raise SolverError(f"{element_name(model.mesh, bad)} is inverted (J <= 0)")
+    material = SolidMaterial(*model.solid_constants)
+    for offset, kernel, group in ((len(model.mesh.hexes), tet4_forces_numba, model.tet4),
+                                  (len(model.mesh.hexes) + len(model.tet4.tets), tet10_forces_numba, model.tet10)):
+        dt_group, *_, bad = kernel(x, v, group, material, f)
+        if bad >= 0:
+            raise SolverError(f"{element_name(model.mesh, offset + bad)} is inverted (J <= 0)")
+        dt = min(dt, dt_group)
     return min(dt, rod_time_step(model))
 
 
@@ -460,15 +522,21 @@ def _initial_state(name, value, shape):
     return a
 
 
-def _initial_energy(model, x, v, forces, rod_forces):
+def _initial_energy(model, x, v, forces, tet4_forces, tet10_forces, rod_forces):
     """Kinetic plus stored (strain, hourglass, rod) energy [J] of the initial state x, v
     (v already zero on the constrained nodes), from the run's own force kernels
-    ``forces`` and ``rod_forces`` (compiled or numpy reference); 0 for the stored part
-    when an element is inverted at x (the step loop then stops at step 0)."""
+    ``forces``, ``tet4_forces``, ``tet10_forces`` and ``rod_forces`` (compiled or numpy
+    reference); 0 for the stored part when an element is inverted at x (the step loop
+    then stops at step 0)."""
     g = model.geometry
     f = np.zeros_like(x)
     _, w_s, w_hg, _, bad = forces(x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa,
                                   *model.solid_constants, f)
+    material = SolidMaterial(*model.solid_constants)
+    for kernel, group in ((tet4_forces, model.tet4), (tet10_forces, model.tet10)):
+        _, w_group, _, bad_group = kernel(x, v, group, material, f)
+        w_s += w_group
+        bad = max(bad, bad_group)
     ra = model.rod_arrays
     w_rod, _ = rod_forces(x, ra.segments, ra.rest_length, ra.axial_stiffness, ra.hinges, ra.bending_stiffness, f)
     stored = w_s + w_hg + w_rod if bad < 0 else 0.0
@@ -508,7 +576,8 @@ def _step_data(model, x, v, dt_user, tssfac, dt_cfl):
     Returns
     -------
     tuple
-        (control, damping, state, nodes, hexes, material, rods, loads, frame, contact), as
+        (control, damping, state, nodes, hexes, tets4, tets10, material, rods, loads, frame,
+        contact), as
         :func:`_advance` takes them after its kernels and clock.
     """
     mesh, g = model.mesh, model.geometry
@@ -526,7 +595,8 @@ def _step_data(model, x, v, dt_user, tssfac, dt_cfl):
     nodes = Nodes(X, model.mass, free, np.zeros_like(X))
     ra = model.rod_arrays
     return (StepControl(dt_user, tssfac), Damping(model.alpha, model.beta, model.damping == "relative"), state,
-            nodes, HexGroup(mesh.hexes, g.b, g.volume, g.gamma, model.kappa), SolidMaterial(*model.solid_constants),
+            nodes, HexGroup(mesh.hexes, g.b, g.volume, g.gamma, model.kappa), model.tet4, model.tet10,
+            SolidMaterial(*model.solid_constants),
             RodGroup(ra.segments, ra.rest_length, ra.axial_stiffness, ra.hinges, ra.bending_stiffness,
                      rod_time_step(model)),
             pulse_loads(model.pulses), frame, _contact_group(model, dt_cfl))
@@ -629,10 +699,12 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     react_nodes = mesh.node_sets[reaction_set]
     energy = np.zeros(9)
     if backend == "numba":
-        advance, kernels = _advance_numba, (internal_forces_numba, rod_forces_numba, contact_forces)
+        advance, kernels = _advance_numba, (internal_forces_numba, tet4_forces_numba, tet10_forces_numba,
+                                            rod_forces_numba, contact_forces)
     else:
-        advance, kernels = _advance, (internal_forces_numpy, rod_forces_numpy, contact_forces.py_func)
-    energy_0 = _initial_energy(model, x, v, *kernels[:2])
+        advance, kernels = _advance, (_hex_forces_numpy, tet4_forces_numpy, tet10_forces_numpy,
+                                      rod_forces_numpy, contact_forces.py_func)
+    energy_0 = _initial_energy(model, x, v, *kernels[:4])
 
     rows, snapshots = [], []
     t, dt_prev, steps, dt_min = 0.0, 0.0, 0, np.inf
@@ -646,7 +718,7 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
             steps += n
             dt_min = min(dt_min, dt_seen)
             if status == _INVERTED:
-                raise SolverError(f"element {info} inverted (J <= 0) at t = {t:.6g} s, step {steps}")
+                raise SolverError(f"{element_name(mesh, info)} inverted (J <= 0) at t = {t:.6g} s, step {steps}")
             if status == _FOLDED:
                 raise SolverError(f"rod hinge {info} folded back on itself (turning angle >= 180 deg) "
                                   f"at t = {t:.6g} s, step {steps}")

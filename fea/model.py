@@ -14,6 +14,11 @@ from .hex8 import FACES, ElementGeometry, element_geometry, hourglass_stiffness
 from .material import NeoHookean
 from .mesh import Mesh
 from .rod import Rod, RodArrays, rod_arrays, rod_lumped_mass
+from .tet4 import Tet4Group, tet4_group
+from .tet4 import lumped_mass as tet4_lumped_mass
+from .tet10 import Tet10Group, tet10_group
+from .tet10 import lumped_mass as tet10_lumped_mass
+from .tetra import CORNER_FACES, QUADRATIC_FACES
 
 
 @dataclass(frozen=True)
@@ -111,13 +116,14 @@ class RotatingNodes:
 class Model:
     """Everything the explicit solver needs: mesh, material, damping, constraints, loads.
 
-    Construction validates the inputs and derives the element geometry, hourglass
-    stiffness, rod arrays and lumped nodal masses.
+    Construction validates the inputs and derives the element geometry of each solid
+    group (hexahedra, 4-node and 10-node tetrahedra), the hourglass stiffness, rod arrays
+    and lumped nodal masses.
 
     Parameters
     ----------
     mesh : Mesh
-        Nodes [m], hexahedra and node sets.
+        Nodes [m], solid elements (hexahedra, 4- and 10-node tetrahedra) and node sets.
     material : NeoHookean or None
         Solid material; None only for a mesh without solid elements (rods and point
         masses only).
@@ -149,7 +155,11 @@ class Model:
     Attributes
     ----------
     geometry : ElementGeometry
-        Reference element geometry.
+        Reference geometry of the hexahedra.
+    tet4 : Tet4Group
+        Reference geometry of the 4-node tetrahedra (:mod:`ccedi.fea.tet4`).
+    tet10 : Tet10Group
+        Reference geometry of the 10-node tetrahedra (:mod:`ccedi.fea.tet10`).
     kappa : numpy.ndarray
         Hourglass stiffness per element [N/m].
     rod_arrays : RodArrays
@@ -192,6 +202,11 @@ class Model:
             self.geometry: ElementGeometry = element_geometry(self.mesh.nodes, self.mesh.hexes)
         except ValueError as err:
             raise InputError(f"mesh: {err}") from None
+        try:
+            self.tet4: Tet4Group = tet4_group(self.mesh.nodes, self.mesh.tets4)
+            self.tet10: Tet10Group = tet10_group(self.mesh.nodes, self.mesh.tets10)
+        except ValueError as err:
+            raise InputError(f"mesh: {err}") from None
         if self.material is None and self.mesh.n_elements:
             raise InputError("material is required when the mesh has solid elements")
         E = self.material.E if self.material is not None else 0.0
@@ -204,6 +219,8 @@ class Model:
         self.rod_arrays: RodArrays = rod_arrays(self.mesh.nodes, self.rods)
         rho = self.material.rho if self.material is not None else 0.0
         self.mass = (lumped_mass(self.mesh, self.geometry, rho)
+                     + tet4_lumped_mass(self.tet4, self.mesh.n_nodes, rho)
+                     + tet10_lumped_mass(self.mesh.nodes, self.tet10, rho)
                      + rod_lumped_mass(self.mesh.nodes, self.rods))
         for node, m in dict(self.point_masses).items():
             if not 0 <= int(node) < self.mesh.n_nodes:
@@ -230,7 +247,7 @@ class Model:
 
 
 def lumped_mass(mesh, geometry, rho):
-    """Diagonal (lumped) nodal masses of the solid elements.
+    """Diagonal (lumped) nodal masses of the hexahedra.
 
     Each element's mass rho V0 is split equally over its 8 nodes.
 
@@ -256,8 +273,11 @@ def lumped_mass(mesh, geometry, rho):
 def face_node_weights(mesh, node_set):
     """Area weights of the nodes of a node set, for a uniform traction on it.
 
-    The traction acts on the element faces lying wholly in the set; each quadrilateral's
-    area is split 1/4 per node.
+    The traction acts on the element faces lying wholly in the set, with the consistent
+    nodal loads of a uniform traction: a hexahedron's quadrilateral gives 1/4 of its area
+    to each node, a 4-node tetrahedron's triangle 1/3 to each corner, and a 10-node
+    tetrahedron's 6-node triangle 1/3 to each mid-side node and nothing to its corners
+    (the integrals of its quadratic shape functions).
 
     Parameters
     ----------
@@ -280,12 +300,20 @@ def face_node_weights(mesh, node_set):
     in_set[node_set] = True
     faces = mesh.hexes[:, FACES].reshape(-1, 4)
     faces = faces[in_set[faces].all(axis=1)]
-    if len(faces) == 0:
+    triangles = mesh.tets4[:, CORNER_FACES].reshape(-1, 3)
+    triangles = triangles[in_set[triangles].all(axis=1)]
+    quadratic = mesh.tets10[:, QUADRATIC_FACES].reshape(-1, 6)
+    quadratic = quadratic[in_set[quadratic].all(axis=1)]
+    if len(faces) + len(triangles) + len(quadratic) == 0:
         raise InputError("node set contains no complete element face")
     p = mesh.nodes[faces]
     area = 0.5 * np.linalg.norm(np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 1]), axis=-1)
     w = np.zeros(mesh.n_nodes)
     np.add.at(w, faces, np.repeat(area[:, None] / 4.0, 4, axis=1))
+    for tri, mids in ((triangles, triangles), (quadratic[:, :3], quadratic[:, 3:])):
+        p = mesh.nodes[tri]
+        area = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=-1)
+        np.add.at(w, mids, np.repeat(area[:, None] / 3.0, 3, axis=1))
     return w[node_set] / w[node_set].sum()
 
 

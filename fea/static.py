@@ -8,6 +8,9 @@ with the neo-Hookean elasticity tensor A = dP/dF::
 
     A_ijmL = mu d_im d_jL + (mu - lam ln J) Finv_Li Finv_jm + lam Finv_ji Finv_Lm
 
+The tetrahedra add their tangents (:func:`ccedi.fea.tet4.tangent_stiffness`,
+:func:`ccedi.fea.tet10.tangent_stiffness`, both :func:`ccedi.fea.tetra.averaged_tangent`).
+
 Bulk viscosity is rate dependent and absent in statics.
 """
 import numpy as np
@@ -16,6 +19,8 @@ import scipy.sparse.linalg as spla
 
 from ccedi.errors import InputError, SolverError
 
+from . import tet4, tet10
+from .explicit import SolidMaterial, element_name
 from .hex8 import deformation_gradient, internal_forces_numpy
 from .model import Model, face_node_weights
 
@@ -23,7 +28,8 @@ from .model import Model, face_node_weights
 def tangent_stiffness(model: Model, x=None):
     """Assembled consistent tangent stiffness dF_int/dx of the solid elements.
 
-    Element tangent and neo-Hookean elasticity tensor as in the module docstring;
+    Hexahedra: element tangent and neo-Hookean elasticity tensor as in the module
+    docstring; tetrahedra: :func:`ccedi.fea.tetra.averaged_tangent`;
     hourglass stiffness included, bulk viscosity (rate dependent) not. Rods, point
     masses and contact are not included.
 
@@ -44,6 +50,13 @@ def tangent_stiffness(model: Model, x=None):
     SolverError
         If an element is inverted (J <= 0) at ``x``.
     """
+    x = model.mesh.nodes if x is None else x
+    K = _tetrahedra_tangent(model, x)
+    return K + _hexahedra_tangent(model, x) if len(model.mesh.hexes) else K
+
+
+def _hexahedra_tangent(model, x):
+    """Tangent stiffness (3 n, 3 n) [N/m] of the model's hexahedra at x (module docstring)."""
     mesh, g, mat = model.mesh, model.geometry, model.material
     x = mesh.nodes if x is None else x
     F = deformation_gradient(x[mesh.hexes], g)
@@ -63,6 +76,19 @@ def tangent_stiffness(model: Model, x=None):
     cols = np.tile(dofs, (1, 24)).ravel()
     n = 3 * mesh.n_nodes
     return sp.csr_matrix((Ke.reshape(len(mesh.hexes), -1).ravel(), (rows, cols)), shape=(n, n))
+
+
+def _tetrahedra_tangent(model, x):
+    """Tangent stiffness (3 n, 3 n) [N/m] of the model's 4- and 10-node tetrahedra at x;
+    SolverError naming an inverted element."""
+    material = SolidMaterial(*model.solid_constants)
+    K = sp.csr_matrix((3 * model.mesh.n_nodes, 3 * model.mesh.n_nodes))
+    for name, module, group in (("tet4", tet4, model.tet4), ("tet10", tet10, model.tet10)):
+        try:
+            K = K + module.tangent_stiffness(x, group, material)
+        except ValueError as err:
+            raise SolverError(f"{name} {err}") from None
+    return K
 
 
 def internal_force(model: Model, x):
@@ -87,10 +113,17 @@ def internal_force(model: Model, x):
     """
     g, mat = model.geometry, model.material
     f = np.zeros_like(x)
-    *_, bad = internal_forces_numpy(x, np.zeros_like(x), model.mesh.hexes, g.b, g.volume, g.gamma,
-                                    model.kappa, mat.mu, mat.lam, mat.rho, mat.wave_speed, f)
-    if bad >= 0:
-        raise SolverError(f"element {bad} inverted (J <= 0)")
+    if len(model.mesh.hexes):
+        *_, bad = internal_forces_numpy(x, np.zeros_like(x), model.mesh.hexes, g.b, g.volume, g.gamma,
+                                        model.kappa, mat.mu, mat.lam, mat.rho, mat.wave_speed, f)
+        if bad >= 0:
+            raise SolverError(f"element {bad} inverted (J <= 0)")
+    material = SolidMaterial(*model.solid_constants)
+    for offset, module, group in ((len(model.mesh.hexes), tet4, model.tet4),
+                                  (len(model.mesh.hexes) + len(model.tet4.tets), tet10, model.tet10)):
+        *_, bad = module.internal_forces_numpy(x, np.zeros_like(x), group, material, f)
+        if bad >= 0:
+            raise SolverError(f"{element_name(model.mesh, offset + bad)} inverted (J <= 0)")
     return f
 
 

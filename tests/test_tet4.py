@@ -1,0 +1,208 @@
+"""Tetrahedra: the average nodal pressure 4-node element (and, parametrised, the 10-node one
+where the check is the same): compiled kernels against the numpy references, lumped mass,
+consistent tangent, large-strain patch test, rigid rotation, inverted elements, face
+weights, volumetric locking, stable step and energy balance."""
+import numpy as np
+import pytest
+from conftest import BOX
+
+from ccedi.errors import InputError, SolverError
+from ccedi.fea import tet4, tet10
+from ccedi.fea.explicit import SolidMaterial, critical_time_step, run
+from ccedi.fea.kernels import internal_forces_numba as hex_forces
+from ccedi.fea.material import NeoHookean
+from ccedi.fea.mesh import Mesh
+from ccedi.fea.model import Model, cantilever_model, face_node_weights, tip_pulse
+from ccedi.fea.static import internal_force, tangent_stiffness, tip_deflection
+from ccedi.fea.tet_mesh import box_cantilever, quadratic_tets, split_hexes
+
+RUBBER_499 = NeoHookean(6.1e6, 0.499, 1000.0)
+RUBBER_49 = NeoHookean(6.1e6, 0.49, 1000.0)
+MODULES = {"tet4": tet4, "tet10": tet10}
+
+
+def tet_mesh(kind, nx=2, ny=2, nz=3, jitter=0.0, seed=0):
+    """Box cantilever split into tetrahedra, interior nodes jittered by ``jitter`` of the
+    element size (an irregular patch)."""
+    mesh = split_hexes(box_cantilever(0.01, 0.01, 0.01, nx, ny, nz))
+    X = mesh.nodes.copy()
+    lo, hi = X.min(axis=0), X.max(axis=0)
+    interior = np.all((X > lo + 1e-9) & (X < hi - 1e-9), axis=1)
+    X[interior] += jitter * 0.01 / max(nx, ny, nz) * np.random.default_rng(seed).uniform(-1, 1, (interior.sum(), 3))
+    mesh = Mesh(nodes=X, tets4=mesh.tets4, node_sets=mesh.node_sets)
+    return quadratic_tets(mesh) if kind == "tet10" else mesh
+
+
+def group_of(model, kind):
+    return model.tet4 if kind == "tet4" else model.tet10
+
+
+@pytest.mark.parametrize("kind", ["tet4", "tet10"])
+def test_compiled_kernel_matches_numpy_reference(kind):
+    """Forces, energy, bulk-viscous power and step of the numba kernel against the numpy
+    reference on a deformed, moving mesh (compression somewhere, so the viscosity acts)."""
+    model = Model(mesh=tet_mesh(kind, jitter=0.3), material=RUBBER_49)
+    rng = np.random.default_rng(1)
+    x = model.mesh.nodes + 2e-5 * rng.standard_normal(model.mesh.nodes.shape)
+    v = rng.standard_normal(x.shape)
+    material = SolidMaterial(*model.solid_constants)
+    out = []
+    for kernel in (MODULES[kind].internal_forces_numpy, MODULES[kind].internal_forces_numba):
+        f = np.ones_like(x)                       # the kernels add to f
+        out.append((kernel(x, v, group_of(model, kind), material, f), f))
+    (ref, f_ref), (fast, f_fast) = out
+    assert ref[3] == fast[3] == -1 and ref[2] > 0.0
+    assert np.allclose(fast[:3], ref[:3], rtol=1e-10, atol=0.0)
+    assert np.abs(f_fast - f_ref).max() <= 1e-10 * np.abs(f_ref - 1.0).max()
+
+
+@pytest.mark.parametrize("kind", ["tet4", "tet10"])
+def test_lumped_mass_is_positive_and_sums_to_the_element_mass(kind):
+    model = Model(mesh=tet_mesh(kind, jitter=0.3), material=RUBBER_49)
+    assert model.mass.min() > 0.0
+    assert model.total_mass == pytest.approx(RUBBER_49.rho * group_of(model, kind).volume.sum(), rel=1e-12)
+    assert group_of(model, kind).volume.sum() == pytest.approx(1e-6, rel=1e-12)   # the 1 cm cube
+
+
+@pytest.mark.parametrize("kind", ["tet4", "tet10"])
+def test_tangent_is_the_derivative_of_the_internal_force(kind):
+    """Central differences of f_int against the consistent tangent at a deformed state (for
+    the 4-node element this checks the coupling of the elements around a node)."""
+    model = Model(mesh=tet_mesh(kind, jitter=0.3), material=RUBBER_499)
+    x = model.mesh.nodes + 3e-5 * np.random.default_rng(2).standard_normal(model.mesh.nodes.shape)
+    K = tangent_stiffness(model, x).toarray()
+    h = 1e-9
+    for j in range(0, K.shape[0], 11):
+        d = np.zeros(x.size)
+        d[j] = h
+        column = (internal_force(model, x + d.reshape(x.shape)) - internal_force(model, x - d.reshape(x.shape)))
+        assert np.allclose(column.ravel() / (2 * h), K[:, j], rtol=0, atol=1e-6 * np.abs(K).max())
+    assert np.abs(K - K.T).max() <= 1e-12 * np.abs(K).max()
+
+
+@pytest.mark.parametrize("kind", ["tet4", "tet10"])
+def test_patch_test_reproduces_a_homogeneous_deformation(kind):
+    """Boundary nodes given x = (I + A) X (a finite homogeneous strain), interior nodes free on
+    an irregular patch: Newton equilibrium puts every interior node on the same field and every
+    integration point has F = I + A."""
+    model = Model(mesh=tet_mesh(kind, nx=3, ny=3, nz=3, jitter=0.35), material=RUBBER_499)
+    X = model.mesh.nodes
+    lo, hi = X.min(axis=0), X.max(axis=0)
+    interior = np.all((X > lo + 1e-9) & (X < hi - 1e-9), axis=1)
+    A = np.array([[0.04, 0.02, -0.01], [0.01, -0.03, 0.02], [0.03, 0.0, 0.05]])
+    exact = X @ (np.eye(3) + A).T
+    x = exact.copy()
+    x[interior] += 1e-6 * np.random.default_rng(3).uniform(-1, 1, (interior.sum(), 3))
+    free = (3 * np.flatnonzero(interior)[:, None] + np.arange(3)).ravel()
+    import scipy.sparse.linalg as spla
+    for _ in range(10):
+        r = -internal_force(model, x).ravel()[free]
+        du = spla.spsolve(tangent_stiffness(model, x).tocsc()[free][:, free], r)
+        x.ravel()[free] += du
+        if np.abs(du).max() < 1e-15:
+            break
+    assert interior.sum() >= 8
+    assert np.abs(x - exact).max() <= 1e-12
+    g = group_of(model, kind)
+    grad = g.grad[:, None] if kind == "tet4" else g.grad
+    F = np.einsum("eki,egkj->egij", x[g.tets], grad)
+    assert np.abs(F - (np.eye(3) + A)).max() <= 1e-10
+
+
+@pytest.mark.parametrize("kind", ["tet4", "tet10"])
+def test_rigid_rotation_gives_no_force_and_no_energy(kind):
+    model = Model(mesh=tet_mesh(kind, jitter=0.3), material=RUBBER_499)
+    axis = np.array([1.0, 2.0, 0.5]) / np.linalg.norm([1.0, 2.0, 0.5])
+    angle = 1.3
+    Kx = np.cross(np.eye(3), axis)
+    R = np.eye(3) + np.sin(angle) * Kx + (1 - np.cos(angle)) * Kx @ Kx
+    x = model.mesh.nodes @ R.T + [0.01, -0.02, 0.03]
+    f = np.zeros_like(x)
+    _, energy, _, status = MODULES[kind].internal_forces_numba(x, np.zeros_like(x), group_of(model, kind),
+                                                               SolidMaterial(*model.solid_constants), f)
+    assert status == -1
+    assert np.abs(f).max() <= 1e-12 * RUBBER_499.E * 1e-4    # against E x element area
+    assert abs(energy) <= 1e-12 * RUBBER_499.E * 1e-6
+
+
+@pytest.mark.parametrize("kind", ["tet4", "tet10"])
+def test_inverted_tetrahedron_is_named(kind):
+    mesh = tet_mesh(kind)
+    conn = (mesh.tets4 if kind == "tet4" else mesh.tets10).copy()
+    conn[5, [1, 2]] = conn[5, [2, 1]]
+    if kind == "tet10":
+        conn[5, [4, 6, 8, 9]] = conn[5, [6, 4, 9, 8]]      # mid-edge nodes follow the swap
+    bad = Mesh(nodes=mesh.nodes, node_sets=mesh.node_sets, **{"tets4" if kind == "tet4" else "tets10": conn})
+    with pytest.raises(InputError, match=f"{kind} element 5 is inverted"):
+        Model(mesh=bad, material=RUBBER_49)
+    model = Model(mesh=mesh, material=RUBBER_49)
+    x = model.mesh.nodes.copy()
+    c = group_of(model, kind).tets[7]
+    x[c[0]] = x[c[1:4]].mean(axis=0) * 2 - x[c[0]]          # corner 0 pushed through its face
+    with pytest.raises(SolverError, match=rf"{kind} element \d+ is inverted"):
+        critical_time_step(model, x)
+    with pytest.raises(SolverError, match=f"{kind} element"):
+        tangent_stiffness(model, x)
+
+
+@pytest.mark.parametrize("kind", ["tet4", "tet10"])
+def test_face_weights_integrate_the_traction_exactly(kind):
+    """The tip weights are the consistent loads of a uniform traction: they integrate a
+    linear field (and, for the quadratic face, a quadratic one) exactly over the face."""
+    mesh = tet_mesh(kind, nx=3, ny=2, nz=2, jitter=0.0)
+    tip = mesh.node_sets["tip"]
+    w = face_node_weights(mesh, tip)
+    x, y = mesh.nodes[tip, 0], mesh.nodes[tip, 1]
+    assert w @ (1.0 + 200 * (x - 0.001) + 300 * (y + 0.002)) == pytest.approx(1.0 - 0.2 + 0.6, rel=1e-12)
+    if kind == "tet10":                                  # the face is [-5, 5] mm squared
+        assert w @ (x * x) == pytest.approx(0.01**2 / 12, rel=1e-12)
+        assert np.all(w[: np.sum(tip < 0)] >= 0)
+
+
+def test_no_volumetric_locking_richardson_limit_matches_the_converged_hexahedra(converged_box_hex):
+    """nu = 0.499: the 4-node element's tip stiffness converges as h^2 (the linear element is
+    stiff in bending at any nu) to the converged hexahedral value: its Richardson limit from
+    the 4 and 2 mm meshes lies within 3 %; a locking element would converge elsewhere."""
+    k = [0.01 / tip_deflection(cantilever_model(split_hexes(box_cantilever(*BOX, 3 * s, 2 * s, 15 * s)), RUBBER_499),
+                               0.01, linear=True) for s in (1, 2)]
+    limit = (4 * k[1] - k[0]) / 3
+    assert k[1] > limit                                # converging from the stiff side
+    assert limit == pytest.approx(converged_box_hex, rel=0.03)
+
+
+def _diverges(model, factor, steps=3000):
+    """Undamped central differences at ``factor`` x critical_time_step from small random
+    velocities; True when the motion blows up within ``steps`` steps."""
+    dt = factor * critical_time_step(model)
+    X = model.mesh.nodes
+    free = np.ones(len(X))
+    free[model.fixed_nodes] = 0.0
+    v = 1e-3 * np.random.default_rng(0).standard_normal(X.shape) * free[:, None]
+    x, f = X.copy(), np.zeros_like(X)
+    g, material = model.geometry, SolidMaterial(*model.solid_constants)
+    for _ in range(steps):
+        hex_forces(x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa, *model.solid_constants, f)
+        tet4.internal_forces_numba(x, v, model.tet4, material, f)
+        tet10.internal_forces_numba(x, v, model.tet10, material, f)
+        v -= dt * f / model.mass[:, None] * free[:, None]
+        x += dt * v
+        if not np.abs(x - X).max() < 1e-2:
+            return True
+    return False
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("kind", ["tet4", "tet10"])
+def test_stable_step_is_near_the_real_limit(kind):
+    """0.9 of the computed step runs 1e5 steps stably (fea.explicit.run); 1.3
+    of it diverges: the estimate is safe and near the real limit (cube mesh split into
+    tetrahedra, the lowest ratio of real limit to estimate measured)."""
+    hexes = box_cantilever(*BOX, 2, 2, 8)
+    mesh = split_hexes(hexes) if kind == "tet4" else quadratic_tets(split_hexes(hexes))
+    model = cantilever_model(mesh, RUBBER_49)
+    assert _diverges(model, 1.3)
+    dt = 0.9 * critical_time_step(model)
+    v0 = 1e-3 * np.random.default_rng(0).standard_normal(mesh.nodes.shape)
+    res = run(model, 1e5 * dt, n_outputs=10, dt_s=dt, v0=v0)
+    assert res.summary["steps"] >= 100000
+    assert np.abs(res.x - mesh.nodes).max() < 1e-4 and np.abs(res.v).max() < 1e-2
