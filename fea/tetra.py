@@ -381,7 +381,8 @@ def averaged_tangent(x, conn, grad, weight, average, mu, lam):
     """Consistent tangent stiffness d f / d x of averaged-volume tetrahedra (no bulk viscosity).
 
     With the point part's elasticity tensor ``A_ijmL = mu d_im d_jL + mu Finv_Li Finv_jm``
-    (ccedi's neo-Hookean law with lam = 0), the volume gradients
+    (ccedi's neo-Hookean law with lam = 0; ``grad_k A grad_l = mu [(grad_k . grad_l) d_im +
+    c_km c_li]``), the volume gradients
     ``a_e = dv_e/dx`` (``a_(k,i) = sum_g w_g J_g (F_g^-T grad0 N_k)_i``), their averages
     ``G = S a`` (a sparse matrix of d V_G / d x, one row per group) and the volume
     Hessians ``H_e = sum_g w_g J_g (c_ki c_lm - c_li c_km)``, ``c_k = F_g^-T grad0 N_k``::
@@ -427,12 +428,13 @@ def averaged_tangent(x, conn, grad, weight, average, mu, lam):
     if np.any(J <= 0.0):
         raise ValueError(f"element {int(np.argmax((J <= 0.0).any(axis=1)))} inverted (J <= 0)")
     Fi = np.linalg.inv(F)
-    eye = np.eye(3)
-    A = mu * (np.einsum("im,jl->ijml", eye, eye) + np.einsum("egli,egjm->egijml", Fi, Fi))
-    Ke = np.einsum("eg,egkj,egijml,eghl->ekihm", weight, grad, A, grad)
     cs = np.einsum("egji,egkj->egki", Fi, grad)               # spatial gradients F^-T grad0 N_k
+    # grad_k A grad_h = mu [(grad_k . grad_h) d_im + c_km c_hi]
+    w_mu = mu * weight
+    Ke = np.einsum("eg,egkj,eghj->ekh", w_mu, grad, grad)[:, :, None, :, None] * np.eye(3)[None, None, :, None, :]
+    Ke += np.einsum("eg,egkm,eghi->ekihm", w_mu, cs, cs, optimize=True)
     wJ = weight * J
-    H = np.einsum("eg,egki,eglm->ekilm", wJ, cs, cs)
+    H = np.einsum("eg,egki,eglm->ekilm", wJ, cs, cs, optimize=True)
     H = H - H.transpose(0, 3, 2, 1, 4)                        # c_ki c_lm - c_li c_km
     vol = wJ.sum(axis=1)
     a = np.einsum("eg,egki->eki", wJ, cs).reshape(ne, 3 * nn)
