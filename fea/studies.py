@@ -361,13 +361,15 @@ def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), scheduler="serial",
     return pd.concat([h for h, _ in runs], ignore_index=True), [s for _, s in runs]
 
 
-def plot_impulse_study(history):
+def plot_impulse_study(history, finger="SM-A finger"):
     """Tip displacement [mm] and max von Mises stress [kPa] against time [s], one line per alpha.
 
     Parameters
     ----------
     history : pandas.DataFrame
         The long history of :func:`impulse_study`.
+    finger : str, optional
+        The finger's name, for the title.
 
     Returns
     -------
@@ -386,6 +388,6 @@ def plot_impulse_study(history):
     ax2.set_ylabel("max von Mises stress [kPa]")
     ax2.set_xlabel("time [s]")
     ax1.legend()
-    ax1.set_title("SM-A finger, tip impulse (paper Fig. 7 analogue)")
+    ax1.set_title(f"{finger}, tip impulse (paper Fig. 7 analogue)")
     fig.tight_layout()
     return fig

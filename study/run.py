@@ -62,7 +62,7 @@ def steps(cfg, out, scheduler):
     from ccedi.study.commands.rom import write_damping_fits
 
     f, s = cfg["finger"], cfg["study"]
-    impulse = {"length_in": f["impulse_length_in"], "force_N": s["impulse_force_N"],
+    impulse = {"length_in": None if f["mesh"] else f["impulse_length_in"], "force_N": s["impulse_force_N"],
                "duration_s": s["impulse_duration_s"]}
     material, semi_axes = finger_inputs(cfg)
     records = [Path(r) for r in s["measured_records"]]

@@ -62,8 +62,9 @@ def write_table1(cfg, length_in, json_path=None, stiffness=True):
     return result
 
 
-def write_impulse(cfg, alphas, out, length_in=4.5, force_N=1.0, duration_s=0.01, t_end_s=0.2, scheduler="serial"):
-    """Impulse responses of the configured SM-A finger for several alpha: writes
+def write_impulse(cfg, alphas, out, length_in=None, force_N=1.0, duration_s=0.01, t_end_s=0.2, scheduler="serial"):
+    """Impulse responses of the configured finger (the ``[finger] mesh`` of ``cfg``, or the
+    SM-A finger of ``length_in``) for several alpha: writes
     ``impulse_response.csv``, ``.png`` and ``impulse_summary.json`` in ``out`` (each run's
     summary with its validity ``warnings``, and all of them, named by alpha, under the
     top-level ``warnings``).
@@ -76,8 +77,8 @@ def write_impulse(cfg, alphas, out, length_in=4.5, force_N=1.0, duration_s=0.01,
         Mass-proportional damping values [1/s].
     out : str or Path
         Output directory.
-    length_in : float
-        Finger length [in].
+    length_in : float or None
+        Length [in] of the SM-A finger (default 4.5); None with a ``[finger] mesh``.
     force_N : float
         Tip force [N], soft direction.
     duration_s : float
@@ -96,11 +97,12 @@ def write_impulse(cfg, alphas, out, length_in=4.5, force_N=1.0, duration_s=0.01,
 
     out = Path(out)
     material, semi_axes = finger_inputs(cfg)
+    mesh, length_in, finger = finger_of(cfg, length_in)
     history, summaries = impulse_study(alphas=alphas, length_in=length_in, force_N=force_N,
                                        duration_s=duration_s, t_end_s=t_end_s, scheduler=scheduler,
-                                       material=material, semi_axes_m=semi_axes)
+                                       material=material, semi_axes_m=semi_axes, mesh=mesh)
     write_csv(out / "impulse_response.csv", history)
-    write_figure(out / "impulse_response.png", plot_impulse_study(history))
+    write_figure(out / "impulse_response.png", plot_impulse_study(history, finger["name"]))
     peaks = {}
     for a, h in history.groupby("alpha_per_s"):
         i = int(np.argmax(h.tip_uy_m.values))
@@ -109,7 +111,7 @@ def write_impulse(cfg, alphas, out, length_in=4.5, force_N=1.0, duration_s=0.01,
                            "min_tip_uy_after_peak_m": float(h.tip_uy_m.values[i:].min()),
                            "peak_von_mises_Pa": float(h.max_von_mises_Pa.max())}
     write_json(out / "impulse_summary.json", {
-        "length_in": length_in, "force_N": force_N, "duration_s": duration_s,
+        "finger": finger, "force_N": force_N, "duration_s": duration_s,
         "warnings": [f"{run_label(s['alpha_per_s'])}: {w}" for s in summaries for w in s["warnings"]],
         "runs": summaries, "peaks": peaks})
     for s in summaries:
@@ -159,6 +161,48 @@ def _setup_of(args):
     return contact_setup(load_config(args), args.theta0_rad, args.calibrate)
 
 
+def finger_of(cfg, length_in=None):
+    """The finger a command runs: the ``[finger] mesh`` of ``cfg`` (read now), or the SM-A
+    finger of ``length_in``.
+
+    Parameters
+    ----------
+    cfg : dict
+        Validated inputs (:func:`ccedi.study.config.load`).
+    length_in : float or None
+        ``--length-in`` [in] as given (None: not given; SM-A then has 4.5 in).
+
+    Returns
+    -------
+    tuple
+        ``(mesh, length_in, finger)``: the imported mesh (None for SM-A), the SM-A length
+        [in] (None with a mesh) and a JSON-ready description, ``name``, ``mesh_file``,
+        ``element_type``, ``nodes``, ``elements``, ``length_m``.
+
+    Raises
+    ------
+    InputError
+        ``--length-in`` given beside a ``[finger] mesh`` (the mesh sets the length), or the
+        mesh cannot be read.
+    """
+    from ccedi.fea.mesh import sm_a
+    from ccedi.fea.validity import cantilever_length_m
+    from ccedi.study.config import configured_mesh
+
+    mesh = configured_mesh(cfg)
+    if mesh is not None and length_in is not None:
+        raise InputError(f"--length-in {length_in:g}: the finger is [finger] mesh = {cfg['finger']['mesh']}, "
+                         "whose length the mesh sets; drop --length-in")
+    length_in = None if mesh is not None else (4.5 if length_in is None else length_in)
+    shown = mesh if mesh is not None else sm_a(length_in=length_in, semi_axes_m=cfg["finger"]["section_semi_axes_m"])
+    finger = {"name": f"SM-A {length_in:g}-in finger" if mesh is None else Path(cfg["finger"]["mesh"]).name,
+              "mesh_file": None if mesh is None else cfg["finger"]["mesh"], "element_type": shown.element_type,
+              "nodes": shown.n_nodes, "elements": shown.n_elements, "length_m": cantilever_length_m(shown)}
+    print(f"finger: {finger['name']}: {finger['nodes']} nodes, {finger['elements']} {finger['element_type']} "
+          f"elements, length {1e3 * finger['length_m']:.1f} mm", flush=True)
+    return mesh, length_in, finger
+
+
 def _cmd_table1(args):
     check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
     write_table1(load_config(args), args.length_in, args.json, stiffness=not args.no_stiffness)
@@ -166,7 +210,8 @@ def _cmd_table1(args):
 
 def _cmd_impulse(args):
     check_flag("--alpha", list(args.alpha), "study", "impulse_alphas_per_s")     # every alpha before the first run
-    check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
+    if args.length_in is not None:
+        check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
     check_flag("--force-N", args.force_N, "study", "impulse_force_N")
     check_flag("--duration-s", args.duration_s, "study", "impulse_duration_s")
     check_flag("--t-end-s", args.t_end_s, "study", "impulse_t_end_s")
@@ -300,7 +345,8 @@ def add_parsers(sub):
                        "(paper Fig. 7): CSV, plot, JSON")
     i.add_argument("--alpha", type=float, nargs="+", default=[70.0, 120.0, 160.0, 180.0, 200.0],
                    help="mass-proportional damping values [1/s]")
-    i.add_argument("--length-in", type=float, default=4.5, help="finger length [in]")
+    i.add_argument("--length-in", type=float, default=None,
+                   help="length of the SM-A finger [in] (4.5 when not given; not with a [finger] mesh)")
     i.add_argument("--force-N", type=float, default=1.0, help="tip force [N] (soft direction)")
     i.add_argument("--duration-s", type=float, default=0.01, help="pulse duration [s]")
     i.add_argument("--t-end-s", type=float, default=0.2, help="simulated time [s]")

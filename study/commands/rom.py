@@ -30,6 +30,9 @@ def add_parsers(sub):
                    help="structure: SM-A rubber finger (give --length-in) or the paper's steel rod")
     i.add_argument("--length-in", type=float, help="finger length [in]")
     i.add_argument("--alpha-cr", action="store_true", help="only compute alpha_cr of the model")
+    i.add_argument("--rom", type=int, default=None, metavar="MODES",
+                   help="search on the finger's modal ROM with this many modes (from its FE matrices) "
+                        "instead of the full explicit FEA")
     i.add_argument("--force-N", type=float, help="impulse force [N] (default: from the force_N column, else 1 N "
                    "for a finger, 0.003 N for the rod)")
     i.add_argument("--duration-s", type=float, help="impulse duration [s] (default: from force_N, else 0.01 s "
@@ -143,20 +146,24 @@ def _impulse_run(args, t_end_s):
     Returns
     -------
     tuple
-        ``(model, t_end_s, n_outputs, alpha_guess, omega1)``: the
-        :class:`ccedi.models.ImpulseModel` (the steel rod or the SM-A finger under the
+        ``(model, t_end_s, n_outputs, alpha_guess, omega1, finger)``: the
+        :class:`ccedi.models.ImpulseModel` (the steel rod, the ``[finger] mesh`` of the
+        config or the SM-A finger under the
         pulse of ``force_N`` [N] for ``duration_s`` [s]), the run length [s] (at least the
         load and 12 / omega_1, :func:`ccedi.rom.finger_identification.run_length_s`), the
         output times per run (800 rod, 400 finger), the search's first guess 2 omega_1
-        [1/s] and omega_1 [rad/s].
+        [1/s], omega_1 [rad/s] and the finger's description
+        (:func:`ccedi.study.commands.fea.finger_of`; None for the rod).
 
     Raises
     ------
     InputError
-        A finger without ``--length-in``.
+        A finger without ``--length-in`` or ``[finger] mesh``, or with both.
     """
     from ccedi.fea.studies import finger_impulse_model
     from ccedi.rom.finger_identification import finger_omega1, run_length_s
+    from ccedi.rom.modal import reduce_impulse_model
+    from ccedi.study.commands.fea import finger_of
     from ccedi.study.config import finger_inputs
     if args.model == "steel-rod":
         from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_impulse_model
@@ -164,18 +171,23 @@ def _impulse_run(args, t_end_s):
         duration = STEEL_ROD["duration_s"] if args.duration_s is None else args.duration_s
         omega1 = PAPER_ROD["omega1_rad_s"]
         t_end = max(t_end_s or 0.0, run_length_s(duration, omega1))
-        return steel_rod_impulse_model(force_N=force, duration_s=duration), t_end, 800, 2.0 * omega1, omega1
-    if args.length_in is None:
-        raise InputError("--length-in (finger length, in) is required for --model finger")
-    check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
+        return steel_rod_impulse_model(force_N=force, duration_s=duration), t_end, 800, 2.0 * omega1, omega1, None
+    cfg = load_config(args)
+    if args.length_in is None and cfg["finger"]["mesh"] is None:
+        raise InputError("--length-in (finger length, in) is required for --model finger without a [finger] mesh")
+    if args.length_in is not None:
+        check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
     force = 1.0 if args.force_N is None else args.force_N
     duration = 0.01 if args.duration_s is None else args.duration_s
-    material, semi_axes = finger_inputs(load_config(args))
-    omega1 = finger_omega1(args.length_in, material, semi_axes)
+    material, semi_axes = finger_inputs(cfg)
+    mesh, length_in, finger = finger_of(cfg, args.length_in)
+    omega1 = finger_omega1(length_in, material, semi_axes, mesh=mesh)
     t_end = max(t_end_s or 0.0, run_length_s(duration, omega1))
-    model = finger_impulse_model(args.length_in, force_N=force, duration_s=duration, material=material,
-                                 semi_axes_m=semi_axes)
-    return model, t_end, 400, 2.0 * omega1, omega1
+    model = finger_impulse_model(length_in, force_N=force, duration_s=duration, material=material,
+                                 semi_axes_m=semi_axes, mesh=mesh)
+    if args.rom is not None:
+        model = reduce_impulse_model(model, n_modes=args.rom)
+    return model, t_end, 400, 2.0 * omega1, omega1, finger
 
 
 def cmd_identify(args):
@@ -203,17 +215,19 @@ def cmd_identify(args):
     from ccedi.rom.ccedi import critical_alpha, identify
     from ccedi.rom.measurement import check_sampling, load_response
 
+    if args.rom is not None and (args.rom < 1 or args.model != "finger"):
+        raise InputError(f"--rom {args.rom}: must be a number of modes >= 1, for --model finger")
     if not 0.0 < args.rtol < 1.0:
         raise InputError(f"--rtol must be in (0, 1), got {args.rtol}")
     if not 0.0 <= args.noise_band < 1.0:
         raise InputError(f"--noise-band {args.noise_band}: must be in 0..1 (fraction of the peak)")
     if args.alpha_cr:
-        model, t_end, n_outputs, guess, omega1 = _impulse_run(args, None)
+        model, t_end, n_outputs, guess, omega1, finger = _impulse_run(args, None)
         model = RunLog(model, "identify")
         print(f"identify: alpha_cr by bisection from 2 omega_1 = {guess:.4g} 1/s, FE runs of {t_end:.3g} s each",
               flush=True)
         crit = critical_alpha(model, guess, t_end, rtol=args.rtol, n_outputs=n_outputs)
-        result = {"model": args.model, "length_in": args.length_in, "alpha_cr_per_s": crit.alpha_cr_per_s,
+        result = {"model": args.model, "finger": finger, "alpha_cr_per_s": crit.alpha_cr_per_s,
                   "bracket_per_s": list(crit.bracket_per_s), "n_fe_runs": crit.n_runs,
                   "omega1_rad_s": omega1, "two_omega1_per_s": 2.0 * omega1,
                   "runs": [{"alpha_per_s": a, "oscillates": o} for a, o in crit.runs]}
@@ -227,7 +241,7 @@ def cmd_identify(args):
             force, duration = _pulse_from_force(data.time_s, data.force_N)
             args.force_N = force if args.force_N is None else args.force_N
             args.duration_s = duration if args.duration_s is None else args.duration_s
-        model, t_end, n_outputs, guess, omega1 = _impulse_run(args, float(data.time_s[-1]))
+        model, t_end, n_outputs, guess, omega1, finger = _impulse_run(args, float(data.time_s[-1]))
         check_sampling(data.time_s, omega1, data.source)
         model = RunLog(model, "identify")
         print(f"identify: CCEDI on {data.source}: FE runs of {t_end:.3g} s each, alpha_cr bracketed from "
@@ -235,7 +249,7 @@ def cmd_identify(args):
         crit = critical_alpha(model, guess, t_end, rtol=args.rtol, n_outputs=n_outputs)
         ident = identify(data.time_s, data.tip_displacement_m, model, guess, noise_band=args.noise_band,
                          critical=crit, t_end_s=t_end, n_outputs=n_outputs)
-        result = {"model": args.model, "length_in": args.length_in, "source": data.source,
+        result = {"model": args.model, "finger": finger, "source": data.source,
                   "regime": ident.regime, "alpha_per_s": ident.alpha_per_s, "zeta": ident.zeta,
                   "alpha_cr_per_s": ident.alpha_cr_per_s, "n_fe_runs": crit.n_runs + ident.n_runs,
                   "impulse_force_N": args.force_N, "impulse_duration_s": args.duration_s,
