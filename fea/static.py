@@ -145,12 +145,19 @@ def free_dofs(model: Model):
     return np.flatnonzero(~fixed.ravel())
 
 
+MIN_LOAD_STEP = 1.0 / 64.0
+"""Smallest load increment (fraction of the load) :func:`static_solve` cuts down to."""
+
+
 def static_solve(model: Model, f_ext, n_increments=2, tol=1e-7, max_iter=30, linear=False):
     """Nonlinear static equilibrium f_int(x) = f_ext by incremental Newton-Raphson.
 
     The load is applied in ``n_increments`` equal steps. Convergence of a step:
     ||residual|| <= tol ||f_ext||, or a Newton correction smaller than
-    tol ||displacement|| (when the residual has reached its round-off floor).
+    tol ||displacement|| (when the residual has reached its round-off floor). A step
+    whose Newton iterations invert an element or do not converge is retried from the
+    last equilibrium with half the increment, down to :data:`MIN_LOAD_STEP` of the load
+    (a large rotation whose linear predictor folds a small element needs it).
 
     Parameters
     ----------
@@ -177,8 +184,8 @@ def static_solve(model: Model, f_ext, n_increments=2, tol=1e-7, max_iter=30, lin
     InputError
         If ``f_ext`` does not have the mesh's node shape (n, 3) or is not finite.
     SolverError
-        If Newton does not converge within ``max_iter`` iterations in an increment, or
-        an element inverts.
+        If an increment of :data:`MIN_LOAD_STEP` of the load still fails (Newton does not
+        converge within ``max_iter`` iterations, or an element inverts).
     """
     f_ext = np.asarray(f_ext, dtype=float)
     if f_ext.shape != model.mesh.nodes.shape or not np.all(np.isfinite(f_ext)):
@@ -190,21 +197,34 @@ def static_solve(model: Model, f_ext, n_increments=2, tol=1e-7, max_iter=30, lin
         u = np.zeros(x.size)
         u[free] = spla.spsolve(K.tocsc(), f_ext.ravel()[free])
         return x + u.reshape(x.shape)
-    scale = max(np.linalg.norm(f_ext), 1e-300)
-    for load in np.linspace(0.0, 1.0, n_increments + 1)[1:]:
-        for _ in range(max_iter):
-            r = (load * f_ext - internal_force(model, x)).ravel()[free]
-            if np.linalg.norm(r) <= tol * scale:
-                break
-            K = tangent_stiffness(model, x)[free][:, free]
-            du = np.zeros(x.size)
-            du[free] = spla.spsolve(K.tocsc(), r)
-            x = x + du.reshape(x.shape)
-            if np.linalg.norm(du) <= tol * np.linalg.norm(x - model.mesh.nodes):
-                break                      # residual at its round-off floor; displacement converged
-        else:
-            raise SolverError(f"Newton did not converge at load factor {load:.3g} in {max_iter} iterations")
+    load, step = 0.0, 1.0 / n_increments
+    while load < 1.0:
+        target = min(1.0, load + step)
+        try:
+            x = _newton(model, x, target * f_ext, free, tol * max(np.linalg.norm(f_ext), 1e-300), tol, max_iter)
+            load = target
+        except SolverError as err:
+            step /= 2.0
+            if step < MIN_LOAD_STEP:
+                raise SolverError(f"static solve failed at load factor {target:.3g}: {err}") from None
     return x
+
+
+def _newton(model, x, f, free, atol, tol, max_iter):
+    """Newton iterations from x to f_int(x) = f on the ``free`` DOFs (residual below
+    ``atol`` [N], or a correction below ``tol`` of the displacement); SolverError if an
+    element inverts or ``max_iter`` iterations do not converge."""
+    for _ in range(max_iter):
+        r = (f - internal_force(model, x)).ravel()[free]
+        if np.linalg.norm(r) <= atol:
+            return x
+        K = tangent_stiffness(model, x)[free][:, free]
+        du = np.zeros(x.size)
+        du[free] = spla.spsolve(K.tocsc(), r)
+        x = x + du.reshape(x.shape)
+        if np.linalg.norm(du) <= tol * np.linalg.norm(x - model.mesh.nodes):
+            return x                       # residual at its round-off floor; displacement converged
+    raise SolverError(f"Newton did not converge in {max_iter} iterations")
 
 
 def tip_deflection(model: Model, force_N, direction=1, linear=False):
