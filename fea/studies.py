@@ -88,9 +88,9 @@ def table1_row(mesh, material, stiffness=True, omega1=False):
 
 
 def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES, finger=None):
-    """Table 1 of the paper for SM-A and SM-B with section semi-axes ``semi_axes_m`` [m]
-    (and a finger of the user's), each row from :func:`table1_row`, with the step ratio
-    to SM-A.
+    """Table 1 of the paper for SM-A, SM-B (hexahedra) and SM-C (10-node tetrahedra,
+    :func:`ccedi.fea.gmsh_fingers.sm_c`) with section semi-axes ``semi_axes_m`` [m] (and a
+    finger of the user's), each row from :func:`table1_row`, with the step ratio to SM-A.
 
     Parameters
     ----------
@@ -112,8 +112,11 @@ def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES
         ``{model name: row}``, rows as :func:`table1_row` plus ``step_ratio`` (steps to
         0.2 s over SM-A's).
     """
+    from .gmsh_fingers import sm_c
+
     meshes = {"SM-A": sm_a(length_in=length_in, semi_axes_m=semi_axes_m),
-              "SM-B": sm_b(length_in=length_in, semi_axes_m=semi_axes_m)}
+              "SM-B": sm_b(length_in=length_in, semi_axes_m=semi_axes_m),
+              "SM-C": sm_c(length_in=length_in, semi_axes_m=semi_axes_m)}
     out = {name: table1_row(mesh, material, stiffness) for name, mesh in meshes.items()}
     if finger is not None:
         out["finger"] = table1_row(finger, material, stiffness, omega1=True)

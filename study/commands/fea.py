@@ -1,6 +1,6 @@
 """``ccedi`` sub-commands of the explicit FEA (:mod:`ccedi.fea`).
 
-  table1         the paper's Table 1 for SM-A and SM-B (nodes, elements, time step, stiffness)
+  table1         the paper's Table 1 for SM-A, SM-B, SM-C and a [finger] mesh (nodes, elements, time step, stiffness)
   impulse        impulse response of the SM-A finger for several alpha (paper Fig. 7), CSV + plot
   contact        the finger on the drum over the object (paper 3.3-3.4), one alpha
   contact-sweep  the same for several alpha; paper Figs. 10, 13, 14 analogues
@@ -335,7 +335,7 @@ def add_parsers(sub):
         The sub-command registry of the ``ccedi`` parser.
     """
     t = add_command(sub, "table1", help="paper Table 1: nodes, elements, stable time step and tip stiffness "
-                       "of SM-A and SM-B")
+                       "of SM-A, SM-B, SM-C and the --config's [finger] mesh")
     t.add_argument("--length-in", type=float, default=4.5, help="finger length [in] (default 4.5)")
     add_output_argument(t, "--json", "file", help="write the table as JSON to this path")
     t.add_argument("--no-stiffness", action="store_true", help="skip the static stiffness solves")
