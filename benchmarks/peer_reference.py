@@ -11,7 +11,9 @@ frequency f1 (consistent mass):
 (ii)  SM-B the same (n = 1, 2);
       C3D20R meshes of more than BIG_C3D20R hexahedra only with ``--big``;
 (iii) 10-node tetrahedra as C3D10: SM-A's hexahedra each split into six (Kuhn) tetrahedra,
-      and Gmsh meshes of the elliptical prism (curved surface) at 4 mm and 2 mm.
+      and Gmsh meshes of the elliptical prism (curved surface) at 4 mm and 2 mm;
+(iv)  a finger that is not a prism (tapered, with a hole: :func:`_tapered_with_hole`) meshed
+      by Gmsh with 10-node tetrahedra at 4, 3 and 2 mm, as C3D10.
 
 Prints a table and writes benchmarks/peer_reference.json (wall times of the ccx runs, one
 thread, and the ccx version).
@@ -35,6 +37,10 @@ from ccedi.fea.units import inch_to_m
 OUT = Path(__file__).with_suffix(".json")
 LENGTH_IN = 4.5
 N_MODES = 2
+TAPER_TIP_SEMI_AXES = (7.5e-3, 5.5e-3)
+"""Tip section semi-axes (x, y) of the tapered finger [m]."""
+HOLE_RADIUS = 3.0e-3
+"""Radius of the tapered finger's hole along x at mid-length [m]."""
 BIG_C3D20R = 10000
 """Hexahedra above which C3D20R runs only with ``--big`` (SPOOLES on one thread: SM-A split
 2x2x2, 5800 hexahedra, takes about 80 s; 3x3x3 would take many minutes)."""
@@ -103,17 +109,33 @@ def kuhn_tet10(mesh, length_m):
     return Mesh(nodes=nodes, tets10=tets10, node_sets=_end_sets(nodes, length_m))
 
 
-def gmsh_prism_tet10(length_m, size_m):
-    """Gmsh (OpenCASCADE) 10-node tetrahedra of the elliptical prism at target size
-    ``size_m``; mid-edge nodes on the curved surface."""
+def _prism(occ, length_m):
+    """The paper's straight elliptical prism (OpenCASCADE)."""
+    disk = occ.addDisk(0.0, 0.0, 0.0, SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR)
+    occ.extrude([(2, disk)], 0.0, 0.0, length_m)
+
+
+def _tapered_with_hole(occ, length_m):
+    """A finger that is not a prism: the elliptical section tapering linearly from the
+    paper's 12 x 8.45 mm at the root to 7.5 x 5.5 mm at the tip, with a 6 mm hole along x
+    through the middle of its length."""
+    root = occ.addWire([occ.addEllipse(0.0, 0.0, 0.0, SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR)])
+    tip = occ.addWire([occ.addEllipse(0.0, 0.0, length_m, *TAPER_TIP_SEMI_AXES)])
+    body = occ.addThruSections([root, tip], makeSolid=True, makeRuled=True)
+    hole = occ.addCylinder(-0.02, 0.0, 0.5 * length_m, 0.04, 0.0, 0.0, HOLE_RADIUS)
+    occ.cut(body, [(3, hole)])
+
+
+def gmsh_tet10(geometry, length_m, size_m):
+    """Gmsh (OpenCASCADE) 10-node tetrahedra of ``geometry`` (a function adding the solid)
+    at target size ``size_m`` (smallest half of it); mid-edge nodes on curved surfaces."""
     import gmsh
     gmsh.initialize(["-noenv"])
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.option.setNumber("General.NumThreads", 1)
         gmsh.model.add("finger")
-        disk = gmsh.model.occ.addDisk(0.0, 0.0, 0.0, SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR)
-        gmsh.model.occ.extrude([(2, disk)], 0.0, 0.0, length_m)
+        geometry(gmsh.model.occ, length_m)
         gmsh.model.occ.synchronize()
         gmsh.option.setNumber("Mesh.MeshSizeMax", size_m)
         gmsh.option.setNumber("Mesh.MeshSizeMin", 0.5 * size_m)
@@ -151,6 +173,32 @@ def measure(label, mesh, hex_element=None):
     return row
 
 
+def richardson(rows):
+    """For each model and element type refined 1x, 2x and 3x: the observed convergence order p
+    of k(n) = k_inf + c n^-p (from the three stiffnesses) and the extrapolated stiffness and
+    f1 at that order."""
+    from scipy.optimize import brentq
+    out = {}
+    for row in rows:
+        if " split " not in row["model"]:
+            continue
+        name, n = row["model"].split(" split ")
+        out.setdefault(f"{name} {row['element']}", {})[int(n[0])] = row
+    result = {}
+    for key, series in out.items():
+        if not {1, 2, 3} <= set(series):
+            continue
+        k = [series[n]["stiffness_N_per_m"] for n in (1, 2, 3)]
+        f = [series[n]["f1_hz"] for n in (1, 2, 3)]
+        ratio = (k[0] - k[1]) / (k[1] - k[2])
+        p = brentq(lambda q: (1 - 2**-q) / (2**-q - 3**-q) - ratio, 0.2, 12.0)
+        c = (k[1] - k[2]) / (2**-p - 3**-p)
+        cf = (f[1] - f[2]) / (2**-p - 3**-p)
+        result[key] = {"observed_order": round(p, 2), "stiffness_N_per_m": round(k[2] - c * 3**-p, 3),
+                       "f1_hz": round(f[2] - cf * 3**-p, 4)}
+    return result
+
+
 def main(quick=False, big=False):
     L = inch_to_m(LENGTH_IN)
     print(f"{'model':34s} {'element':7s} {'nodes':>7s} {'elem':>6s} {'k [N/m]':>9s} {'f1 [Hz]':>9s} {'ccx [s]':>8s}")
@@ -166,13 +214,18 @@ def main(quick=False, big=False):
     if not quick:
         rows.append(measure("SM-A Kuhn 6 tets per hex", kuhn_tet10(sm_a(length_in=LENGTH_IN), L)))
         for size_mm in (4.0, 2.0):
-            rows.append(measure(f"Gmsh elliptical prism {size_mm:g} mm", gmsh_prism_tet10(L, 1e-3 * size_mm)))
+            rows.append(measure(f"Gmsh elliptical prism {size_mm:g} mm", gmsh_tet10(_prism, L, 1e-3 * size_mm)))
+        for size_mm in (4.0, 3.0, 2.0):
+            rows.append(measure(f"Gmsh tapered, hole {size_mm:g} mm", gmsh_tet10(_tapered_with_hole, L, 1e-3 * size_mm)))
     figures = {"finger": f"{LENGTH_IN} in elliptical prism, E 6.1 MPa, nu 0.49, rho 1000 kg/m^3, "
                          f"1 N along y over the tip face, root clamped",
                "solver": f"CalculiX {ccx_version()} (linear static + *FREQUENCY, consistent mass), 1 thread",
                "machine": f"{platform.machine()} {platform.python_implementation()} {platform.python_version()}",
-               "rows": rows}
+               "rows": rows, "extrapolated": richardson(rows)}
     OUT.write_text(json.dumps(figures, indent=2) + "\n")
+    for key, value in figures["extrapolated"].items():
+        print(f"{key} extrapolated (order {value['observed_order']}): k = {value['stiffness_N_per_m']} N/m, "
+              f"f1 = {value['f1_hz']} Hz")
     print(f"wrote {OUT}")
     return figures
 
