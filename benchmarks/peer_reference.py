@@ -216,7 +216,8 @@ def main(quick=False, big=False):
         for size_mm in (4.0, 2.0):
             rows.append(measure(f"Gmsh elliptical prism {size_mm:g} mm", gmsh_tet10(_prism, L, 1e-3 * size_mm)))
         for size_mm in (4.0, 3.0, 2.0):
-            rows.append(measure(f"Gmsh tapered, hole {size_mm:g} mm", gmsh_tet10(_tapered_with_hole, L, 1e-3 * size_mm)))
+            mesh = gmsh_tet10(_tapered_with_hole, L, 1e-3 * size_mm)
+            rows.append(measure(f"Gmsh tapered, hole {size_mm:g} mm", mesh))
     figures = {"finger": f"{LENGTH_IN} in elliptical prism, E 6.1 MPa, nu 0.49, rho 1000 kg/m^3, "
                          f"1 N along y over the tip face, root clamped",
                "solver": f"CalculiX {ccx_version()} (linear static + *FREQUENCY, consistent mass), 1 thread",

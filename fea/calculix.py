@@ -99,6 +99,30 @@ class Hex20Mesh(NamedTuple):
     node_sets: dict
 
 
+class CalculixDeck(NamedTuple):
+    """An input deck written by :func:`calculix_deck`.
+
+    Attributes
+    ----------
+    text : str
+        The deck.
+    tip_ids : numpy.ndarray
+        Tip node ids (0-based: the deck's ids less 1).
+    tip_weights : numpy.ndarray
+        Their weights w_i (share of the force, and of the tip deflection), summing to 1.
+    n_nodes : int
+        Nodes of the deck.
+    element_types : tuple of str
+        The CalculiX element types written.
+    """
+
+    text: str
+    tip_ids: np.ndarray
+    tip_weights: np.ndarray
+    n_nodes: int
+    element_types: tuple
+
+
 class CalculixResult(NamedTuple):
     """What one CalculiX run measured.
 
@@ -191,6 +215,15 @@ def _quad8_shape(xi, eta):
             np.concatenate([dy_c, dy_m], axis=1))
 
 
+def _quad4_shape(xi, eta):
+    """Bilinear 4-node quadrilateral: N (q, 4), dN/dxi and dN/deta (q, 4); corners (-1,-1),
+    (1,-1), (1,1), (-1,1)."""
+    cx = np.array([-1.0, 1.0, 1.0, -1.0])
+    cy = np.array([-1.0, -1.0, 1.0, 1.0])
+    x, y = xi[:, None], eta[:, None]
+    return 0.25 * (1 + x * cx) * (1 + y * cy), 0.25 * cx * (1 + y * cy), 0.25 * cy * (1 + x * cx)
+
+
 def _tri_shape(r, s, quadratic):
     """3- or 6-node triangle: N (q, k), dN/dr and dN/ds (q, k); corners (0,0), (1,0), (0,1),
     then the mid-edge nodes of the edges 0-1, 1-2, 2-0."""
@@ -208,11 +241,11 @@ def _tri_shape(r, s, quadratic):
 
 def _face_rule(n_face_nodes):
     """Quadrature points and weights on the reference face, and the shape functions there:
-    3 x 3 Gauss on the quadrilateral, the 6-point degree-4 rule on the triangle."""
-    if n_face_nodes == 8:
+    3 x 3 Gauss on quadrilaterals, the 6-point degree-4 rule on triangles."""
+    if n_face_nodes in (4, 8):
         g, wg = np.polynomial.legendre.leggauss(3)
         xi, eta = (a.ravel() for a in np.meshgrid(g, g))
-        return _quad8_shape(xi, eta), np.outer(wg, wg).ravel()
+        return (_quad8_shape if n_face_nodes == 8 else _quad4_shape)(xi, eta), np.outer(wg, wg).ravel()
     a, b = 0.445948490915965, 0.091576213509771
     r = np.array([a, 1 - 2 * a, a, b, 1 - 2 * b, b])
     s = np.array([a, a, 1 - 2 * a, b, b, 1 - 2 * b])
@@ -247,12 +280,21 @@ def _consistent_face_loads(nodes, faces):
     return load
 
 
+class _Blocks(NamedTuple):
+    """A mesh as CalculiX element blocks: nodes, {type: connectivity}, node sets, and
+    (connectivity, local face node ids) pairs of each block's faces."""
+
+    nodes: np.ndarray
+    cells: dict
+    node_sets: dict
+    faces: list
+
+
 def _cell_blocks(mesh, hex_element):
-    """Nodes, {CalculiX type: connectivity}, node sets and the quadratic/linear tip faces of
-    ``mesh`` written with hexahedra as ``hex_element``."""
+    """``mesh`` as :class:`_Blocks`, hexahedra written as ``hex_element``."""
     if hex_element not in HEX_ELEMENTS:
         raise InputError(f"hex_element must be one of {', '.join(HEX_ELEMENTS)}, got {hex_element!r}")
-    blocks, face_sets = {}, []
+    cells, faces = {}, []
     nodes, node_sets = mesh.nodes, mesh.node_sets
     if len(mesh.hexes) and hex_element.startswith("C3D20"):
         if len(mesh.tets4) or len(mesh.tets10):
@@ -260,28 +302,49 @@ def _cell_blocks(mesh, hex_element):
                              f"{mesh.element_type!r}); write mixed meshes with C3D8I")
         quad = hex8_to_hex20(mesh)
         nodes, node_sets = quad.nodes, quad.node_sets
-        blocks[hex_element] = quad.hexes20
-        face_sets.append((quad.hexes20, _quadratic_faces(HEX_FACES, HEX_EDGES, 8)))
+        cells[hex_element] = quad.hexes20
+        faces.append((quad.hexes20, _quadratic_faces(HEX_FACES, HEX_EDGES, 8)))
     elif len(mesh.hexes):
-        blocks[hex_element] = mesh.hexes
+        cells[hex_element] = mesh.hexes
+        faces.append((mesh.hexes, HEX_FACES))
     if len(mesh.tets4):
-        blocks["C3D4"] = mesh.tets4
-        face_sets.append((mesh.tets4, TET_FACES))
+        cells["C3D4"] = mesh.tets4
+        faces.append((mesh.tets4, TET_FACES))
     if len(mesh.tets10):
-        blocks["C3D10"] = mesh.tets10
-        face_sets.append((mesh.tets10, _quadratic_faces(TET_FACES, TET10_EDGES, 4)))
-    if not blocks:
+        cells["C3D10"] = mesh.tets10
+        faces.append((mesh.tets10, _quadratic_faces(TET_FACES, TET10_EDGES, 4)))
+    if not cells:
         raise InputError("mesh has no solid elements (hexahedra or tetrahedra) to write")
-    return nodes, blocks, node_sets, face_sets
+    return _Blocks(nodes, cells, node_sets, faces)
+
+
+def _block_tip_weights(mesh, blocks, tip):
+    """Tip node ids of ``blocks`` and their weights (see :func:`tip_weights`)."""
+    if tip not in mesh.node_sets:
+        raise InputError(f"mesh has no node set {tip!r} (has {sorted(mesh.node_sets)})")
+    ids = np.asarray(blocks.node_sets[tip], dtype=np.int64)
+    if set(blocks.cells) <= {"C3D8I", "C3D8"}:
+        return ids, face_node_weights(mesh, ids)
+    in_set = np.zeros(len(blocks.nodes), dtype=bool)
+    in_set[ids] = True
+    load = np.zeros(len(blocks.nodes))
+    for cells, local in blocks.faces:
+        faces = _faces_in_set(cells, local, in_set)
+        if len(faces):
+            load += _consistent_face_loads(blocks.nodes, faces)
+    if not load.any():
+        raise InputError(f"node set {tip!r} contains no complete element face")
+    return ids, load[ids] / load[ids].sum()
 
 
 def tip_weights(mesh, hex_element="C3D20R", tip="tip"):
     """Weights w_i (summing to 1) of the tip nodes for a uniform traction on the tip faces,
     as the deck of :func:`calculix_deck` writes the mesh.
 
-    8-node hexahedra (C3D8I, C3D8): ccedi's :func:`ccedi.fea.model.face_node_weights`.
-    Otherwise the consistent w_i = int N_i dA / A over the faces lying wholly in the set
-    (3 x 3 Gauss points on 8-node quadrilaterals, 6 points on triangles).
+    A mesh of 8-node hexahedra only (C3D8I, C3D8): ccedi's
+    :func:`ccedi.fea.model.face_node_weights`. Otherwise the consistent
+    w_i = int N_i dA / A over the faces lying wholly in the set (3 x 3 Gauss points on
+    quadrilaterals, 6 points on triangles).
 
     Parameters
     ----------
@@ -305,22 +368,7 @@ def tip_weights(mesh, hex_element="C3D20R", tip="tip"):
         If the node set is missing or holds no complete element face, or
         ``hex_element`` is unknown.
     """
-    if tip not in mesh.node_sets:
-        raise InputError(f"mesh has no node set {tip!r} (has {sorted(mesh.node_sets)})")
-    nodes, blocks, node_sets, face_sets = _cell_blocks(mesh, hex_element)
-    ids = np.asarray(node_sets[tip], dtype=np.int64)
-    if set(blocks) <= {"C3D8I", "C3D8"}:
-        return ids, face_node_weights(mesh, ids)
-    in_set = np.zeros(len(nodes), dtype=bool)
-    in_set[ids] = True
-    load = np.zeros(len(nodes))
-    for cells, local in face_sets:
-        faces = _faces_in_set(cells, local, in_set)
-        if len(faces):
-            load += _consistent_face_loads(nodes, faces)
-    if not load.any():
-        raise InputError(f"node set {tip!r} contains no complete element face")
-    return ids, load[ids] / load[ids].sum()
+    return _block_tip_weights(mesh, _cell_blocks(mesh, hex_element), tip)
 
 
 def _real(value):
@@ -378,14 +426,8 @@ def calculix_deck(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_eleme
 
     Returns
     -------
-    deck : str
-        The input deck.
-    ids : numpy.ndarray
-        Tip node ids (0-based, as in the deck less 1).
-    weights : numpy.ndarray
-        Their weights.
-    n_nodes : int
-        Nodes of the deck.
+    CalculixDeck
+        The deck text, tip node ids and weights, node count and element types.
 
     Raises
     ------
@@ -404,9 +446,10 @@ def calculix_deck(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_eleme
         raise InputError(f"force_N must be a finite non-zero force in N (or None), got {force_N!r}")
     if force_N is None and n_modes == 0:
         raise InputError("nothing to compute: give force_N (static step) or n_modes >= 1 (frequency step)")
-    nodes, blocks, node_sets, _ = _cell_blocks(mesh, hex_element)
+    blocks = _cell_blocks(mesh, hex_element)
+    nodes = blocks.nodes
     if weights is None:
-        ids, weights = tip_weights(mesh, hex_element, tip)
+        ids, weights = _block_tip_weights(mesh, blocks, tip)
     else:
         if hex_element.startswith("C3D20") and len(mesh.hexes):
             raise InputError(f"weights cannot be given with {hex_element} (its mid-edge tip nodes are "
@@ -419,11 +462,11 @@ def calculix_deck(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_eleme
     lines = ["*HEADING", "ccedi clamped finger (SI units: m, kg, s, N, Pa)", "*NODE, NSET=NALL"]
     lines += [f"{i + 1}, {_real(x)}, {_real(y)}, {_real(z)}" for i, (x, y, z) in enumerate(nodes.tolist())]
     first = 1
-    for etype, cells in blocks.items():
+    for etype, cells in blocks.cells.items():
         lines += [f"*ELEMENT, TYPE={etype}, ELSET=EALL"] + _element_lines(first, cells)
         first += len(cells)
     for name, set_name in ((clamp, "ROOT"), (tip, "TIP")):
-        lines += [f"*NSET, NSET={set_name}"] + _id_lines(node_sets[name])
+        lines += [f"*NSET, NSET={set_name}"] + _id_lines(blocks.node_sets[name])
     lines += ["*MATERIAL, NAME=RUBBER", "*ELASTIC", f"{_real(material.E)}, {_real(material.nu)}",
               "*DENSITY", _real(material.rho), "*SOLID SECTION, ELSET=EALL, MATERIAL=RUBBER",
               "*BOUNDARY", "ROOT, 1, 3"]
@@ -433,7 +476,7 @@ def calculix_deck(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_eleme
         lines += ["*NODE PRINT, NSET=TIP", "U", "*END STEP"]
     if n_modes:
         lines += ["*STEP", "*FREQUENCY", f"{int(n_modes)}", "*END STEP"]
-    return "\n".join(lines) + "\n", ids, weights, len(nodes)
+    return CalculixDeck("\n".join(lines) + "\n", ids, weights, len(nodes), tuple(blocks.cells))
 
 
 def parse_tip_displacements(dat_text):
@@ -553,7 +596,7 @@ def run_ccx(deck, executable="ccx", threads=1, keep_dir=None):
     Parameters
     ----------
     deck : str
-        The input deck (:func:`calculix_deck`).
+        The input deck text (:attr:`CalculixDeck.text` of :func:`calculix_deck`).
     executable : str, optional
         Name or path of the ``ccx`` program. Default ``"ccx"``.
     threads : int, optional
@@ -639,17 +682,16 @@ def run_calculix(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_elemen
     SolverError
         If ``ccx`` is missing or fails.
     """
-    deck, ids, w, n_nodes = calculix_deck(mesh, material, force_N, direction, n_modes, hex_element, weights)
-    dat, wall = run_ccx(deck, executable, threads, keep_dir)
+    deck = calculix_deck(mesh, material, force_N, direction, n_modes, hex_element, weights)
+    dat, wall = run_ccx(deck.text, executable, threads, keep_dir)
     delta = stiffness = float("nan")
     if force_N is not None:
         u = parse_tip_displacements(dat)
-        delta = float(sum(wi * u[i][direction] for i, wi in zip(ids, w)))
+        delta = float(sum(w * u[i][direction] for i, w in zip(deck.tip_ids, deck.tip_weights)))
         stiffness = force_N / delta
     omega = f = np.zeros(0)
     if n_modes:
         omega, f = parse_frequencies(dat)
-    types = [t for t, c in (("hex", mesh.hexes), ("C3D4", mesh.tets4), ("C3D10", mesh.tets10)) if len(c)]
-    return CalculixResult(element_type="+".join(hex_element if t == "hex" else t for t in types),
-                          n_nodes=n_nodes, n_elements=mesh.n_elements, tip_deflection_m=delta,
-                          stiffness_N_per_m=stiffness, frequencies_hz=f, omega_rad_s=omega, wall_time_s=wall)
+    return CalculixResult(element_type="+".join(deck.element_types), n_nodes=deck.n_nodes,
+                          n_elements=mesh.n_elements, tip_deflection_m=delta, stiffness_N_per_m=stiffness,
+                          frequencies_hz=f, omega_rad_s=omega, wall_time_s=wall)

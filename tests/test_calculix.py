@@ -101,7 +101,8 @@ def hex20_volumes(nodes, hexes20):
 @pytest.mark.parametrize("hex_element, meshio_type", [("C3D8I", "hexahedron"), ("C3D20R", "hexahedron20")])
 def test_deck_reads_back_with_meshio(tmp_path, hex_element, meshio_type):
     mesh = block(0.01, 0.006, 0.03, 2, 2, 3, jitter=0.2)
-    deck, ids, w, n_nodes = calculix_deck(mesh, STEEL_LIKE, 1.0, 1, 2, hex_element)
+    deck, ids, w, n_nodes, types = calculix_deck(mesh, STEEL_LIKE, 1.0, 1, 2, hex_element)
+    assert types == (hex_element,)
     (tmp_path / "job.inp").write_text(deck)
     back = meshio.read(tmp_path / "job.inp", file_format="abaqus")
     if hex_element == "C3D20R":
@@ -124,7 +125,7 @@ def test_tet_deck_reads_back_with_meshio(tmp_path):
     hexes = block(0.01, 0.006, 0.02, 1, 1, 2)
     quad = tet10_block(hexes)
     mesh = Mesh(nodes=quad.nodes, tets4=kuhn_tets(hexes), tets10=quad.tets10, node_sets=quad.node_sets)
-    deck = calculix_deck(mesh, STEEL_LIKE, 1.0, n_modes=0)[0]
+    deck = calculix_deck(mesh, STEEL_LIKE, 1.0, n_modes=0).text
     (tmp_path / "job.inp").write_text(deck)
     back = meshio.read(tmp_path / "job.inp", file_format="abaqus")
     assert [c.type for c in back.cells] == ["tetra", "tetra10"]
@@ -167,6 +168,9 @@ def test_consistent_tip_weights_are_the_textbook_ones():
     np.testing.assert_allclose(np.sort(w[mid]), [1 / 6] * 4 + [1 / 3], rtol=1e-12)
     ids, w = tip_weights(mesh, "C3D8I")
     np.testing.assert_allclose(w, 0.25)
+    mixed = Mesh(nodes=mesh.nodes, hexes=mesh.hexes[1:], tets4=kuhn_tets(Mesh(mesh.nodes, mesh.hexes[:1])),
+                 node_sets=mesh.node_sets)                            # bilinear tip face by quadrature
+    np.testing.assert_allclose(tip_weights(mixed, "C3D8I")[1], 0.25, rtol=1e-12)
 
 
 def test_bad_inputs_give_one_line_errors():
