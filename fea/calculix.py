@@ -7,12 +7,13 @@ The deck (:func:`calculix_deck`) holds, in SI units (m, kg, s, N, Pa):
   free of shear locking and hourglass modes), C3D8 (full integration) or, after
   :func:`hex8_to_hex20`, C3D20R / C3D20 (quadratic, 2x2x2 reduced or 3x3x3 full integration);
   4-node tetrahedra as C3D4, 10-node tetrahedra as C3D10. ccedi's node orders are VTK's,
-  which for these elements coincide with CalculiX's (CalculiX User's Manual 2.20, section 6.2,
-  element figures): hexahedron corners 1-4 on one face and 5-8 above them, the 20-node
-  hexahedron's mid-edge nodes 9-20 on the edges 1-2, 2-3, 3-4, 4-1, 5-6, 6-7, 7-8, 8-5, 1-5,
-  2-6, 3-7, 4-8, the 10-node tetrahedron's 5-10 on 1-2, 2-3, 1-3, 1-4, 2-4, 3-4
-  (``tests/test_calculix.py`` reads decks back with meshio's Abaqus reader, which uses the
-  same orders, and checks the mid-edge nodes geometrically);
+  which for these elements coincide with CalculiX's (and Abaqus's): hexahedron corners 1-4
+  on one face and 5-8 above them, the 20-node hexahedron's mid-edge nodes 9-20 on the edges
+  1-2, 2-3, 3-4, 4-1, 5-6, 6-7, 7-8, 8-5, 1-5, 2-6, 3-7, 4-8, the 10-node tetrahedron's 5-10
+  on 1-2, 2-3, 1-3, 1-4, 2-4, 3-4. ``tests/test_calculix.py`` reads decks back with meshio's
+  Abaqus reader (which maps these types without reordering) and runs C3D20R and C3D10
+  cantilevers against beam theory (a mid-edge order swapped between the top face and the
+  vertical edges makes ccx stop: "nonpositive jacobian");
 * *NSET ROOT and TIP (the mesh's ``root`` and ``tip`` node sets), *MATERIAL with *ELASTIC
   (E, nu) and *DENSITY (rho): the small-strain limit of ccedi's neo-Hookean solid
   (:class:`ccedi.fea.material.NeoHookean`);
@@ -396,7 +397,7 @@ def _element_lines(first_id, cells):
 
 
 def calculix_deck(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_element="C3D20R",
-                  weights=None, clamp="root", tip="tip"):
+                  weights=None, clamp="root", tip="tip", store_matrices=False):
     """A CalculiX input deck of a clamped finger: a linear tip-load step and/or a frequency step.
 
     Parameters
@@ -423,6 +424,10 @@ def calculix_deck(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_eleme
         Node set whose every degree of freedom is fixed. Default ``"root"``.
     tip : str, optional
         Node set carrying the force. Default ``"tip"``.
+    store_matrices : bool, optional
+        Make the frequency step ``SOLVER=MATRIXSTORAGE``: CalculiX then writes the stiffness
+        and mass matrices of the free degrees of freedom (``job.sti``, ``job.mas``,
+        ``job.dof``) instead of solving. Default False.
 
     Returns
     -------
@@ -446,6 +451,8 @@ def calculix_deck(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_eleme
         raise InputError(f"force_N must be a finite non-zero force in N (or None), got {force_N!r}")
     if force_N is None and n_modes == 0:
         raise InputError("nothing to compute: give force_N (static step) or n_modes >= 1 (frequency step)")
+    if store_matrices and (force_N is not None or n_modes == 0):
+        raise InputError("store_matrices needs force_N=None and n_modes >= 1 (a frequency step alone)")
     blocks = _cell_blocks(mesh, hex_element)
     nodes = blocks.nodes
     if weights is None:
@@ -475,7 +482,8 @@ def calculix_deck(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_eleme
         lines += [f"{i + 1}, {direction + 1}, {_real(w * force_N)}" for i, w in zip(ids, weights) if w != 0.0]
         lines += ["*NODE PRINT, NSET=TIP", "U", "*END STEP"]
     if n_modes:
-        lines += ["*STEP", "*FREQUENCY", f"{int(n_modes)}", "*END STEP"]
+        lines += ["*STEP", "*FREQUENCY" + (", SOLVER=MATRIXSTORAGE" if store_matrices else ""),
+                  f"{int(n_modes)}", "*END STEP"]
     return CalculixDeck("\n".join(lines) + "\n", ids, weights, len(nodes), tuple(blocks.cells))
 
 
@@ -590,7 +598,7 @@ def ccx_version(executable="ccx"):
     return match.group(1)
 
 
-def run_ccx(deck, executable="ccx", threads=1, keep_dir=None):
+def run_ccx(deck, executable="ccx", threads=1, keep_dir=None, read=("dat",)):
     """Run CalculiX on a deck in a temporary directory and return its ``.dat`` output.
 
     Parameters
@@ -604,11 +612,14 @@ def run_ccx(deck, executable="ccx", threads=1, keep_dir=None):
     keep_dir : str or pathlib.Path, optional
         Run there instead (``job.inp``, ``job.dat``, ... are kept). Default a temporary
         directory, removed afterwards.
+    read : tuple of str, optional
+        Extensions of the output files to return (``"dat"``; ``"sti"``, ``"mas"``, ``"dof"``
+        of a matrix-storage frequency step). Default ``("dat",)``.
 
     Returns
     -------
-    dat_text : str
-        Contents of ``job.dat``.
+    outputs : dict
+        {extension: contents of ``job.<extension>``}.
     wall_time_s : float
         Wall time of the ``ccx`` process [s].
 
@@ -628,14 +639,15 @@ def run_ccx(deck, executable="ccx", threads=1, keep_dir=None):
         work.mkdir(parents=True, exist_ok=True)
         (work / "job.inp").write_text(deck)
         t0 = time.perf_counter()
-        proc = subprocess.run([exe, "-i", "job"], cwd=work, capture_output=True, text=True)
+        proc = subprocess.run([exe, "-i", "job"], cwd=work, env=env, capture_output=True, text=True)
         wall = time.perf_counter() - t0
         errors = [line.strip() for line in proc.stdout.splitlines() if "*ERROR" in line]
-        dat = work / "job.dat"
-        if proc.returncode != 0 or errors or not dat.exists():
-            detail = errors[0] if errors else (proc.stderr.strip() or proc.stdout.strip()[-200:])
+        missing = [ext for ext in read if not (work / f"job.{ext}").exists()]
+        if proc.returncode != 0 or errors or missing:
+            detail = errors[0] if errors else (proc.stderr.strip() or proc.stdout.strip()[-200:]
+                                               or f"no job.{missing[0]} written")
             raise SolverError(f"ccx failed (exit status {proc.returncode}): {one_line(detail)}")
-        return dat.read_text(), wall
+        return {ext: (work / f"job.{ext}").read_text() for ext in read}, wall
 
 
 def run_calculix(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_element="C3D20R",
@@ -683,7 +695,8 @@ def run_calculix(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_elemen
         If ``ccx`` is missing or fails.
     """
     deck = calculix_deck(mesh, material, force_N, direction, n_modes, hex_element, weights)
-    dat, wall = run_ccx(deck.text, executable, threads, keep_dir)
+    outputs, wall = run_ccx(deck.text, executable, threads, keep_dir)
+    dat = outputs["dat"]
     delta = stiffness = float("nan")
     if force_N is not None:
         u = parse_tip_displacements(dat)
@@ -695,3 +708,77 @@ def run_calculix(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_elemen
     return CalculixResult(element_type="+".join(deck.element_types), n_nodes=deck.n_nodes,
                           n_elements=mesh.n_elements, tip_deflection_m=delta, stiffness_N_per_m=stiffness,
                           frequencies_hz=f, omega_rad_s=omega, wall_time_s=wall)
+
+
+class CalculixMatrices(NamedTuple):
+    """Stiffness and mass matrices CalculiX assembles, on the free degrees of freedom.
+
+    Attributes
+    ----------
+    stiffness : scipy.sparse.csr_matrix
+        K, symmetric, shape (m, m) [N/m].
+    mass : scipy.sparse.csr_matrix
+        M (CalculiX's consistent mass, integrated at the element's stiffness integration
+        points: singular for C3D20R's 2 x 2 x 2), symmetric, shape (m, m) [kg].
+    dofs : numpy.ndarray
+        (m, 2): the node id (0-based, of the written mesh) and direction (0, 1, 2) of each
+        row; ids >= ``n_nodes`` are nodes CalculiX adds itself (the internal
+        incompatible-mode nodes of C3D8I).
+    n_nodes : int
+        Nodes of the written mesh (with the mid-edge nodes of C3D20 types).
+    """
+
+    stiffness: object
+    mass: object
+    dofs: np.ndarray
+    n_nodes: int
+
+
+def _symmetric_from_upper(text, size):
+    """A symmetric sparse matrix from CalculiX's 1-based ``row col value`` upper triangle."""
+    import scipy.sparse as sp
+    data = np.loadtxt(text.splitlines(), ndmin=2)
+    i, j, v = data[:, 0].astype(np.int64) - 1, data[:, 1].astype(np.int64) - 1, data[:, 2]
+    off = i != j
+    return sp.coo_matrix((np.concatenate([v, v[off]]), (np.concatenate([i, j[off]]), np.concatenate([j, i[off]]))),
+                         shape=(size, size)).tocsr()
+
+
+def calculix_matrices(mesh, material, hex_element="C3D20R", executable="ccx", threads=1):
+    """The stiffness and consistent mass matrices CalculiX assembles for the clamped mesh.
+
+    Runs a ``*FREQUENCY, SOLVER=MATRIXSTORAGE`` step (:func:`calculix_deck` with
+    ``store_matrices``), so a peer K can be paired with another mass matrix (e.g. ccedi's
+    lumped one) or compared entry by entry.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The ccedi mesh (:class:`ccedi.fea.mesh.Mesh`) with node sets ``root`` and ``tip``.
+    material : NeoHookean
+        E, nu, rho of the solid (:class:`ccedi.fea.material.NeoHookean`).
+    hex_element : str, optional
+        How hexahedra are written, one of :data:`HEX_ELEMENTS`. Default ``"C3D20R"``.
+    executable : str, optional
+        Name or path of ``ccx``. Default ``"ccx"``.
+    threads : int, optional
+        Threads of the run, >= 1. Default 1.
+
+    Returns
+    -------
+    CalculixMatrices
+        K, M and the degree of freedom of each row.
+
+    Raises
+    ------
+    InputError
+        If an input is out of range (see :func:`calculix_deck`).
+    SolverError
+        If ``ccx`` is missing or fails.
+    """
+    deck = calculix_deck(mesh, material, None, 1, 1, hex_element, store_matrices=True)
+    outputs, _ = run_ccx(deck.text, executable, threads, read=("sti", "mas", "dof"))
+    node_dir = np.array([line.split(".") for line in outputs["dof"].split()], dtype=np.int64) - 1
+    m = len(node_dir)
+    return CalculixMatrices(stiffness=_symmetric_from_upper(outputs["sti"], m),
+                            mass=_symmetric_from_upper(outputs["mas"], m), dofs=node_dir, n_nodes=deck.n_nodes)

@@ -7,10 +7,11 @@ import shutil
 import meshio
 import numpy as np
 import pytest
+from scipy.linalg import eigh
 
 from ccedi.errors import InputError, SolverError
-from ccedi.fea.calculix import (TET10_EDGES, calculix_deck, ccx_version, hex8_to_hex20, run_calculix,
-                                tip_weights)
+from ccedi.fea.calculix import (TET10_EDGES, calculix_deck, calculix_matrices, ccx_version, hex8_to_hex20,
+                                run_calculix, tip_weights)
 from ccedi.fea.hex8 import element_geometry
 from ccedi.fea.material import NeoHookean
 from ccedi.fea.mesh import Mesh
@@ -181,6 +182,8 @@ def test_bad_inputs_give_one_line_errors():
         calculix_deck(mesh, STEEL_LIKE, weights=np.full(4, 0.25))
     with pytest.raises(InputError, match="weights must be 4 finite numbers"):
         calculix_deck(mesh, STEEL_LIKE, hex_element="C3D8I", weights=np.full(4, 0.3))
+    with pytest.raises(InputError, match="store_matrices needs force_N=None"):
+        calculix_deck(mesh, STEEL_LIKE, n_modes=2, store_matrices=True)
     with pytest.raises(InputError, match="nothing to compute"):
         calculix_deck(mesh, STEEL_LIKE, force_N=None, n_modes=0)
     with pytest.raises(InputError, match="no node set 'tip'"):
@@ -238,6 +241,22 @@ def test_tet10_cantilever_matches_beam_theory():
                                                 rel=0.03)
     assert r.frequencies_hz[0] == pytest.approx(euler_bernoulli_f1(E, rho, BAR["lx"], BAR["ly"], BAR["lz"]), rel=0.03)
     assert r.element_type == "C3D10"
+
+
+@needs_ccx
+def test_stored_matrices_give_ccx_frequencies():
+    """K and M read from a matrix-storage step: symmetric, on the free degrees of freedom
+    (every node but the clamped ones, 3 each), and their generalised eigenvalues are the
+    frequencies CalculiX itself finds."""
+    mesh = block(BAR["lx"], BAR["ly"], BAR["lz"], 2, 2, 6)
+    mats = calculix_matrices(mesh, STEEL_LIKE, "C3D20")
+    K, M = mats.stiffness.toarray(), mats.mass.toarray()
+    np.testing.assert_array_equal(K, K.T)
+    free = np.setdiff1d(np.arange(mats.n_nodes), hex8_to_hex20(mesh).node_sets["root"])
+    np.testing.assert_array_equal(mats.dofs, np.column_stack([np.repeat(free, 3), np.tile([0, 1, 2], len(free))]))
+    omega2 = eigh(K, M, eigvals_only=True, subset_by_index=[0, 2])
+    r = run_calculix(mesh, STEEL_LIKE, None, 1, 3, "C3D20")
+    np.testing.assert_allclose(np.sqrt(omega2), r.omega_rad_s, rtol=1e-5)
 
 
 @needs_ccx
