@@ -228,6 +228,7 @@ def main(quick=False, big=False):
                          f"1 N along y over the tip face, root clamped",
                "solver": f"CalculiX {ccx_version()} (linear static + *FREQUENCY, consistent mass), 1 thread",
                "machine": f"{platform.machine()} {platform.python_implementation()} {platform.python_version()}",
+               "note": "ccx wall times are of one thread on a shared 2-core machine (other jobs running)",
                "rows": rows, "extrapolated": richardson(rows)}
     OUT.write_text(json.dumps(figures, indent=2) + "\n")
     for key, value in figures["extrapolated"].items():
