@@ -91,3 +91,23 @@ def test_impulse_on_an_imported_finger(finger, tmp_path):
     assert summary["warnings"] == []                                 # energy balance, strains: healthy
     run = summary["runs"][0]
     assert run["steps"] == pytest.approx(0.01 / run["dt_initial_s"], rel=0.05)
+
+
+@pytest.mark.skipif(__import__("shutil").which("ccx") is None, reason="CalculiX (ccx) not installed: "
+                    "apt-get install calculix-ccx")
+def test_tet10_is_calculix_c3d10_where_the_volumetric_treatment_does_not_matter(finger):
+    """At nu = 0 (no lam term, so mean dilatation changes nothing) ccedi's 10-node
+    tetrahedron and CalculiX's C3D10 are the same element: the same tip stiffness on the
+    same imported mesh. At nu = 0.49 ccedi's (mean dilatation, locking-free) is the softer."""
+    from ccedi.fea.calculix import run_calculix
+    from ccedi.fea.material import NeoHookean
+    from ccedi.fea.model import face_node_weights
+
+    _, msh, _ = finger
+    mesh = read_finger_mesh(msh, clamp="clamp", tip="tip")
+    weights = face_node_weights(mesh, mesh.node_sets["tip"])
+    for nu, (lo, hi) in ((0.0, (1.0 - 1e-6, 1.0 + 1e-6)), (0.49, (0.95, 1.0))):
+        material = NeoHookean(E=6.1e6, nu=nu, rho=1000.0)
+        k = 1.0 / tip_deflection(cantilever_model(mesh, material), 1.0, linear=True)
+        peer = run_calculix(mesh, material, weights=weights)
+        assert lo < k / peer.stiffness_N_per_m < hi
