@@ -30,7 +30,9 @@ paper Eq. (6) (:func:`ccedi.fea.hex8.element_time_step`) with the characteristic
 """
 import numba as nb
 import numpy as np
+import scipy.linalg as sla
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from .fastmath import FASTMATH
 from .hex8 import BULK_VISCOSITY_C0, BULK_VISCOSITY_C1, element_time_step
@@ -450,3 +452,126 @@ def averaged_tangent(x, conn, grad, weight, average, mu, lam):
     volume_gradient = sp.csr_matrix((a.ravel(), (np.repeat(np.arange(ne), 3 * nn), dofs.ravel())), shape=(ne, n3))
     G = average @ volume_gradient
     return (K + G.T @ sp.diags(lam * (1.0 - lnJ) / (Jbar**2 * ref)) @ G).tocsr()
+
+
+def reference_element_stiffness(grad, weight, mu, lam):
+    """Stiffness of each element alone at the reference state (F = I), with the element's
+    own, un-averaged volumetric term.
+
+    ``K_(ki)(lm) = sum_g w_g mu [(g_k . g_l) d_im + g_km g_li] + lam a_ki a_lm / V0``,
+    ``g_k = grad0 N_k(g)``, ``a_k = sum_g w_g g_k`` (= dv/dx_k), ``V0 = sum_g w_g``: the
+    tangent of :func:`averaged_tangent` for one element, one group of its own. For the
+    mean dilatation (one group per element) it is the element's exact share of the
+    assembled tangent; for the nodal averaging it bounds that share from above, since
+    ``V0_a (sum_e w_ae eps_e)^2 <= sum_e V0_e/4 eps_e^2`` (Jensen, ``w_ae = V0_e / (4 V0_a)``).
+
+    Parameters
+    ----------
+    grad : numpy.ndarray
+        Reference shape-function gradients at the points, shape (e, g, nn, 3) [1/m].
+    weight : numpy.ndarray
+        Reference volume of each point, shape (e, g) [m^3].
+    mu : float
+        Shear modulus [Pa].
+    lam : float
+        First Lame constant [Pa].
+
+    Returns
+    -------
+    numpy.ndarray
+        K_e, shape (e, 3 nn, 3 nn) [N/m], DOF index node*3 + direction.
+    """
+    ne, _, nn, _ = grad.shape
+    K = np.einsum("eg,egkm,egli->ekilm", mu * weight, grad, grad, optimize=True)
+    gg = np.einsum("eg,egkj,eglj->ekl", mu * weight, grad, grad, optimize=True)
+    diag = np.arange(3)
+    K[:, :, diag, :, diag] += gg[None]                           # (3, e, nn, nn) view of d_im
+    a = np.einsum("eg,egki->eki", weight, grad).reshape(ne, 3 * nn)
+    return K.reshape(ne, 3 * nn, 3 * nn) + (lam / weight.sum(axis=1))[:, None, None] * a[:, :, None] * a[:, None, :]
+
+
+def largest_frequency(K, m):
+    """Largest natural frequency of the undamped system (K, diag m): the square root of
+    the largest eigenvalue of ``M^-1/2 K M^-1/2``.
+
+    Dense ``eigvalsh`` up to 600 DOFs, else Lanczos (``eigsh``, largest algebraic); the
+    Ritz value is raised by its residual norm, which bounds its distance to an eigenvalue.
+
+    Parameters
+    ----------
+    K : scipy.sparse.spmatrix
+        Stiffness, shape (3 n, 3 n) [N/m], symmetric positive semi-definite.
+    m : numpy.ndarray
+        Nodal masses, shape (n,) [kg]; nodes with m = 0 (and their K rows) are left out.
+
+    Returns
+    -------
+    float
+        omega_max [rad/s]; nan when Lanczos does not converge.
+    """
+    dofs = (3 * np.flatnonzero(m > 0.0)[:, None] + np.arange(3)).ravel()
+    s = sp.diags(1.0 / np.sqrt(np.repeat(m[m > 0.0], 3)))
+    A = (s @ sp.csr_matrix(K)[dofs][:, dofs] @ s).tocsr()
+    if A.shape[0] <= 600:
+        return float(np.sqrt(sla.eigvalsh(A.toarray())[-1]))
+    try:
+        theta, y = spla.eigsh(A, k=1, which="LA", tol=1e-10)
+    except spla.ArpackNoConvergence:
+        return np.nan
+    return float(np.sqrt(theta[0] + np.linalg.norm(A @ y[:, 0] - theta[0] * y[:, 0])))
+
+
+def time_step_length_factors(nodes, conn, grad, weight, average, element_mass, mu, lam, c):
+    """Per-element factors kappa_e of the characteristic length ``Le = kappa_e h_e``
+    (h the current minimum altitude of the corner tetrahedron) of paper Eq. (6).
+
+    Each element's largest generalised eigenvalue omega_e^2 of (K_e, M_e) at the
+    reference state (K_e of :func:`reference_element_stiffness`, M_e its lumped masses)
+    bounds the assembled one: with ``K <= sum_e K_e`` and ``M = sum_e M_e`` the Rayleigh
+    quotient gives ``omega_max <= max_e omega_e`` (the element eigenvalue theorem). This
+    bound is conservative on assembled meshes (the neighbours share each element's
+    stiffest mode), so it is scaled by the measured ``s = max_e omega_e / omega_max`` of
+    the assembled reference tangent (:func:`largest_frequency`)::
+
+        kappa_e = s c (2 / omega_e) / h_e0
+
+    At rest Eq. (6) then gives ``min_e kappa_e h_e0 / c = 2 / omega_max``, the exact
+    limit of central differences; during the run ``Le`` follows each element's altitude
+    and enters the bulk viscosity. Without a converged Lanczos value s = 1 (the bound).
+
+    Parameters
+    ----------
+    nodes : numpy.ndarray
+        Reference nodal positions, shape (n, 3) [m].
+    conn : numpy.ndarray
+        Connectivity, shape (e, nn); its first 4 columns are the corners.
+    grad : numpy.ndarray
+        Reference shape-function gradients at the points, shape (e, g, nn, 3) [1/m].
+    weight : numpy.ndarray
+        Reference volume of each point, shape (e, g) [m^3].
+    average : scipy.sparse.csr_matrix
+        Averaging matrix S (:func:`averaging_matrix`).
+    element_mass : numpy.ndarray
+        Lumped masses of each element's nodes, shape (e, nn) [kg], all > 0.
+    mu : float
+        Shear modulus [Pa].
+    lam : float
+        First Lame constant [Pa].
+    c : float
+        Dilatational wave speed [m/s].
+
+    Returns
+    -------
+    numpy.ndarray
+        kappa_e, shape (e,) [-].
+    """
+    if len(conn) == 0:
+        return np.zeros(0)
+    s = 1.0 / np.sqrt(np.repeat(element_mass, 3, axis=1))
+    Ke = reference_element_stiffness(grad, weight, mu, lam)
+    omega_e = np.sqrt(np.linalg.eigvalsh(s[:, :, None] * Ke * s[:, None, :])[:, -1])
+    m = np.zeros(len(nodes))
+    np.add.at(m, conn, element_mass)
+    omega_max = largest_frequency(averaged_tangent(nodes, conn, grad, weight, average, mu, lam), m)
+    scale = max(1.0, omega_e.max() / omega_max) if omega_max > 0.0 else 1.0
+    return scale * c * (2.0 / omega_e) / min_altitude(nodes[conn[:, :4]])

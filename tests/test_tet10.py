@@ -21,7 +21,7 @@ def test_hrz_mass_of_a_straight_element():
     """Corners 6/216 and mid-edge nodes 32/216 of rho V on any straight-edged element."""
     corners = np.array([[0.0, 0, 0], [2e-3, 0, 0], [3e-4, 1.5e-3, 0], [5e-4, 4e-4, 1.8e-3]])
     mesh = quadratic_tets(Mesh(nodes=corners, tets4=np.array([[0, 1, 2, 3]])))
-    group = tet10.tet10_group(mesh.nodes, mesh.tets10)
+    group = tet10.tet10_group(mesh.nodes, mesh.tets10, NeoHookean(6.1e6, 0.49, 1000.0))
     m = tet10.lumped_mass(mesh.nodes, group, 1000.0)
     V = np.linalg.det(corners[1:] - corners[0]) / 6
     assert group.volume[0] == pytest.approx(V, rel=1e-12)
