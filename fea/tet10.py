@@ -56,7 +56,7 @@ QUADRATURE_POINTS = np.array([[_B, _B, _B], [_A, _B, _B], [_B, _A, _B], [_B, _B,
 """The 4 integration points (r, s, t) = (L1, L2, L3); weights 1/24 each (of the unit
 tetrahedron's volume 1/6)."""
 
-Tet10Group = namedtuple("Tet10Group", "tets grad weight volume length_factor")
+Tet10Group = namedtuple("Tet10Group", "tets grad weight volume length_factor bulk_force")
 Tet10Group.__doc__ = """Quadratic tetrahedra (structure of arrays), as
 :func:`internal_forces_numba` takes them.
 
@@ -73,6 +73,8 @@ volume : (e,) ndarray
 length_factor : (e,) ndarray
     kappa_e of the characteristic length ``Le = kappa_e h_e`` [-]
     (:func:`ccedi.fea.tetra.time_step_length_factors`).
+bulk_force : (n_nodes, 3) ndarray
+    Output of the kernels: the bulk-viscosity part of the nodal forces [N].
 """
 
 
@@ -180,7 +182,8 @@ def tet10_group(nodes, tets, material):
     """
     tets = np.asarray(tets, dtype=np.int64).reshape(-1, 10)
     if len(tets) == 0:
-        return Tet10Group(tets, np.zeros((0, 4, 10, 3)), np.zeros((0, 4)), np.zeros(0), np.zeros(0))
+        return Tet10Group(tets, np.zeros((0, 4, 10, 3)), np.zeros((0, 4)), np.zeros(0), np.zeros(0),
+                          np.zeros((len(nodes), 3)))
     X = nodes[tets]
     corners = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
     det_c, _, _ = _reference_jacobians(X, corners)
@@ -196,7 +199,7 @@ def tet10_group(nodes, tets, material):
     element_mass = material.rho * volume[:, None] * hrz_fractions(X)
     kappa = time_step_length_factors(nodes, tets, grad, weight, averaging_matrix(tets, len(nodes), nodal=False),
                                      element_mass, material.mu, material.lam, material.wave_speed)
-    return Tet10Group(tets, grad, weight, volume, kappa)
+    return Tet10Group(tets, grad, weight, volume, kappa, np.zeros((len(nodes), 3)))
 
 
 def hrz_fractions(X):
@@ -314,7 +317,7 @@ def internal_forces_numpy(x, v, group, material, f):
         return np.inf, 0.0, 0.0, -1
     return averaged_forces_numpy(x, v, group.tets, group.grad, group.weight,
                                  averaging_matrix(group.tets, len(x), nodal=False), characteristic_length(x, group),
-                                 material.mu, material.lam, material.rho, material.c, f)
+                                 material.mu, material.lam, material.rho, material.c, f, group.bulk_force)
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
@@ -325,7 +328,8 @@ def internal_forces_numba(x, v, group, material, f):
     ``Jbar = sum_g w_g J_g / V0`` and its pressure ``lam ln(Jbar) / Jbar``; the bulk
     viscosity q of the element's volumetric strain rate and its critical step (paper
     Eq. 6); the point forces ``w_g [mu (F - F^-T) + (pbar - q) J F^-T] grad0 N_k``. Same
-    contract as :func:`internal_forces_numpy`; the forces are added to ``f``.
+    contract as :func:`internal_forces_numpy`; the forces are added to ``f``, their
+    bulk-viscosity part written to ``group.bulk_force``.
 
     Parameters
     ----------
@@ -358,6 +362,8 @@ def internal_forces_numba(x, v, group, material, f):
         return np.inf, 0.0, 0.0, -1
     mu, lam, rho, c = material.mu, material.lam, material.rho, material.c
     Fs = np.empty((4, 3, 3)); Gs = np.empty((4, 3, 3)); Js = np.empty(4); Fdot = np.empty((3, 3))
+    fb = group.bulk_force
+    fb[:, :] = 0.0
     dt_min = np.inf
     w = 0.0
     p_b = 0.0
@@ -387,4 +393,6 @@ def internal_forces_numba(x, v, group, material, f):
         p = lam * lnJ / Jb - q
         for g in range(4):
             w += add_point_forces(f, tets, grad[e, g], e, weight[e, g], Fs[g], Gs[g], Js[g], mu, p)
+            if q > 0.0:
+                add_point_forces(fb, tets, grad[e, g], e, weight[e, g], Fs[g], Gs[g], Js[g], 0.0, -q)
     return dt_min, w, p_b, -1

@@ -47,7 +47,7 @@ from .tetra import (
     time_step_length_factors,
 )
 
-Tet4Group = namedtuple("Tet4Group", "tets grad volume node_volume length_factor node_now node_pressure")
+Tet4Group = namedtuple("Tet4Group", "tets grad volume node_volume length_factor node_now node_pressure bulk_force")
 Tet4Group.__doc__ = """Average nodal pressure tetrahedra (structure of arrays), as
 :func:`internal_forces_numba` takes them.
 
@@ -68,6 +68,8 @@ node_now : (n_nodes,) ndarray
     Work array: current nodal volumes [m^3].
 node_pressure : (n_nodes,) ndarray
     Work array: nodal pressures lam ln(Jbar_a) / Jbar_a [Pa].
+bulk_force : (n_nodes, 3) ndarray
+    Output of the kernels: the bulk-viscosity part of the nodal forces [N].
 """
 
 
@@ -112,7 +114,7 @@ def tet4_group(nodes, tets, material):
         element_mass = np.repeat((material.rho * volume / 4.0)[:, None], 4, axis=1)
         kappa = time_step_length_factors(nodes, tets, grad[:, None], volume[:, None], average, element_mass,
                                          material.mu, material.lam, material.wave_speed)
-    return Tet4Group(tets, grad, volume, average @ volume, kappa, np.zeros(n), np.zeros(n))
+    return Tet4Group(tets, grad, volume, average @ volume, kappa, np.zeros(n), np.zeros(n), np.zeros((n, 3)))
 
 
 def lumped_mass(group, n_nodes, rho):
@@ -204,7 +206,7 @@ def internal_forces_numpy(x, v, group, material, f):
         return np.inf, 0.0, 0.0, -1
     return averaged_forces_numpy(x, v, group.tets, group.grad[:, None], group.volume[:, None],
                                  averaging_matrix(group.tets, len(x), nodal=True), characteristic_length(x, group),
-                                 material.mu, material.lam, material.rho, material.c, f)
+                                 material.mu, material.lam, material.rho, material.c, f, group.bulk_force)
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
@@ -215,7 +217,8 @@ def internal_forces_numba(x, v, group, material, f):
     ``p_a = lam ln(Jbar_a) / Jbar_a`` and the volumetric energy; the element forces
     ``V0 [mu (F - F^-T) + (pbar_e - q_e) J F^-T] grad0 N_k`` (module docstring), with the
     bulk viscosity q_e and the critical step of paper Eq. (6). Same contract as
-    :func:`internal_forces_numpy`; the forces are added to ``f``.
+    :func:`internal_forces_numpy`; the forces are added to ``f``, their bulk-viscosity part
+    written to ``group.bulk_force``.
 
     Parameters
     ----------
@@ -224,7 +227,7 @@ def internal_forces_numba(x, v, group, material, f):
     v : numpy.ndarray
         Nodal velocities, shape (n, 3) [m/s].
     group : Tet4Group
-        The tetrahedra (its work arrays are overwritten).
+        The tetrahedra (its work arrays and ``bulk_force`` are overwritten).
     material : SolidMaterial
         ``mu``, ``lam`` [Pa], ``rho`` [kg/m^3], ``c`` [m/s].
     f : numpy.ndarray
@@ -247,7 +250,8 @@ def internal_forces_numba(x, v, group, material, f):
     if ne == 0:
         return np.inf, 0.0, 0.0, -1
     mu, lam, rho, c = material.mu, material.lam, material.rho, material.c
-    V0n, now, pres = group.node_volume, group.node_now, group.node_pressure
+    V0n, now, pres, fb = group.node_volume, group.node_now, group.node_pressure, group.bulk_force
+    fb[:, :] = 0.0
     F = np.empty((3, 3)); Fdot = np.empty((3, 3)); G = np.empty((3, 3))
     now[:] = 0.0
     for e in range(ne):
@@ -277,6 +281,8 @@ def internal_forces_numba(x, v, group, material, f):
         q, dte = bulk_viscosity(Le, e_v, rho, c)
         dt_min = min(dt_min, dte)
         p_b -= q * e_v * J * volume[e]
+        if q > 0.0:
+            add_point_forces(fb, tets, grad[e], e, volume[e], F, G, J, 0.0, -q)
         pbar = 0.25 * (pres[tets[e, 0]] + pres[tets[e, 1]] + pres[tets[e, 2]] + pres[tets[e, 3]])
         w += add_point_forces(f, tets, grad[e], e, volume[e], F, G, J, mu, pbar - q)
     return dt_min, w, p_b, -1

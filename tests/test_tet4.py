@@ -49,11 +49,13 @@ def test_compiled_kernel_matches_numpy_reference(kind):
     out = []
     for kernel in (MODULES[kind].internal_forces_numpy, MODULES[kind].internal_forces_numba):
         f = np.ones_like(x)                       # the kernels add to f
-        out.append((kernel(x, v, group_of(model, kind), material, f), f))
-    (ref, f_ref), (fast, f_fast) = out
+        out.append((kernel(x, v, group_of(model, kind), material, f), f, group_of(model, kind).bulk_force.copy()))
+    (ref, f_ref, fb_ref), (fast, f_fast, fb_fast) = out
     assert ref[3] == fast[3] == -1 and ref[2] > 0.0
     assert np.allclose(fast[:3], ref[:3], rtol=1e-10, atol=0.0)
     assert np.abs(f_fast - f_ref).max() <= 1e-10 * np.abs(f_ref - 1.0).max()
+    assert np.abs(fb_fast - fb_ref).max() <= 1e-10 * np.abs(fb_ref).max()
+    assert np.sum(fb_ref * v) == pytest.approx(ref[2], rel=1e-10)    # their power is the dissipation
 
 
 @pytest.mark.parametrize("kind", ["tet4", "tet10"])
@@ -271,3 +273,20 @@ def test_step_is_stable_at_0_9_and_diverges_at_1_3_on_a_curved_mesh(kind):
     model = cantilever_model(curved_mesh(kind), RUBBER_49)
     assert not _diverges(model, 0.9, steps=5000)
     assert _diverges(model, 1.3)
+
+
+@pytest.mark.parametrize("kind", ["tet4", "tet10"])
+def test_random_velocity_run_balances_energy(kind):
+    """Undamped run from random nodal velocities at the default step (every mode rings, up
+    to the highest, and the bulk viscosity dissipates a good part of the energy): the balance
+    closes within 1 % (the kinetic energy of central differences, m v^{n-1/2} v^{n+1/2} / 2,
+    and the bulk-viscous work on the mid-step velocity; with m vb^2 / 2 and the element
+    power at v^{n-1/2} it was off by 13 % (tet-4) and 21 % (tet-10))."""
+    hexes = box_cantilever(*BOX, 2, 2, 8)
+    mesh = split_hexes(hexes) if kind == "tet4" else quadratic_tets(split_hexes(hexes))
+    model = cantilever_model(mesh, RUBBER_49)
+    v0 = 1e-3 * np.random.default_rng(0).standard_normal(mesh.nodes.shape)
+    res = run(model, 2000 * 0.9 * critical_time_step(model), n_outputs=20, v0=v0)
+    h = res.history
+    assert h.bulk_viscosity_energy_J.iloc[-1] > 0.1 * (h.kinetic_energy_J + h.internal_energy_J).iloc[0]
+    assert res.summary["energy_balance_error"] < 0.01
