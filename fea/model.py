@@ -202,13 +202,13 @@ class Model:
             self.geometry: ElementGeometry = element_geometry(self.mesh.nodes, self.mesh.hexes)
         except ValueError as err:
             raise InputError(f"mesh: {err}") from None
-        try:
-            self.tet4: Tet4Group = tet4_group(self.mesh.nodes, self.mesh.tets4)
-            self.tet10: Tet10Group = tet10_group(self.mesh.nodes, self.mesh.tets10)
-        except ValueError as err:
-            raise InputError(f"mesh: {err}") from None
         if self.material is None and self.mesh.n_elements:
             raise InputError("material is required when the mesh has solid elements")
+        try:
+            self.tet4: Tet4Group = tet4_group(self.mesh.nodes, self.mesh.tets4, self.material)
+            self.tet10: Tet10Group = tet10_group(self.mesh.nodes, self.mesh.tets10, self.material)
+        except ValueError as err:
+            raise InputError(f"mesh: {err}") from None
         E = self.material.E if self.material is not None else 0.0
         self.kappa = hourglass_stiffness(self.geometry, E, self.hourglass_coefficient)
         self.rods = tuple(self.rods)

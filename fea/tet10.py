@@ -22,8 +22,15 @@ mass, integrated with a collapsed Gauss rule exact for curved elements; for a
 straight-edged element corners get 6/216 and mid-edge nodes 32/216 of rho V (all
 positive, unlike the row sum, which gives the corners negative mass).
 
-Critical step: paper Eq. (6) with ``Le = TIME_STEP_LENGTH_FACTOR x`` the minimum altitude
-of the corner tetrahedron; the factor comes from the element's largest eigenvalue.
+Critical step: paper Eq. (6) with ``Le = kappa_e h_e``, h the current minimum altitude
+of the corner tetrahedron and kappa_e set at construction from the element's largest
+eigenvalue (HRZ mass, mean-dilatation term included) and the assembled mesh's
+(:func:`ccedi.fea.tetra.time_step_length_factors`). Measured at nu = 0.49, the element
+bound alone is 1.27-1.67 times below the real limit 2/omega_max on straight-edged box
+meshes (kappa_e 0.29-0.39), 1.94 on SM-C (0.28-0.40) and 1.27 on a curved Gmsh finger
+(0.18-0.45, its stiffest curved elements far below any fixed factor of h): the
+assembled scale brings the estimate at rest to the real limit (within 0.3 %, never
+above it).
 """
 from collections import namedtuple
 
@@ -41,6 +48,7 @@ from .tetra import (
     inverse3,
     min_altitude,
     point_gradients,
+    time_step_length_factors,
 )
 
 _A = (5.0 + 3.0 * np.sqrt(5.0)) / 20.0
@@ -49,19 +57,7 @@ QUADRATURE_POINTS = np.array([[_B, _B, _B], [_A, _B, _B], [_B, _A, _B], [_B, _B,
 """The 4 integration points (r, s, t) = (L1, L2, L3); weights 1/24 each (of the unit
 tetrahedron's volume 1/6)."""
 
-TIME_STEP_LENGTH_FACTOR = 0.42
-"""``Le = factor x`` minimum altitude h of the corner tetrahedron.
-
-Eigenvalue check (nu = 0.49, HRZ mass; 2/omega_max in units of h/c): one element alone
-gives 0.275 (regular) to 0.40 (random shapes), 0.54 of the 4-node element's value on
-every shape, since the small corner masses (6/216) vibrate against the mid-edge nodes;
-assembled meshes are less stiff than their stiffest element: 0.418 on a cube mesh split
-into 6 tetrahedra per cube (the lowest measured), 0.45-0.63 on elliptical prisms, with
-or without 15 % nodal jitter. The factor 0.42 puts the estimate at that lowest assembled
-limit, so TSSFAC = 0.9 runs at 90 % of it, and 1.3 of the estimate diverges
-(tests/test_tet10.py)."""
-
-Tet10Group = namedtuple("Tet10Group", "tets grad weight volume")
+Tet10Group = namedtuple("Tet10Group", "tets grad weight volume length_factor bulk_force")
 Tet10Group.__doc__ = """Quadratic tetrahedra (structure of arrays), as
 :func:`internal_forces_numba` takes them.
 
@@ -75,6 +71,11 @@ weight : (e, 4) ndarray
     Reference volume of each point, quadrature weight times det(dX/dxi) [m^3].
 volume : (e,) ndarray
     Reference volumes V0_e = sum of the weights [m^3].
+length_factor : (e,) ndarray
+    kappa_e of the characteristic length ``Le = kappa_e h_e`` [-]
+    (:func:`ccedi.fea.tetra.time_step_length_factors`).
+bulk_force : (n_nodes, 3) ndarray
+    Output of the kernels: the bulk-viscosity part of the nodal forces [N].
 """
 
 
@@ -154,8 +155,9 @@ def collapsed_rule(n):
     return points, wu * wv * wt * (1 - u) ** 2 * (1 - v)
 
 
-def tet10_group(nodes, tets):
-    """Reference geometry of 10-node tetrahedra at the 4 integration points.
+def tet10_group(nodes, tets, material):
+    """Reference geometry of 10-node tetrahedra at the 4 integration points and their
+    time-step length factors.
 
     Parameters
     ----------
@@ -163,11 +165,14 @@ def tet10_group(nodes, tets):
         Reference nodal positions, shape (n, 3) [m].
     tets : numpy.ndarray
         Connectivity, shape (e, 10).
+    material : NeoHookean
+        ``mu``, ``lam`` [Pa], ``rho`` [kg/m^3], ``wave_speed`` [m/s] (unused without
+        elements, may then be None).
 
     Returns
     -------
     Tet10Group
-        Gradients, point volumes and element volumes.
+        Gradients, point volumes, element volumes and length factors.
 
     Raises
     ------
@@ -178,7 +183,8 @@ def tet10_group(nodes, tets):
     """
     tets = np.asarray(tets, dtype=np.int64).reshape(-1, 10)
     if len(tets) == 0:
-        return Tet10Group(tets, np.zeros((0, 4, 10, 3)), np.zeros((0, 4)), np.zeros(0))
+        return Tet10Group(tets, np.zeros((0, 4, 10, 3)), np.zeros((0, 4)), np.zeros(0), np.zeros(0),
+                          np.zeros((len(nodes), 3)))
     X = nodes[tets]
     corners = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
     det_c, _, _ = _reference_jacobians(X, corners)
@@ -190,7 +196,32 @@ def tet10_group(nodes, tets):
         raise ValueError(f"tet10 element {e} is inverted or degenerate (det dX/dxi <= 0 at a point or corner)")
     grad = np.einsum("mkj,emji->emki", dN, np.linalg.inv(Jm))
     weight = det / 24.0
-    return Tet10Group(tets, grad, weight, weight.sum(axis=1))
+    volume = weight.sum(axis=1)
+    element_mass = material.rho * volume[:, None] * hrz_fractions(X)
+    kappa = time_step_length_factors(nodes, tets, grad, weight, averaging_matrix(tets, len(nodes), nodal=False),
+                                     element_mass, material.mu, material.lam, material.wave_speed)
+    return Tet10Group(tets, grad, weight, volume, kappa, np.zeros((len(nodes), 3)))
+
+
+def hrz_fractions(X):
+    """HRZ shares of the element mass: the consistent mass diagonal ``M_kk = int N_k^2 dV``
+    (collapsed Gauss rule, exact for curved elements) over its sum.
+
+    Parameters
+    ----------
+    X : numpy.ndarray
+        Reference positions of the elements' nodes, shape (e, 10, 3) [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        Fractions summing to 1 per element, shape (e, 10); corners 6/216 and mid-edge
+        nodes 32/216 for a straight-edged element.
+    """
+    points, w = collapsed_rule(5)
+    det, _, _ = _reference_jacobians(X, points)
+    diag = np.einsum("m,em,mk->ek", w, det, shape_functions(points) ** 2)
+    return diag / diag.sum(axis=1, keepdims=True)
 
 
 def lumped_mass(nodes, group, rho):
@@ -215,17 +246,13 @@ def lumped_mass(nodes, group, rho):
         Nodal masses, shape (n,) [kg].
     """
     m = np.zeros(len(nodes))
-    if len(group.tets) == 0:
-        return m
-    points, w = collapsed_rule(5)
-    det, _, _ = _reference_jacobians(nodes[group.tets], points)
-    diag = np.einsum("m,em,mk->ek", w, det, shape_functions(points) ** 2)
-    np.add.at(m, group.tets, rho * group.volume[:, None] * diag / diag.sum(axis=1, keepdims=True))
+    if len(group.tets):
+        np.add.at(m, group.tets, rho * group.volume[:, None] * hrz_fractions(nodes[group.tets]))
     return m
 
 
 def characteristic_length(x, group):
-    """``Le = TIME_STEP_LENGTH_FACTOR x`` the minimum altitude of the corner tetrahedra.
+    """``Le = kappa_e x`` the minimum altitude of the corner tetrahedra.
 
     Parameters
     ----------
@@ -239,7 +266,7 @@ def characteristic_length(x, group):
     numpy.ndarray
         Le, shape (e,) [m].
     """
-    return TIME_STEP_LENGTH_FACTOR * min_altitude(x[group.tets[:, :4]])
+    return group.length_factor * min_altitude(x[group.tets[:, :4]])
 
 
 def tangent_stiffness(x, group, material):
@@ -291,7 +318,7 @@ def internal_forces_numpy(x, v, group, material, f):
         return np.inf, 0.0, 0.0, -1
     return averaged_forces_numpy(x, v, group.tets, group.grad, group.weight,
                                  averaging_matrix(group.tets, len(x), nodal=False), characteristic_length(x, group),
-                                 material.mu, material.lam, material.rho, material.c, f)
+                                 material.mu, material.lam, material.rho, material.c, f, group.bulk_force)
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
@@ -302,7 +329,8 @@ def internal_forces_numba(x, v, group, material, f):
     ``Jbar = sum_g w_g J_g / V0`` and its pressure ``lam ln(Jbar) / Jbar``; the bulk
     viscosity q of the element's volumetric strain rate and its critical step (paper
     Eq. 6); the point forces ``w_g [mu (F - F^-T) + (pbar - q) J F^-T] grad0 N_k``. Same
-    contract as :func:`internal_forces_numpy`; the forces are added to ``f``.
+    contract as :func:`internal_forces_numpy`; the forces are added to ``f``, their
+    bulk-viscosity part written to ``group.bulk_force``.
 
     Parameters
     ----------
@@ -335,6 +363,8 @@ def internal_forces_numba(x, v, group, material, f):
         return np.inf, 0.0, 0.0, -1
     mu, lam, rho, c = material.mu, material.lam, material.rho, material.c
     Fs = np.empty((4, 3, 3)); Gs = np.empty((4, 3, 3)); Js = np.empty(4); Fdot = np.empty((3, 3))
+    fb = group.bulk_force
+    fb[:, :] = 0.0
     dt_min = np.inf
     w = 0.0
     p_b = 0.0
@@ -357,11 +387,13 @@ def internal_forces_numba(x, v, group, material, f):
         lnJ = np.log(Jb)
         w += 0.5 * lam * volume[e] * lnJ * lnJ
         e_v = vol_rate / vol
-        Le = TIME_STEP_LENGTH_FACTOR * corner_min_altitude(x, tets, e)
+        Le = group.length_factor[e] * corner_min_altitude(x, tets, e)
         q, dte = bulk_viscosity(Le, e_v, rho, c)
         dt_min = min(dt_min, dte)
         p_b -= q * vol_rate
         p = lam * lnJ / Jb - q
         for g in range(4):
             w += add_point_forces(f, tets, grad[e, g], e, weight[e, g], Fs[g], Gs[g], Js[g], mu, p)
+            if q > 0.0:
+                add_point_forces(fb, tets, grad[e, g], e, weight[e, g], Fs[g], Gs[g], Js[g], 0.0, -q)
     return dt_min, w, p_b, -1

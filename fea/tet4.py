@@ -18,8 +18,14 @@ carries the mean ``pbar_e`` of its 4 nodal pressures ``p_a = lam ln(Jbar_a) / Jb
 
     f_k = V0_e [mu (F - F^-T) + (pbar_e - q_e) J F^-T] grad0 N_k
 
-Lumped mass rho V0 / 4 per corner. Critical step: paper Eq. (6) with ``Le`` the minimum
-altitude 3 V / A_max (see :data:`TIME_STEP_LENGTH_FACTOR` for the eigenvalue check).
+Lumped mass rho V0 / 4 per corner. Critical step: paper Eq. (6) with
+``Le = kappa_e h_e``, h the current minimum altitude 3 V / A_max and kappa_e set at
+construction from the element's largest eigenvalue (with its own, un-averaged lam term,
+which bounds the averaged one) and the assembled mesh's
+(:func:`ccedi.fea.tetra.time_step_length_factors`). Measured at nu = 0.49, the element
+bound alone is 1.64-2.45 times below the real limit 2/omega_max on straight-edged box
+meshes (kappa_e 0.54-0.72 before scaling): the assembled scale brings the estimate at
+rest to the real limit (within 0.3 %, never above it).
 """
 from collections import namedtuple
 
@@ -38,20 +44,10 @@ from .tetra import (
     inverse3,
     min_altitude,
     point_gradients,
+    time_step_length_factors,
 )
 
-TIME_STEP_LENGTH_FACTOR = 1.0
-"""``Le = factor x`` minimum altitude h (as LS-DYNA).
-
-Eigenvalue check (nu = 0.49; 2/omega_max in units of h/c): one element alone gives
-0.51 (regular) to 0.74 (random shapes), its breathing mode; assembled meshes are far
-less stiff than that bound, the nodal averaging spreading each volume change over the
-neighbours: 1.10 on a cube mesh split into 6 tetrahedra per cube (the lowest measured),
-1.09-1.9 on elliptical prisms with or without 15 % nodal jitter (nu = 0.3 and 0.49).
-So h itself is safe (TSSFAC = 0.9 runs at <= 82 % of the lowest measured limit) and
-near: 1.3 of the estimate diverges on the cube mesh (tests/test_tet4.py)."""
-
-Tet4Group = namedtuple("Tet4Group", "tets grad volume node_volume node_now node_pressure")
+Tet4Group = namedtuple("Tet4Group", "tets grad volume node_volume length_factor node_now node_pressure bulk_force")
 Tet4Group.__doc__ = """Average nodal pressure tetrahedra (structure of arrays), as
 :func:`internal_forces_numba` takes them.
 
@@ -65,15 +61,20 @@ volume : (e,) ndarray
     Reference volumes V0_e [m^3].
 node_volume : (n_nodes,) ndarray
     Nodal reference volumes V0_a = sum V0_e / 4 [m^3] (0 on nodes of no tetrahedron).
+length_factor : (e,) ndarray
+    kappa_e of the characteristic length ``Le = kappa_e h_e`` [-]
+    (:func:`ccedi.fea.tetra.time_step_length_factors`).
 node_now : (n_nodes,) ndarray
     Work array: current nodal volumes [m^3].
 node_pressure : (n_nodes,) ndarray
     Work array: nodal pressures lam ln(Jbar_a) / Jbar_a [Pa].
+bulk_force : (n_nodes, 3) ndarray
+    Output of the kernels: the bulk-viscosity part of the nodal forces [N].
 """
 
 
-def tet4_group(nodes, tets):
-    """Reference geometry of 4-node tetrahedra.
+def tet4_group(nodes, tets, material):
+    """Reference geometry and time-step length factors of 4-node tetrahedra.
 
     Parameters
     ----------
@@ -81,11 +82,14 @@ def tet4_group(nodes, tets):
         Reference nodal positions, shape (n, 3) [m].
     tets : numpy.ndarray
         Connectivity, shape (e, 4).
+    material : NeoHookean
+        ``mu``, ``lam`` [Pa], ``rho`` [kg/m^3], ``wave_speed`` [m/s] (unused without
+        elements, may then be None).
 
     Returns
     -------
     Tet4Group
-        Gradients, volumes, nodal volumes and work arrays.
+        Gradients, volumes, nodal volumes, length factors and work arrays.
 
     Raises
     ------
@@ -104,8 +108,13 @@ def tet4_group(nodes, tets):
         raise ValueError(f"tet4 element {bad} is inverted or degenerate (volume {volume[bad]:.3g} m^3)")
     dN = np.array([[-1.0, -1.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
     grad = np.einsum("kj,eji->eki", dN, np.linalg.inv(D)) if len(tets) else np.zeros((0, 4, 3))
-    node_volume = averaging_matrix(tets, n, nodal=True) @ volume
-    return Tet4Group(tets, grad, volume, node_volume, np.zeros(n), np.zeros(n))
+    average = averaging_matrix(tets, n, nodal=True)
+    kappa = np.zeros(0)
+    if len(tets):
+        element_mass = np.repeat((material.rho * volume / 4.0)[:, None], 4, axis=1)
+        kappa = time_step_length_factors(nodes, tets, grad[:, None], volume[:, None], average, element_mass,
+                                         material.mu, material.lam, material.wave_speed)
+    return Tet4Group(tets, grad, volume, average @ volume, kappa, np.zeros(n), np.zeros(n), np.zeros((n, 3)))
 
 
 def lumped_mass(group, n_nodes, rho):
@@ -131,7 +140,7 @@ def lumped_mass(group, n_nodes, rho):
 
 
 def characteristic_length(x, group):
-    """``Le = TIME_STEP_LENGTH_FACTOR x`` the minimum altitude of each element.
+    """``Le = kappa_e x`` the minimum altitude of each element.
 
     Parameters
     ----------
@@ -145,7 +154,7 @@ def characteristic_length(x, group):
     numpy.ndarray
         Le, shape (e,) [m].
     """
-    return TIME_STEP_LENGTH_FACTOR * min_altitude(x[group.tets])
+    return group.length_factor * min_altitude(x[group.tets])
 
 
 def tangent_stiffness(x, group, material):
@@ -197,7 +206,7 @@ def internal_forces_numpy(x, v, group, material, f):
         return np.inf, 0.0, 0.0, -1
     return averaged_forces_numpy(x, v, group.tets, group.grad[:, None], group.volume[:, None],
                                  averaging_matrix(group.tets, len(x), nodal=True), characteristic_length(x, group),
-                                 material.mu, material.lam, material.rho, material.c, f)
+                                 material.mu, material.lam, material.rho, material.c, f, group.bulk_force)
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
@@ -208,7 +217,8 @@ def internal_forces_numba(x, v, group, material, f):
     ``p_a = lam ln(Jbar_a) / Jbar_a`` and the volumetric energy; the element forces
     ``V0 [mu (F - F^-T) + (pbar_e - q_e) J F^-T] grad0 N_k`` (module docstring), with the
     bulk viscosity q_e and the critical step of paper Eq. (6). Same contract as
-    :func:`internal_forces_numpy`; the forces are added to ``f``.
+    :func:`internal_forces_numpy`; the forces are added to ``f``, their bulk-viscosity part
+    written to ``group.bulk_force``.
 
     Parameters
     ----------
@@ -217,7 +227,7 @@ def internal_forces_numba(x, v, group, material, f):
     v : numpy.ndarray
         Nodal velocities, shape (n, 3) [m/s].
     group : Tet4Group
-        The tetrahedra (its work arrays are overwritten).
+        The tetrahedra (its work arrays and ``bulk_force`` are overwritten).
     material : SolidMaterial
         ``mu``, ``lam`` [Pa], ``rho`` [kg/m^3], ``c`` [m/s].
     f : numpy.ndarray
@@ -240,7 +250,8 @@ def internal_forces_numba(x, v, group, material, f):
     if ne == 0:
         return np.inf, 0.0, 0.0, -1
     mu, lam, rho, c = material.mu, material.lam, material.rho, material.c
-    V0n, now, pres = group.node_volume, group.node_now, group.node_pressure
+    V0n, now, pres, fb = group.node_volume, group.node_now, group.node_pressure, group.bulk_force
+    fb[:, :] = 0.0
     F = np.empty((3, 3)); Fdot = np.empty((3, 3)); G = np.empty((3, 3))
     now[:] = 0.0
     for e in range(ne):
@@ -266,10 +277,12 @@ def internal_forces_numba(x, v, group, material, f):
         for i in range(3):
             for j in range(3):
                 e_v += Fdot[i, j] * G[j, i]
-        Le = TIME_STEP_LENGTH_FACTOR * corner_min_altitude(x, tets, e)
+        Le = group.length_factor[e] * corner_min_altitude(x, tets, e)
         q, dte = bulk_viscosity(Le, e_v, rho, c)
         dt_min = min(dt_min, dte)
         p_b -= q * e_v * J * volume[e]
+        if q > 0.0:
+            add_point_forces(fb, tets, grad[e], e, volume[e], F, G, J, 0.0, -q)
         pbar = 0.25 * (pres[tets[e, 0]] + pres[tets[e, 1]] + pres[tets[e, 2]] + pres[tets[e, 3]])
         w += add_point_forces(f, tets, grad[e], e, volume[e], F, G, J, mu, pbar - q)
     return dt_min, w, p_b, -1
