@@ -22,6 +22,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.integrate import cumulative_trapezoid
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
 
 from ccedi.errors import InputError, require_finite_positive
 from ccedi.quantities import QUANTITIES
@@ -312,10 +315,6 @@ def refine_hexes(mesh, n):
     if len(mesh.tets4) or len(mesh.tets10):
         raise InputError("refine_hexes: the mesh has tetrahedra; only hexahedral meshes are refined")
     n = int(n)
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-    from scipy.spatial import cKDTree
-
     s = np.linspace(-1.0, 1.0, n + 1)
     k, j, i = np.meshgrid(np.arange(n + 1), np.arange(n + 1), np.arange(n + 1), indexing="ij")
     grid = np.column_stack([s[i.ravel()], s[j.ravel()], s[k.ravel()]])          # (m, 3)
