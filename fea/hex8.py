@@ -19,14 +19,15 @@ Reference-configuration quantities (computed once, :func:`element_geometry` and
 
   with K_IM the 24 x 24 stiffness of the element with the nine incompatible modes
   (1 - xi^2, 1 - eta^2, 1 - zeta^2 per direction) condensed out, small-strain isotropic
-  elasticity with the material's Lame constants, 2x2x2 Gauss quadrature, the modes'
-  gradients taken with the centre Jacobian (Taylor's correction, which passes the patch
-  test). This is Belytschko & Bindeman's physical (assumed-strain) stabilisation idea
+  elasticity with the material's Lame constants, 2x2x2 Gauss quadrature, evaluated on the
+  parallelepiped with the element's centre Jacobian (see :func:`hourglass_stiffness`).
+  This is Belytschko & Bindeman's physical (assumed-strain) stabilisation
   (Comput. Methods Appl. Mech. Engrg. 105, 1993; LS-DYNA hourglass type 6 with QM = 1):
-  the one-point element plus K_hg reproduces the incompatible-modes element exactly on
-  a parallelepiped (``gamma_a = h_a`` there), which is exact in pure bending for any
-  aspect ratio and does not lock as nu -> 0.5; K_hg is computed on each element's
-  own shape and orientation, so no aspect-ratio calibration is involved.
+  the stabilisation of the element's parallelepiped approximation. On a parallelepiped
+  (``gamma_a = h_a`` there) the one-point element plus K_hg is the incompatible-modes
+  element, exact in pure bending for any aspect ratio and free of volumetric locking as
+  nu -> 0.5; aspect ratio and orientation enter through the element's own Jacobian, so
+  no calibration is involved.
 
 Per step, for nodal positions x (3, 8 per element):
 
@@ -193,9 +194,10 @@ def incompatible_modes_stiffness(X, mu, lam):
 
     Displacement ``u = sum_k N_k u_k + sum_m P_m alpha_m`` with the trilinear N_k and the
     incompatible modes P_m = 1 - xi_m^2 (m = xi, eta, zeta; a 3-vector alpha_m each);
-    small-strain isotropic elasticity, 2x2x2 Gauss quadrature; the gradients of P_m use
-    the centre Jacobian J0 and the weight det J0 (Taylor, Beresford & Wilson 1976), so
-    that they integrate to zero over any element (patch test). The nine alpha are
+    small-strain isotropic elasticity, 2x2x2 Gauss quadrature; the gradients of P_m are
+    taken with the centre Jacobian J0 and scaled by det J0 / det J (Taylor, Beresford &
+    Wilson 1976), so that they integrate to zero over any element (patch test) and the
+    33 x 33 matrix stays a Gram matrix (positive semi-definite). The nine alpha are
     condensed statically: ``K_IM = K_uu - K_ua K_aa^-1 K_au``.
 
     Parameters
@@ -219,12 +221,13 @@ def incompatible_modes_stiffness(X, mu, lam):
     for gp in NATURAL / np.sqrt(3.0):
         dN = shape_derivatives_natural(gp)
         J = np.einsum("eki,kj->eij", X, dN)
+        detJ = np.linalg.det(J)
         B_nodes = _strain_operator(np.einsum("kj,eji->eki", dN, np.linalg.inv(J)))     # dN_k/dX
         B_modes = _strain_operator(-2.0 * gp[None, :, None] * J0inv)                    # dP_m/dX with J0
         DB_nodes, DB_modes = D @ B_nodes, D @ B_modes
-        K[:, :24, :24] += np.linalg.det(J)[:, None, None] * (B_nodes.swapaxes(1, 2) @ DB_nodes)
+        K[:, :24, :24] += detJ[:, None, None] * (B_nodes.swapaxes(1, 2) @ DB_nodes)
         K[:, :24, 24:] += detJ0[:, None, None] * (B_nodes.swapaxes(1, 2) @ DB_modes)
-        K[:, 24:, 24:] += detJ0[:, None, None] * (B_modes.swapaxes(1, 2) @ DB_modes)
+        K[:, 24:, 24:] += (detJ0**2 / detJ)[:, None, None] * (B_modes.swapaxes(1, 2) @ DB_modes)
     K[:, 24:, :24] = K[:, :24, 24:].swapaxes(1, 2)
     return K[:, :24, :24] - K[:, :24, 24:] @ np.linalg.solve(K[:, 24:, 24:], K[:, 24:, :24])
 
@@ -232,9 +235,17 @@ def incompatible_modes_stiffness(X, mu, lam):
 def hourglass_stiffness(nodes, hexes, mu, lam, q_hg=1.0, chunk=4096):
     """Physical hourglass stiffness of every element, ``Q_hg H^T K_IM H / 64``.
 
-    The projection of the incompatible-modes stiffness
-    (:func:`incompatible_modes_stiffness`) on the hourglass base vectors, H_(k i)(a j) =
-    h_ak delta_ij (see the module docstring).
+    ``K_IM`` is the incompatible-modes stiffness (:func:`incompatible_modes_stiffness`)
+    of the element's centre parallelepiped ``X0_k = Xc + J0 xi_k`` (the parallelepiped
+    with the element's centre Jacobian J0; the element itself when it is a
+    parallelepiped), H_(k i)(a j) = h_ak delta_ij: the hourglass displacements
+    q_a = gamma_a . u of the element act as the hourglass fields ``h_a q_a / 8`` of that
+    parallelepiped, whose gamma are the h. This is Belytschko & Bindeman's construction
+    (the stabilisation of the element's parallelepiped approximation) in a frame-free form:
+    aspect ratio and orientation enter through J0, K_hg is positive semi-definite for any
+    element shape, and on a parallelepiped the one-point element plus K_hg is the
+    incompatible-modes element (exact in pure bending at any aspect ratio, no volumetric
+    locking).
 
     Parameters
     ----------
@@ -257,11 +268,14 @@ def hourglass_stiffness(nodes, hexes, mu, lam, q_hg=1.0, chunk=4096):
         K_hg, shape (e, 12, 12) [N/m], index mode*3 + direction (modes in the order of
         :data:`HOURGLASS_BASE`); symmetric positive semi-definite.
     """
-    H = np.kron(HOURGLASS_BASE.T, np.eye(3))                              # (24, 12)
+    H = np.kron(HOURGLASS_BASE.T, np.eye(3)) / 8.0                          # u = h q / 8, (24, 12)
+    dN0 = shape_derivatives_natural(np.zeros(3))
     out = np.zeros((len(hexes), 12, 12))
     for s in range(0, len(hexes), chunk):
-        K = incompatible_modes_stiffness(nodes[hexes[s:s + chunk]], mu, lam)
-        out[s:s + chunk] = q_hg * np.einsum("ka,ekl,lb->eab", H, K, H) / 64.0
+        X = nodes[hexes[s:s + chunk]]
+        J0 = np.einsum("eki,kj->eij", X, dN0)
+        X0 = X.mean(axis=1)[:, None, :] + np.einsum("kj,eij->eki", NATURAL, J0)   # centre parallelepiped
+        out[s:s + chunk] = q_hg * H.T @ incompatible_modes_stiffness(X0, mu, lam) @ H
     return 0.5 * (out + out.swapaxes(1, 2))
 
 
