@@ -113,8 +113,9 @@ volume : (n_elem,) ndarray
     Reference element volumes [m^3].
 gamma : (n_elem, 4, 8) ndarray
     Hourglass shape vectors [-].
-kappa : (n_elem,) ndarray
-    Hourglass stiffness per element [N/m].
+kappa : (n_elem, 12, 12) ndarray
+    Hourglass stiffness K_hg per element, index mode*3 + direction [N/m]
+    (:func:`ccedi.fea.hex8.hourglass_stiffness`).
 """
 SolidMaterial = namedtuple("SolidMaterial", "mu lam rho c")
 SolidMaterial.__doc__ = """The solid elements' neo-Hookean constants.

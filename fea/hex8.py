@@ -1,7 +1,8 @@
-"""8-node hexahedron with one-point integration and Flanagan-Belytschko hourglass
-control (LS-DYNA "solid #1" family), total-Lagrangian.
+"""8-node hexahedron with one-point integration and physical hourglass stabilisation
+(LS-DYNA "solid #1" with hourglass type 6 analogue), total-Lagrangian.
 
-Reference-configuration quantities (computed once, :func:`element_geometry`):
+Reference-configuration quantities (computed once, :func:`element_geometry` and
+:func:`hourglass_stiffness`):
 
 * uniform strain gradient ``b_k = int_V0 dN_k/dX dV`` (Flanagan & Belytschko 1981),
   exact by 2x2x2 Gauss quadrature for a trilinear element; reference volume
@@ -9,22 +10,43 @@ Reference-configuration quantities (computed once, :func:`element_geometry`):
 * hourglass shape vectors ``gamma_a = h_a - (1/V0) sum_i b_i (h_a . X_i)`` for the four
   base vectors h_a; gamma_a is orthogonal to every linear field, so rigid motions and
   homogeneous deformations (however large) produce no hourglass force.
+* hourglass stiffness K_hg, 12 x 12 over the generalised hourglass displacements
+  (4 modes x 3 directions), the hourglass-subspace projection of the Wilson-Taylor
+  incompatible-modes hexahedron (Wilson et al. 1973, Taylor, Beresford & Wilson 1976;
+  Abaqus C3D8I analogue)::
+
+      K_hg = H^T K_IM H / 64,        H_(k i)(a j) = h_ak delta_ij
+
+  with K_IM the 24 x 24 stiffness of the element with the nine incompatible modes
+  (1 - xi^2, 1 - eta^2, 1 - zeta^2 per direction) condensed out, small-strain isotropic
+  elasticity with the material's Lame constants, 2x2x2 Gauss quadrature, evaluated on the
+  parallelepiped with the element's centre Jacobian (see :func:`hourglass_stiffness`).
+  This is Belytschko & Bindeman's physical (assumed-strain) stabilisation
+  (Comput. Methods Appl. Mech. Engrg. 105, 1993; LS-DYNA hourglass type 6 with QM = 1):
+  the stabilisation of the element's parallelepiped approximation. On a parallelepiped
+  (``gamma_a = h_a`` there) the one-point element plus K_hg is the incompatible-modes
+  element, exact in pure bending for any aspect ratio and free of volumetric locking as
+  nu -> 0.5; aspect ratio and orientation enter through the element's own Jacobian, so
+  no calibration is involved.
 
 Per step, for nodal positions x (3, 8 per element):
 
 * deformation gradient ``F = sum_k x_k (x) b_k / V0``, ``J = det F``;
-* nodal internal force ``f_k = P(F) b_k + kappa sum_a gamma_ak q_a`` with
-  ``q_a = sum_k gamma_ak x_k`` (hourglass generalised displacement);
-* strain energy ``V0 W(F)`` and hourglass energy ``kappa/2 sum_a |q_a|^2``.
+* hourglass displacements ``q_a = sum_k gamma_ak x_k`` pulled back to the reference
+  frame by the element's own deformation, ``qt_a = F^-1 q_a`` (objective: a rigid
+  rotation of the deformed element leaves qt unchanged, so large rotations are exact);
+* hourglass energy ``W_hg = Q_hg/2 qt^T K_hg qt`` -- hyperelastic, so the forces below
+  are its exact gradient and the energy balance holds with it;
+* nodal internal force, with ``Qt = Q_hg K_hg qt`` (the hourglass generalised forces in
+  the reference frame) and ``S = sum_a Qt_a (x) qt_a``::
 
-Hourglass stiffness (stiffness form, total). Flanagan & Belytschko scale it by
-lam + 2 mu, which for nu -> 0.5 makes the hourglass modes stiff enough to lock in
-bending. ccedi scales it by Young's modulus::
+      f_k = (P(F) - F^-T S / V0) b_k + sum_a gamma_ak F^-T Qt_a
 
-    kappa = Q_hg E (b : b) / (72 V0)                                    [N/m]
+  (the ``F^-T S`` term is the derivative of the pull-back with respect to F);
+* strain energy ``V0 W(F)`` and hourglass energy ``W_hg``.
 
-normalised so that Q_hg = 1 gives a cube in pure bending (u_z = -c y z) exactly the
-Euler-Bernoulli energy E c^2 V Ly^2 / 24; the default Q_hg = 1.
+Q_hg (:attr:`ccedi.fea.model.Model.hourglass_coefficient`, default 1) scales the
+physical stabilisation; 1 is the incompatible-modes stiffness.
 
 Bulk viscosity (LS-DYNA defaults C0 = 1.5, C1 = 0.06), active in compression only::
 
@@ -70,14 +92,11 @@ class ElementGeometry:
         Reference volumes V0, shape (e,) [m^3].
     gamma : numpy.ndarray
         Flanagan-Belytschko hourglass shape vectors, shape (e, 4, 8) [-].
-    bb : numpy.ndarray or None
-        b : b per element, shape (e,) [m^4] (None where only the force kernel needs the geometry).
     """
 
     b: np.ndarray
     volume: np.ndarray
     gamma: np.ndarray
-    bb: np.ndarray
 
 
 def shape_derivatives_natural(xi):
@@ -121,7 +140,7 @@ def element_geometry(nodes, hexes):
     Returns
     -------
     ElementGeometry
-        b (e, 8, 3) [m^2], volume (e,) [m^3], gamma (e, 4, 8), bb (e,) [m^4].
+        b (e, 8, 3) [m^2], volume (e,) [m^3], gamma (e, 4, 8).
 
     Raises
     ------
@@ -145,31 +164,119 @@ def element_geometry(nodes, hexes):
         volume += detJ
     gamma = (HOURGLASS_BASE[None]
              - np.einsum("eki,eai->eak", b, np.einsum("ak,eki->eai", HOURGLASS_BASE, X)) / volume[:, None, None])
-    bb = np.einsum("eki,eki->e", b, b)
-    return ElementGeometry(b=b, volume=volume, gamma=gamma, bb=bb)
+    return ElementGeometry(b=b, volume=volume, gamma=gamma)
 
 
-def hourglass_stiffness(geometry, E, q_hg):
-    """Hourglass stiffness per element, ``kappa = Q_hg E (b:b) / (72 V0)``.
+def _strain_operator(G):
+    """Small-strain operator (Voigt order xx, yy, zz, yz, xz, xy; engineering shears) of
+    functions with gradients G (e, m, 3): shape (e, 6, 3 m), column index function*3 + direction."""
+    e, m, _ = G.shape
+    B = np.zeros((e, 6, m, 3))
+    for i in range(3):
+        B[:, i, :, i] = G[:, :, i]
+    for row, (i, j) in zip((3, 4, 5), ((1, 2), (0, 2), (0, 1))):
+        B[:, row, :, i] = G[:, :, j]
+        B[:, row, :, j] = G[:, :, i]
+    return B.reshape(e, 6, 3 * m)
 
-    Normalised so that ``q_hg = 1`` gives a cube in pure bending the Euler-Bernoulli
-    energy (see the module docstring).
+
+def _isotropic_elasticity(mu, lam):
+    """6 x 6 small-strain isotropic elasticity matrix (Voigt, engineering shears) [Pa]."""
+    D = np.zeros((6, 6))
+    D[:3, :3] = lam
+    D[np.arange(3), np.arange(3)] += 2.0 * mu
+    D[np.arange(3, 6), np.arange(3, 6)] = mu
+    return D
+
+
+def incompatible_modes_stiffness(X, mu, lam):
+    """Stiffness of the Wilson-Taylor incompatible-modes hexahedron, modes condensed out.
+
+    Displacement ``u = sum_k N_k u_k + sum_m P_m alpha_m`` with the trilinear N_k and the
+    incompatible modes P_m = 1 - xi_m^2 (m = xi, eta, zeta; a 3-vector alpha_m each);
+    small-strain isotropic elasticity, 2x2x2 Gauss quadrature; the gradients of P_m are
+    taken with the centre Jacobian J0 and scaled by det J0 / det J (Taylor, Beresford &
+    Wilson 1976), so that they integrate to zero over any element (patch test) and the
+    33 x 33 matrix stays a Gram matrix (positive semi-definite). The nine alpha are
+    condensed statically: ``K_IM = K_uu - K_ua K_aa^-1 K_au``.
 
     Parameters
     ----------
-    geometry : ElementGeometry
-        Reference geometry (``bb`` and ``volume`` are used).
-    E : float
-        Young's modulus [Pa].
-    q_hg : float
-        Hourglass coefficient Q_hg [-].
+    X : numpy.ndarray
+        Reference nodal positions per element, shape (e, 8, 3) [m].
+    mu : float
+        Shear modulus [Pa].
+    lam : float
+        Lame's first parameter [Pa].
 
     Returns
     -------
     numpy.ndarray
-        kappa, shape (e,) [N/m].
+        K_IM, shape (e, 24, 24) [N/m], DOF index node*3 + direction.
     """
-    return q_hg * E * geometry.bb / (72.0 * geometry.volume)
+    J0 = np.einsum("eki,kj->eij", X, shape_derivatives_natural(np.zeros(3)))
+    J0inv, detJ0 = np.linalg.inv(J0), np.linalg.det(J0)
+    D = _isotropic_elasticity(mu, lam)
+    K = np.zeros((len(X), 33, 33))
+    for gp in NATURAL / np.sqrt(3.0):
+        dN = shape_derivatives_natural(gp)
+        J = np.einsum("eki,kj->eij", X, dN)
+        detJ = np.linalg.det(J)
+        B_nodes = _strain_operator(np.einsum("kj,eji->eki", dN, np.linalg.inv(J)))     # dN_k/dX
+        B_modes = _strain_operator(-2.0 * gp[None, :, None] * J0inv)                    # dP_m/dX with J0
+        DB_nodes, DB_modes = D @ B_nodes, D @ B_modes
+        K[:, :24, :24] += detJ[:, None, None] * (B_nodes.swapaxes(1, 2) @ DB_nodes)
+        K[:, :24, 24:] += detJ0[:, None, None] * (B_nodes.swapaxes(1, 2) @ DB_modes)
+        K[:, 24:, 24:] += (detJ0**2 / detJ)[:, None, None] * (B_modes.swapaxes(1, 2) @ DB_modes)
+    K[:, 24:, :24] = K[:, :24, 24:].swapaxes(1, 2)
+    return K[:, :24, :24] - K[:, :24, 24:] @ np.linalg.solve(K[:, 24:, 24:], K[:, 24:, :24])
+
+
+def hourglass_stiffness(nodes, hexes, mu, lam, q_hg=1.0, chunk=4096):
+    """Physical hourglass stiffness of every element, ``Q_hg H^T K_IM H / 64``.
+
+    ``K_IM`` is the incompatible-modes stiffness (:func:`incompatible_modes_stiffness`)
+    of the element's centre parallelepiped ``X0_k = Xc + J0 xi_k`` (the parallelepiped
+    with the element's centre Jacobian J0; the element itself when it is a
+    parallelepiped), H_(k i)(a j) = h_ak delta_ij: the hourglass displacements
+    q_a = gamma_a . u of the element act as the hourglass fields ``h_a q_a / 8`` of that
+    parallelepiped, whose gamma are the h. This is Belytschko & Bindeman's construction
+    (the stabilisation of the element's parallelepiped approximation) in a frame-free form:
+    aspect ratio and orientation enter through J0, K_hg is positive semi-definite for any
+    element shape, and on a parallelepiped the one-point element plus K_hg is the
+    incompatible-modes element (exact in pure bending at any aspect ratio, no volumetric
+    locking).
+
+    Parameters
+    ----------
+    nodes : numpy.ndarray
+        Reference nodal positions, shape (n, 3) [m].
+    hexes : numpy.ndarray
+        Connectivity, shape (e, 8).
+    mu : float
+        Shear modulus [Pa].
+    lam : float
+        Lame's first parameter [Pa].
+    q_hg : float, optional
+        Scale Q_hg on the physical stiffness [-]. Default 1.
+    chunk : int, optional
+        Elements processed at once (bounds the memory). Default 4096.
+
+    Returns
+    -------
+    numpy.ndarray
+        K_hg, shape (e, 12, 12) [N/m], index mode*3 + direction (modes in the order of
+        :data:`HOURGLASS_BASE`); symmetric positive semi-definite.
+    """
+    H = np.kron(HOURGLASS_BASE.T, np.eye(3)) / 8.0                          # u = h q / 8, (24, 12)
+    dN0 = shape_derivatives_natural(np.zeros(3))
+    out = np.zeros((len(hexes), 12, 12))
+    for s in range(0, len(hexes), chunk):
+        X = nodes[hexes[s:s + chunk]]
+        J0 = np.einsum("eki,kj->eij", X, dN0)
+        X0 = X.mean(axis=1)[:, None, :] + np.einsum("kj,eij->eki", NATURAL, J0)   # centre parallelepiped
+        out[s:s + chunk] = q_hg * H.T @ incompatible_modes_stiffness(X0, mu, lam) @ H
+    return 0.5 * (out + out.swapaxes(1, 2))
 
 
 def deformation_gradient(x_e, geometry):
@@ -241,11 +348,42 @@ def element_time_step(Le, wave_speed, strain_rate_vol):
     return Le / (Q + np.sqrt(Q * Q + wave_speed**2))
 
 
+def hourglass_displacements(x_e, gamma, kappa, Finv):
+    """Pulled-back hourglass displacements and their generalised forces.
+
+    ``qt_a = F^-1 sum_k gamma_ak x_k`` and ``Qt = K_hg qt`` (12-vectors, index
+    mode*3 + direction), see the module docstring.
+
+    Parameters
+    ----------
+    x_e : numpy.ndarray
+        Element nodal positions, shape (e, 8, 3) [m].
+    gamma : numpy.ndarray
+        Hourglass shape vectors, shape (e, 4, 8).
+    kappa : numpy.ndarray
+        Hourglass stiffness K_hg, shape (e, 12, 12) [N/m].
+    Finv : numpy.ndarray
+        Inverse deformation gradients F^-1, shape (e, 3, 3).
+
+    Returns
+    -------
+    qt : numpy.ndarray
+        Pulled-back hourglass displacements, shape (e, 4, 3) [m].
+    Qt : numpy.ndarray
+        Hourglass generalised forces K_hg qt, shape (e, 4, 3) [N].
+    """
+    qt = np.einsum("eij,eaj->eai", Finv, np.einsum("eak,eki->eai", gamma, x_e))
+    Qt = np.einsum("eab,eb->ea", kappa, qt.reshape(len(qt), 12)).reshape(qt.shape)
+    return qt, Qt
+
+
 def internal_forces_numpy(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c, f):
     """Internal forces of all elements, pure numpy; the reference for the numba kernel.
 
-    Nodal force f_k = P(F) b_k + kappa sum_a gamma_ak q_a, with the bulk-viscosity
-    pressure q added to the Cauchy stress in compression (see the module docstring).
+    Nodal force ``f_k = (P(F) - F^-T S / V0) b_k + sum_a gamma_ak F^-T Qt_a`` with the
+    pulled-back hourglass displacements ``qt_a = F^-1 gamma_a . x``, ``Qt = K_hg qt`` and
+    ``S = sum_a Qt_a (x) qt_a``, and the bulk-viscosity pressure added to the Cauchy stress
+    in compression (see the module docstring).
 
     Parameters
     ----------
@@ -262,7 +400,7 @@ def internal_forces_numpy(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c,
     gamma : numpy.ndarray
         Hourglass shape vectors, shape (e, 4, 8).
     kappa : numpy.ndarray
-        Hourglass stiffness, shape (e,) [N/m].
+        Hourglass stiffness K_hg (:func:`hourglass_stiffness`), shape (e, 12, 12) [N/m].
     mu : float
         Shear modulus [Pa].
     lam : float
@@ -281,14 +419,14 @@ def internal_forces_numpy(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c,
     strain_energy : float
         sum V0 W(F) [J].
     hourglass_energy : float
-        kappa/2 sum_a |q_a|^2 summed over the elements [J].
+        sum over the elements of qt^T K_hg qt / 2 [J].
     bulk_viscous_power : float
         Power dissipated by the bulk viscosity [W].
     status : int
         -1 when every element has J > 0; else the index of the first inverted element
         (J <= 0), in which case the other values are 0 and ``f`` is untouched.
     """
-    geometry = ElementGeometry(b=b, volume=volume, gamma=gamma, bb=None)
+    geometry = ElementGeometry(b=b, volume=volume, gamma=gamma)
     x_e, v_e = x[hexes], v[hexes]
     F = deformation_gradient(x_e, geometry)
     J = np.linalg.det(F)
@@ -299,14 +437,16 @@ def internal_forces_numpy(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c,
     e_v = np.einsum("eij,eji->e", Fdot, Finv)              # J'/J
     Le = characteristic_length(x_e, J * volume)
     q_bv = np.where(e_v < 0.0, rho * Le * (BULK_VISCOSITY_C0 * Le * e_v**2 - BULK_VISCOSITY_C1 * c * e_v), 0.0)
-    P = first_piola(F, mu, lam) - (q_bv * J)[:, None, None] * Finv.swapaxes(1, 2)
-    fe = np.einsum("eij,ekj->eki", P, b)
-    q = np.einsum("eak,eki->eai", gamma, x_e)
-    fe += kappa[:, None, None] * np.einsum("eak,eai->eki", gamma, q)
+    qt, Qt = hourglass_displacements(x_e, gamma, kappa, Finv)
+    S = np.einsum("eai,eaj->eij", Qt, qt)
+    FinvT = Finv.swapaxes(1, 2)
+    P = (first_piola(F, mu, lam) - (q_bv * J)[:, None, None] * FinvT
+         - np.matmul(FinvT, S) / volume[:, None, None])
+    fe = np.einsum("eij,ekj->eki", P, b) + np.einsum("eak,eai->eki", gamma, np.einsum("eji,eaj->eai", Finv, Qt))
     f[:] = 0.0
     np.add.at(f, hexes, fe)
     dt_min = float(element_time_step(Le, c, e_v).min())
     strain_energy = float(np.sum(volume * strain_energy_density(F, mu, lam)))
-    hourglass_energy = float(0.5 * np.sum(kappa * np.einsum("eai,eai->e", q, q)))
+    hourglass_energy = float(0.5 * np.sum(qt * Qt))
     bulk_power = float(np.sum(-q_bv * e_v * J * volume))
     return dt_min, strain_energy, hourglass_energy, bulk_power, -1

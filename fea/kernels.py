@@ -24,9 +24,11 @@ def internal_forces_numba(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c,
     the volumetric strain rate ``e_v = tr(Fdot F^-1)``, the bulk-viscosity pressure
     ``q = rho Le (C0 Le e_v^2 - C1 c e_v)`` (compression only, ``e_v < 0``), the
     neo-Hookean first Piola-Kirchhoff stress with that pressure
-    ``P = mu F + (lam ln J - mu - q J) F^-T`` and the nodal force::
+    ``P = mu F + (lam ln J - mu - q J) F^-T``, the pulled-back hourglass displacements
+    and their forces ``qt_a = F^-1 sum_k gamma_ak x_k``, ``Qt = K_hg qt`` (K_hg = kappa[e],
+    12 x 12), ``S = sum_a Qt_a qt_a^T`` and the nodal force::
 
-        f_k = P b_k + kappa sum_a gamma_ak q_a,        q_a = sum_k gamma_ak x_k.
+        f_k = (P - F^-T S / V0) b_k + sum_a gamma_ak F^-T Qt_a.
 
     The element's critical step is ``Le / (Q + sqrt(Q^2 + c^2))`` with
     ``Q = C1 c + C0 Le (-e_v)`` and the characteristic length ``Le = J V0 / A_max``
@@ -49,8 +51,9 @@ def internal_forces_numba(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c,
         Reference element volumes V0 [m^3].
     gamma : (n_elem, 4, 8) ndarray
         Hourglass shape vectors gamma_ak [-].
-    kappa : (n_elem,) ndarray
-        Hourglass stiffness per element [N/m].
+    kappa : (n_elem, 12, 12) ndarray
+        Hourglass stiffness K_hg per element, index mode*3 + direction [N/m]
+        (:func:`ccedi.fea.hex8.hourglass_stiffness`).
     mu : float
         Shear modulus [Pa].
     lam : float
@@ -69,7 +72,7 @@ def internal_forces_numba(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c,
     strain_energy : float
         Stored elastic energy sum_e V0 W(F) [J].
     hourglass_energy : float
-        Hourglass energy sum_e kappa/2 sum_a |q_a|^2 [J].
+        Hourglass energy sum_e qt^T K_hg qt / 2 [J].
     bulk_viscous_power : float
         Power dissipated by the bulk viscosity [W].
     status : int
@@ -81,7 +84,9 @@ def internal_forces_numba(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c,
     ne = hexes.shape[0]
     dt_min = np.inf; w_s = 0.0; w_hg = 0.0; p_b = 0.0
     xe = np.empty((8, 3))
-    q = np.empty((4, 3))
+    qt = np.empty(12)
+    Qt = np.empty(12)
+    A = np.empty((4, 3))
     for e in range(ne):
         iV = 1.0 / volume[e]
         f00 = f01 = f02 = f10 = f11 = f12 = f20 = f21 = f22 = 0.0
@@ -142,19 +147,46 @@ def internal_forces_numba(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c,
         P00 = mu * f00 + co * g00; P01 = mu * f01 + co * g10; P02 = mu * f02 + co * g20
         P10 = mu * f10 + co * g01; P11 = mu * f11 + co * g11; P12 = mu * f12 + co * g21
         P20 = mu * f20 + co * g02; P21 = mu * f21 + co * g12; P22 = mu * f22 + co * g22
-        kap = kappa[e]
+        # hourglass: qt_a = F^-1 q_a, Qt = K_hg qt, A_a = F^-T Qt_a, S = sum_a Qt_a qt_a^T
         for a in range(4):
             s0 = 0.0; s1 = 0.0; s2 = 0.0
             for k in range(8):
                 gk = gamma[e, a, k]
                 s0 += gk * xe[k, 0]; s1 += gk * xe[k, 1]; s2 += gk * xe[k, 2]
-            w_hg += 0.5 * kap * (s0 * s0 + s1 * s1 + s2 * s2)
-            q[a, 0] = kap * s0; q[a, 1] = kap * s1; q[a, 2] = kap * s2
+            qt[3 * a] = g00 * s0 + g01 * s1 + g02 * s2
+            qt[3 * a + 1] = g10 * s0 + g11 * s1 + g12 * s2
+            qt[3 * a + 2] = g20 * s0 + g21 * s1 + g22 * s2
+        for r in range(12):
+            acc = 0.0
+            for cc in range(12):
+                acc += kappa[e, r, cc] * qt[cc]
+            Qt[r] = acc
+        s00 = s01 = s02 = s10 = s11 = s12 = s20 = s21 = s22 = 0.0
+        for a in range(4):
+            t0 = Qt[3 * a]; t1 = Qt[3 * a + 1]; t2 = Qt[3 * a + 2]
+            u0 = qt[3 * a]; u1 = qt[3 * a + 1]; u2 = qt[3 * a + 2]
+            w_hg += 0.5 * (t0 * u0 + t1 * u1 + t2 * u2)
+            s00 += t0 * u0; s01 += t0 * u1; s02 += t0 * u2
+            s10 += t1 * u0; s11 += t1 * u1; s12 += t1 * u2
+            s20 += t2 * u0; s21 += t2 * u1; s22 += t2 * u2
+            A[a, 0] = g00 * t0 + g10 * t1 + g20 * t2
+            A[a, 1] = g01 * t0 + g11 * t1 + g21 * t2
+            A[a, 2] = g02 * t0 + g12 * t1 + g22 * t2
+        # P -= F^-T S / V0:  (F^-T S)_ij = sum_m g_mi s_mj
+        P00 -= iV * (g00 * s00 + g10 * s10 + g20 * s20)
+        P01 -= iV * (g00 * s01 + g10 * s11 + g20 * s21)
+        P02 -= iV * (g00 * s02 + g10 * s12 + g20 * s22)
+        P10 -= iV * (g01 * s00 + g11 * s10 + g21 * s20)
+        P11 -= iV * (g01 * s01 + g11 * s11 + g21 * s21)
+        P12 -= iV * (g01 * s02 + g11 * s12 + g21 * s22)
+        P20 -= iV * (g02 * s00 + g12 * s10 + g22 * s20)
+        P21 -= iV * (g02 * s01 + g12 * s11 + g22 * s21)
+        P22 -= iV * (g02 * s02 + g12 * s12 + g22 * s22)
         for k in range(8):
             b0 = b[e, k, 0]; b1 = b[e, k, 1]; b2 = b[e, k, 2]
             h0 = gamma[e, 0, k]; h1 = gamma[e, 1, k]; h2 = gamma[e, 2, k]; h3 = gamma[e, 3, k]
             nd = hexes[e, k]
-            f[nd, 0] += P00 * b0 + P01 * b1 + P02 * b2 + h0 * q[0, 0] + h1 * q[1, 0] + h2 * q[2, 0] + h3 * q[3, 0]
-            f[nd, 1] += P10 * b0 + P11 * b1 + P12 * b2 + h0 * q[0, 1] + h1 * q[1, 1] + h2 * q[2, 1] + h3 * q[3, 1]
-            f[nd, 2] += P20 * b0 + P21 * b1 + P22 * b2 + h0 * q[0, 2] + h1 * q[1, 2] + h2 * q[2, 2] + h3 * q[3, 2]
+            f[nd, 0] += P00 * b0 + P01 * b1 + P02 * b2 + h0 * A[0, 0] + h1 * A[1, 0] + h2 * A[2, 0] + h3 * A[3, 0]
+            f[nd, 1] += P10 * b0 + P11 * b1 + P12 * b2 + h0 * A[0, 1] + h1 * A[1, 1] + h2 * A[2, 1] + h3 * A[3, 1]
+            f[nd, 2] += P20 * b0 + P21 * b1 + P22 * b2 + h0 * A[0, 2] + h1 * A[1, 2] + h2 * A[2, 2] + h3 * A[3, 2]
     return dt_min, w_s, w_hg, p_b, -1

@@ -70,28 +70,25 @@ OUTPUTS_PER_RUN, OUTPUTS_PER_PLOT = 400, 10
 d3plot interval 10 history intervals (the frames of ``ccedi export --format vtu``)."""
 
 HOURGLASS_IHQ = 6
-"""LS-DYNA hourglass type closest to ccedi's (:mod:`ccedi.fea.hex8`), with QM = ccedi's Q_hg.
+"""LS-DYNA hourglass type of ccedi's (:mod:`ccedi.fea.hex8`), with QM = ccedi's Q_hg.
 
-ccedi's hourglass control is a stiffness form (force proportional to the hourglass
-displacement ``q_a = gamma_a . x``, not to its rate) on the Flanagan-Belytschko shape
-vectors, scaled by Young's modulus and normalised so that Q_hg = 1 gives a rectangular
-element in pure bending the exact bending energy without locking as nu -> 0.5.
+ccedi's hourglass control is a physical stiffness form: the hourglass stiffness of the
+incompatible-modes element of each element's centre parallelepiped, scaled by Q_hg
+(:func:`ccedi.fea.hex8.hourglass_stiffness`), which is Belytschko & Bindeman's assumed-
+strain stabilisation -- LS-DYNA's type 6. The manual (*HOURGLASS, QM): "For type 6 solid
+element hourglass control, QM=1.0 gives an accurate coarse mesh bending stiffness that does
+not lock in the incompressible limit", as ccedi's Q_hg = 1 (exact pure bending of a
+parallelepiped at any aspect ratio, nu = 0.49 included). So QM = Q_hg.
 
 * IHQ 1-3 are viscous forms (resisting hourglass velocities, not displacements); LS-DYNA
   uses one of them for a part without an *HOURGLASS card.
-* IHQ 4 and 5 are the Flanagan-Belytschko stiffness form (5: exact volume integration),
-  which Flanagan & Belytschko scale by the dilatational modulus lam + 2 mu (about 17 E at
-  the rubber's nu = 0.49, the locking :mod:`ccedi.fea.hex8` avoids); their QM has another
-  normalisation (manual, *HOURGLASS, QM: "Values of QM that exceed 0.15 (for IHQ<6) may
-  cause instabilities"), so ccedi's Q_hg = 1 has no counterpart there.
-* IHQ 6 is the Belytschko-Bindeman assumed-strain stiffness form, scaled by the elastic
-  constants; the manual (*HOURGLASS, QM): "For type 6 solid element hourglass control,
-  QM=1.0 gives an accurate coarse mesh bending stiffness that does not lock in the
-  incompressible limit" -- the calibration of ccedi's Q_hg = 1. So QM = Q_hg.
+* IHQ 4 and 5 are the Flanagan-Belytschko stiffness form, scaled by the dilatational
+  modulus lam + 2 mu (about 17 E at the rubber's nu = 0.49, stiff enough to lock in
+  bending) with another QM normalisation.
 
-Remaining difference: type 6 updates its hourglass forces incrementally in a co-rotational
-frame, ccedi's are total (linear in the nodal positions); the manual's type 7 ("linear total
-strain form of type 6") is the total variant with the same QM meaning.
+Remaining differences: type 6 updates its hourglass forces incrementally in a co-rotational
+frame, ccedi's are total, with the hourglass displacements pulled back by F^-1 (type 7,
+"linear total strain form of type 6", is the total variant with the same QM meaning).
 """
 
 

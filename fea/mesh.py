@@ -22,6 +22,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.integrate import cumulative_trapezoid
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
 
 from ccedi.errors import InputError, require_finite_positive
 from ccedi.quantities import QUANTITIES
@@ -302,3 +305,69 @@ def sm_b(length_in=None, length_m=None, semi_axes_m=SEMI_AXES):
     """
     L = _finger_length_m(length_in, length_m)
     return elliptical_cantilever(L, 9, 2 * sm_a_elements_along(L), *_finger_section(semi_axes_m))
+
+
+def refine_hexes(mesh, n):
+    """Split every hexahedron into n x n x n, keeping the mesh's polygonal geometry.
+
+    The new nodes sit at the parent element's trilinear map of an even n-grid in natural
+    coordinates, so faces and edges shared by neighbours receive the same nodes (merged)
+    and the refined mesh fills exactly the same volume. A new node belongs to a node set
+    when every parent node it is interpolated from does (a face of the set is refined
+    into faces of the set); the original nodes keep their ids and sets.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        A hexahedral mesh (no tetrahedra).
+    n : int
+        Subdivisions per element edge, >= 1.
+
+    Returns
+    -------
+    Mesh
+        n^3 times the elements; node order of every child as its parent's.
+
+    Raises
+    ------
+    InputError
+        If ``n`` is not an integer >= 1 or the mesh has tetrahedra.
+    """
+    if int(n) != n or n < 1:
+        raise InputError(f"n (subdivisions per element edge) must be an integer >= 1, got {n!r}")
+    if len(mesh.tets4) or len(mesh.tets10):
+        raise InputError("refine_hexes: the mesh has tetrahedra; only hexahedral meshes are refined")
+    n = int(n)
+    s = np.linspace(-1.0, 1.0, n + 1)
+    k, j, i = np.meshgrid(np.arange(n + 1), np.arange(n + 1), np.arange(n + 1), indexing="ij")
+    grid = np.column_stack([s[i.ravel()], s[j.ravel()], s[k.ravel()]])          # (m, 3)
+    corners = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
+                        [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
+    N = np.prod(1.0 + grid[:, None, :] * corners[None], axis=2) / 8.0             # (m, 8)
+    points = np.einsum("pk,ekd->epd", N, mesh.nodes[mesh.hexes]).reshape(-1, 3)
+    m1 = n + 1
+    cell = (np.arange(n)[:, None, None] * m1 * m1 + np.arange(n)[None, :, None] * m1
+            + np.arange(n)[None, None, :]).ravel()
+    local = np.array([0, 1, m1 + 1, m1, m1 * m1, m1 * m1 + 1, m1 * m1 + m1 + 1, m1 * m1 + m1])
+    children = (np.arange(len(mesh.hexes))[:, None, None] * len(grid)
+                + cell[None, :, None] + local[None, None, :]).reshape(-1, 8)
+    # merge coincident points (shared faces and edges), keeping the original nodes first
+    all_points = np.concatenate([mesh.nodes, points])
+    span = np.ptp(mesh.nodes, axis=0).max() if len(mesh.nodes) else 1.0
+    pairs = cKDTree(all_points).query_pairs(1e-9 * span, output_type="ndarray")
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(all_points),) * 2)
+    _, label = connected_components(graph, directed=False)
+    first = np.full(label.max() + 1, len(all_points))
+    np.minimum.at(first, label, np.arange(len(all_points)))
+    keep = np.unique(first)                      # one representative per merged point, originals first
+    new_id = np.searchsorted(keep, first[label])
+    hexes = new_id[len(mesh.nodes) + children]
+    support = N > 1e-12
+    node_sets = {}
+    for name, ids in mesh.node_sets.items():
+        member = np.zeros(len(mesh.nodes), dtype=bool)
+        member[ids] = True
+        inside = np.all(member[mesh.hexes][:, None, :] | ~support[None], axis=2).ravel()
+        node_sets[name] = np.unique(np.concatenate([new_id[np.asarray(ids)],
+                                                    new_id[len(mesh.nodes) + np.flatnonzero(inside)]]))
+    return Mesh(nodes=all_points[keep], hexes=hexes, node_sets=node_sets)

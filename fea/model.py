@@ -138,7 +138,9 @@ class Model:
     rotating : RotatingNodes or None, optional
         Nodes driven in a prescribed rigid rotation (the drum). Default None.
     hourglass_coefficient : float, optional
-        Q_hg of :func:`ccedi.fea.hex8.hourglass_stiffness` [-], > 0. Default 1.
+        Q_hg, the scale on the physical hourglass stiffness of
+        :func:`ccedi.fea.hex8.hourglass_stiffness` [-], > 0. Default 1 (the
+        incompatible-modes stiffness, LS-DYNA hourglass type 6 with QM = 1).
     rods : tuple of Rod, optional
         :class:`ccedi.fea.rod.Rod` chains on mesh nodes (beam elements); they may
         share nodes with the solids. Default none.
@@ -161,7 +163,7 @@ class Model:
     tet10 : Tet10Group
         Reference geometry of the 10-node tetrahedra (:mod:`ccedi.fea.tet10`).
     kappa : numpy.ndarray
-        Hourglass stiffness per element [N/m].
+        Hourglass stiffness K_hg per element, shape (e, 12, 12) [N/m].
     rod_arrays : RodArrays
         The rods packed for the kernels.
     mass : numpy.ndarray
@@ -209,8 +211,8 @@ class Model:
             self.tet10: Tet10Group = tet10_group(self.mesh.nodes, self.mesh.tets10, self.material)
         except ValueError as err:
             raise InputError(f"mesh: {err}") from None
-        E = self.material.E if self.material is not None else 0.0
-        self.kappa = hourglass_stiffness(self.geometry, E, self.hourglass_coefficient)
+        mu, lam = (self.material.mu, self.material.lam) if self.material is not None else (0.0, 0.0)
+        self.kappa = hourglass_stiffness(self.mesh.nodes, self.mesh.hexes, mu, lam, self.hourglass_coefficient)
         self.rods = tuple(self.rods)
         if not all(isinstance(r, Rod) for r in self.rods):
             raise InputError("rods must be fea.rod.Rod objects")

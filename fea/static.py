@@ -2,11 +2,14 @@
 
 Element tangent of the one-point hexahedron (total Lagrangian, see :mod:`ccedi.fea.hex8`)::
 
-    K_(ki)(lm) = (1/V0) sum_{j,L} b_kj A_ijmL b_lL + kappa sum_a gamma_ak gamma_al delta_im
+    K_(ki)(lm) = (1/V0) sum_{j,L} b_kj A_ijmL b_lL + d f_hg,ki / d x_lm
 
 with the neo-Hookean elasticity tensor A = dP/dF::
 
     A_ijmL = mu d_im d_jL + (mu - lam ln J) Finv_Li Finv_jm + lam Finv_ji Finv_Lm
+
+and the exact derivative of the hourglass forces (:func:`hourglass_tangent`), which at
+the reference state is ``sum_ab gamma_ak K_hg,(ai)(bm) gamma_bl``.
 
 The tetrahedra add their tangents (:func:`ccedi.fea.tet4.tangent_stiffness`,
 :func:`ccedi.fea.tet10.tangent_stiffness`, both :func:`ccedi.fea.tetra.averaged_tangent`).
@@ -21,7 +24,7 @@ from ccedi.errors import InputError, SolverError
 
 from . import tet4, tet10
 from .explicit import SolidMaterial, element_name
-from .hex8 import deformation_gradient, internal_forces_numpy
+from .hex8 import deformation_gradient, hourglass_displacements, internal_forces_numpy
 from .model import Model, face_node_weights
 
 
@@ -70,7 +73,7 @@ def _hexahedra_tangent(model, x):
          + c1 * np.einsum("eli,ejm->eijml", Fi, Fi)
          + mat.lam * np.einsum("eji,elm->eijml", Fi, Fi))
     Ke = np.einsum("ekj,eijml,ebl->ekibm", g.b, A, g.b) / g.volume[:, None, None, None, None]
-    Ke += np.einsum("e,eak,eab,im->ekibm", model.kappa, g.gamma, g.gamma, eye)
+    Ke += hourglass_tangent(x[mesh.hexes], g, model.kappa, Fi)
     dofs = (3 * mesh.hexes[:, :, None] + np.arange(3)[None, None, :]).reshape(len(mesh.hexes), 24)
     rows = np.repeat(dofs, 24, axis=1).ravel()
     cols = np.tile(dofs, (1, 24)).ravel()
@@ -89,6 +92,49 @@ def _tetrahedra_tangent(model, x):
         except ValueError as err:
             raise SolverError(f"{name} {err}") from None
     return K
+
+
+def hourglass_tangent(x_e, geometry, kappa, Finv):
+    """Exact derivative of the hourglass nodal forces of :mod:`ccedi.fea.hex8`.
+
+    With ``qt_a = F^-1 q_a``, ``Qt = K_hg qt``, ``A_a = F^-T Qt_a``, ``T = F^-T S``,
+    ``S = sum_a Qt_a (x) qt_a``, the forces are ``f_k = sum_a gamma_ak A_a - T b_k / V0``.
+    For a perturbation of node l along m (``dF = e_m (x) b_l / V0``)::
+
+        dqt_a = F^-1 e_m (gamma_al - b_l . qt_a / V0),        dQt = K_hg dqt
+        dA_a  = F^-T dQt_a - (F^-T b_l) A_am / V0
+        dT    = F^-T dS - (F^-T b_l) (x) T_m. / V0,   dS = sum_a dQt_a (x) qt_a + Qt_a (x) dqt_a
+
+    Parameters
+    ----------
+    x_e : numpy.ndarray
+        Element nodal positions, shape (e, 8, 3) [m].
+    geometry : ElementGeometry
+        Reference geometry (b, volume, gamma).
+    kappa : numpy.ndarray
+        Hourglass stiffness K_hg, shape (e, 12, 12) [N/m].
+    Finv : numpy.ndarray
+        Inverse deformation gradients, shape (e, 3, 3).
+
+    Returns
+    -------
+    numpy.ndarray
+        d f_(ki) / d x_(lm), shape (e, 8, 3, 8, 3) [N/m].
+    """
+    b, V, gamma = geometry.b, geometry.volume[:, None, None], geometry.gamma
+    e = len(x_e)
+    qt, Qt = hourglass_displacements(x_e, gamma, kappa, Finv)
+    A = np.einsum("eji,eaj->eai", Finv, Qt)
+    T = np.einsum("eji,ejn->ein", Finv, np.einsum("eai,eaj->eij", Qt, qt))
+    Fb = np.einsum("eji,elj->eli", Finv, b) / V                          # F^-T b_l / V0
+    c = gamma.swapaxes(1, 2) - np.einsum("elj,eaj->ela", b, qt) / V       # (e, l, a)
+    dqt = np.einsum("eim,ela->elmai", Finv, c)                            # (e, l, m, a, i)
+    dQt = np.einsum("eAB,elmB->elmA", kappa, dqt.reshape(e, 8, 3, 12)).reshape(dqt.shape)
+    dA = np.einsum("eji,elmaj->elmai", Finv, dQt) - np.einsum("eli,eam->elmai", Fb, A)
+    dS = np.einsum("elmai,eaj->elmij", dQt, qt) + np.einsum("eai,elmaj->elmij", Qt, dqt)
+    dT = np.einsum("epi,elmpj->elmij", Finv, dS) - np.einsum("eli,emj->elmij", Fb, T)
+    df = np.einsum("eak,elmai->elmki", gamma, dA) - np.einsum("elmij,ekj->elmki", dT, b) / V[:, :, :, None, None]
+    return df.transpose(0, 3, 4, 1, 2)
 
 
 def internal_force(model: Model, x):

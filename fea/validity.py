@@ -21,9 +21,9 @@ Inverted elements, folded rods and non-finite numbers already stop the solver wi
 :class:`ccedi.errors.SolverError` (:func:`ccedi.fea.explicit.run`).
 
 There is no rotation guard. The hexahedron is total-Lagrangian with the neo-Hookean
-stress of the full deformation gradient, and its hourglass forces ``kappa gamma . x``
-rotate with the element (gamma is orthogonal to every linear field), so any rotation is
-exact; the finger on the drum turns by more than a radian by design. What large
+stress of the full deformation gradient, and its hourglass displacements ``gamma . x``
+are pulled back by the element's F^-1 before they meet the hourglass stiffness
+(:mod:`ccedi.fea.hex8`), so any rotation is exact; the finger on the drum turns by more than a radian by design. What large
 rotations do invalidate is the linear modal model and the damping identification of an
 impulse test, and the tip deflection guard is that check.
 
@@ -56,16 +56,16 @@ HOURGLASS_FRACTION_LIMIT = 0.15
 
 The LS-DYNA rule of thumb (LSTC support notes on hourglass control,
 https://dynasupport.com/howtos/element/hourglass) is 10 % of the peak internal energy,
-for hourglass energy that is pure error. ccedi's hourglass stiffness is calibrated to
-carry the in-element part of the bending energy (:mod:`ccedi.fea.hex8`, Q_hg = 1), so
-part of it is real bending energy: in a nonlinear static bend it is 9.2-10.0 % of the
-internal energy on the paper's SM-A mesh (5 x 5 section, 1 to 12 in; 11.9 % on 4 x 4,
-32 % on 3 x 3, 2.7 % on SM-B), and the runs measure the same (10.05 % for the 3-in
-impulse at alpha = 180 1/s, 9.8 % at 4.5 in, 9.1 % for the drum contact at 180 and
-7.5 1/s). At 10 % the paper's own mesh would be flagged; the limit is half as much
-again, so it flags a section coarser than SM-A's, a point load or a small hourglass
-coefficient, where the one-point elements' stabilisation, not the material, carries
-the response (a corner-node load on a 3 x 3 mesh with Q_hg = 0.05: 56 %)."""
+for hourglass energy that is pure error. ccedi's hourglass stiffness is physical (the
+incompatible-modes element's, :mod:`ccedi.fea.hex8`, Q_hg = 1): it carries the part of
+the bending energy that varies linearly inside an element, 1/n^2 of it for n elements
+through the thickness in pure bending, so part of it is real bending energy. Measured: a
+nonlinear static 1 N tip load puts 7.0 % of the internal energy in it on SM-A (5 x 5
+section) and 2.1 % on SM-B, the impulse runs at alpha = 180 1/s 8.0 % (4.5 in) and 8.4 %
+(3 in). At 10 % a section a little coarser than SM-A's would be flagged although its
+stabilisation is physical; the limit is half as much again, so it flags a section much
+coarser than SM-A's, a point load or a small hourglass coefficient, where the one-point
+elements' stabilisation, not the material, carries the response."""
 
 
 LOG_STRAIN_LIMIT = 0.5

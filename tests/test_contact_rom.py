@@ -252,11 +252,13 @@ def test_face_points_sit_on_the_fe_node_planes():
 def test_face_stiffness_is_the_fe_penalty_in_series_with_the_section_flattening():
     """The ROM's rigid sections need the FE face's whole compliance: its penalty springs
     and the section's flattening under the load, which is the larger part (on the SM-A
-    8-in finger 4.5e6 N/m^2 against the penalty alone, 5.4e7)."""
+    8-in finger 6.5e6 N/m^2 against the penalty alone, 5.4e7). The flattening under
+    nodal loads is an element-dependent (point-load) figure: 4.5e6 N/m^2 with the former
+    cube-calibrated hourglass stiffness, 6.5e6 with the physical one."""
     from ccedi.rom.contact_rom import _face_flattening, fe_face_stiffness_per_length
     setup = DrumSetup()
     k = fe_face_stiffness_per_length(setup)
-    assert 3.5e6 < k < 6e6
+    assert 3.5e6 < k < 8e6
     mesh = finger_mesh(setup)
     dz = np.median(np.diff(np.unique(mesh.nodes[:, 2])))
     assert 1.0 / (k * dz) > 0.9 * _face_flattening(mesh, RUBBER, 1)

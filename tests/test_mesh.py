@@ -2,8 +2,8 @@ import numpy as np
 import pytest
 
 from ccedi.errors import InputError
-from ccedi.fea.hex8 import element_geometry
-from ccedi.fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR, elliptical_cantilever, sm_a, sm_b
+from ccedi.fea.hex8 import FACES, element_geometry
+from ccedi.fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR, Mesh, elliptical_cantilever, refine_hexes, sm_a, sm_b
 from ccedi.fea.units import inch_to_m
 
 
@@ -38,3 +38,34 @@ def test_root_and_tip_sets_are_the_end_faces(mesh_a):
 def test_bad_lengths_are_named(kwargs, field):
     with pytest.raises(InputError, match=field):
         sm_a(**kwargs)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3])
+def test_refine_hexes_keeps_the_geometry_and_stays_conforming(n):
+    """SM-A at 1 in split n x n x n: (5n+1)^2 (7n+1) nodes, 175 n^3 elements, the same
+    volume and boundary area, every face either shared by two children or on the
+    boundary (n^2 times SM-A's boundary faces), root and tip sets refined with their faces."""
+    coarse = sm_a(length_in=1.0)
+    fine = refine_hexes(coarse, n)
+    nz = len(coarse.hexes) // 25
+    assert fine.n_nodes == (5 * n + 1) ** 2 * (nz * n + 1) and len(fine.hexes) == len(coarse.hexes) * n**3
+    assert element_geometry(fine.nodes, fine.hexes).volume.sum() == pytest.approx(
+        element_geometry(coarse.nodes, coarse.hexes).volume.sum(), rel=1e-12)
+
+    def boundary_faces(mesh):
+        faces = np.sort(mesh.hexes[:, FACES].reshape(-1, 4), axis=1)
+        _, counts = np.unique(faces, axis=0, return_counts=True)
+        assert counts.max() == 2
+        return int((counts == 1).sum())
+    assert boundary_faces(fine) == n**2 * boundary_faces(coarse)
+    for name, z in (("root", 0.0), ("tip", coarse.nodes[:, 2].max())):
+        assert len(fine.node_sets[name]) == (5 * n + 1) ** 2
+        assert np.allclose(fine.nodes[fine.node_sets[name], 2], z)
+    assert np.array_equal(fine.nodes[:coarse.n_nodes], coarse.nodes)
+
+
+def test_refine_hexes_rejects_bad_input():
+    with pytest.raises(InputError, match="n"):
+        refine_hexes(sm_a(length_in=1.0), 0)
+    with pytest.raises(InputError, match="tetrahedra"):
+        refine_hexes(Mesh(nodes=np.eye(4, 3), tets4=[[0, 1, 2, 3]]), 2)
