@@ -31,8 +31,8 @@ def kernel_ns_per_element(model, repeats=2000):
     x = model.mesh.nodes.copy()
     v = np.zeros_like(x)
     f = np.zeros_like(x)
-    args = (x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa, mat.mu, mat.lam, mat.rho,
-            mat.wave_speed, f)
+    args = (x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa, model.hex_length_factor, mat.mu, mat.lam,
+            mat.rho, mat.wave_speed, f)
     internal_forces_numba(*args)
     t0 = time.perf_counter()
     for _ in range(repeats):

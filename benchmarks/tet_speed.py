@@ -44,7 +44,8 @@ def _kernel_call(model):
     kind = model.mesh.element_type
     if kind == "hex8":
         g = model.geometry
-        args = (x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa, *model.solid_constants, f)
+        args = (x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa, model.hex_length_factor,
+                *model.solid_constants, f)
         return lambda: internal_forces_numba(*args)
     material = SolidMaterial(*model.solid_constants)
     kernel, group = (tet4.internal_forces_numba, model.tet4) if kind == "tet4" else \

@@ -99,7 +99,7 @@ v_pres : (n_nodes, 3) ndarray
     Prescribed velocities of the constrained nodes [m/s] (zero for fixed nodes,
     updated every step for nodes carried by the rotating frame).
 """
-HexGroup = namedtuple("HexGroup", "hexes b volume gamma kappa")
+HexGroup = namedtuple("HexGroup", "hexes b volume gamma kappa length_factor")
 HexGroup.__doc__ = """One-point hexahedra (structure of arrays), as
 :func:`ccedi.fea.kernels.internal_forces_numba` takes them.
 
@@ -116,6 +116,9 @@ gamma : (n_elem, 4, 8) ndarray
 kappa : (n_elem, 12, 12) ndarray
     Hourglass stiffness K_hg per element, index mode*3 + direction [N/m]
     (:func:`ccedi.fea.hex8.hourglass_stiffness`).
+length_factor : float
+    Scale on the characteristic length V / A_max of paper Eq. (6) [-]
+    (:attr:`ccedi.fea.model.Model.hex_length_factor`).
 """
 SolidMaterial = namedtuple("SolidMaterial", "mu lam rho c")
 SolidMaterial.__doc__ = """The solid elements' neo-Hookean constants.
@@ -315,7 +318,8 @@ def _advance(forces, tet4_forces, tet10_forces, rod_forces, contact_kernel, t, t
     dt_seen = np.inf
     while t < t_stop:
         dte, w_int, w_hg, p_bulk, bad = forces(x, v, hexes.hexes, hexes.b, hexes.volume, hexes.gamma, hexes.kappa,
-                                               material.mu, material.lam, material.rho, material.c, f_int)
+                                               hexes.length_factor, material.mu, material.lam, material.rho,
+                                               material.c, f_int)
         if bad >= 0:
             return t, dt_prev, steps, _INVERTED, bad, dt_seen
         dt4, w4, _, bad4 = tet4_forces(x, v, tets4, material, f_int)
@@ -443,11 +447,11 @@ def _stress_and_strain(model, x):
     return sigma, strain
 
 
-def _hex_forces_numpy(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c, f):
+def _hex_forces_numpy(x, v, hexes, b, volume, gamma, kappa, length_factor, mu, lam, rho, c, f):
     """:func:`ccedi.fea.hex8.internal_forces_numpy`, also for no hexahedra (then f = 0 and
     (inf, 0, 0, 0, -1), as the compiled kernel returns)."""
     if len(hexes):
-        return internal_forces_numpy(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c, f)
+        return internal_forces_numpy(x, v, hexes, b, volume, gamma, kappa, length_factor, mu, lam, rho, c, f)
     f[:] = 0.0
     return np.inf, 0.0, 0.0, 0.0, -1
 
@@ -525,7 +529,7 @@ def critical_time_step(model, x=None, v=None):
     g = model.geometry
     f = np.zeros_like(x)
     dt, *_ , bad = internal_forces_numba(x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa,
-                                        *model.solid_constants, f)
+                                        model.hex_length_factor, *model.solid_constants, f)
     if bad >= 0:
         raise SolverError(f"{element_name(model.mesh, bad)} is inverted (J <= 0)")
     material = SolidMaterial(*model.solid_constants)
@@ -557,7 +561,7 @@ def _initial_energy(model, x, v, forces, tet4_forces, tet10_forces, rod_forces):
     g = model.geometry
     f = np.zeros_like(x)
     _, w_s, w_hg, _, bad = forces(x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa,
-                                  *model.solid_constants, f)
+                                  model.hex_length_factor, *model.solid_constants, f)
     material = SolidMaterial(*model.solid_constants)
     for kernel, group in ((tet4_forces, model.tet4), (tet10_forces, model.tet10)):
         _, w_group, _, bad_group = kernel(x, v, group, material, f)
@@ -621,7 +625,7 @@ def _step_data(model, x, v, dt_user, tssfac, dt_cfl):
     nodes = Nodes(X, model.mass, free, np.zeros_like(X))
     ra = model.rod_arrays
     return (StepControl(dt_user, tssfac), Damping(model.alpha, model.beta, model.damping == "relative"), state,
-            nodes, HexGroup(mesh.hexes, g.b, g.volume, g.gamma, model.kappa), model.tet4, model.tet10,
+            nodes, HexGroup(mesh.hexes, g.b, g.volume, g.gamma, model.kappa, model.hex_length_factor), model.tet4, model.tet10,
             SolidMaterial(*model.solid_constants),
             RodGroup(ra.segments, ra.rest_length, ra.axial_stiffness, ra.hinges, ra.bending_stiffness,
                      rod_time_step(model)),

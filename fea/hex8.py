@@ -377,7 +377,7 @@ def hourglass_displacements(x_e, gamma, kappa, Finv):
     return qt, Qt
 
 
-def internal_forces_numpy(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c, f):
+def internal_forces_numpy(x, v, hexes, b, volume, gamma, kappa, length_factor, mu, lam, rho, c, f):
     """Internal forces of all elements, pure numpy; the reference for the numba kernel.
 
     Nodal force ``f_k = (P(F) - F^-T S / V0) b_k + sum_a gamma_ak F^-T Qt_a`` with the
@@ -401,6 +401,8 @@ def internal_forces_numpy(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c,
         Hourglass shape vectors, shape (e, 4, 8).
     kappa : numpy.ndarray
         Hourglass stiffness K_hg (:func:`hourglass_stiffness`), shape (e, 12, 12) [N/m].
+    length_factor : float
+        Scale on the characteristic length V / A_max [-].
     mu : float
         Shear modulus [Pa].
     lam : float
@@ -435,7 +437,7 @@ def internal_forces_numpy(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c,
     Finv = np.linalg.inv(F)
     Fdot = deformation_gradient(v_e, geometry)
     e_v = np.einsum("eij,eji->e", Fdot, Finv)              # J'/J
-    Le = characteristic_length(x_e, J * volume)
+    Le = length_factor * characteristic_length(x_e, J * volume)
     q_bv = np.where(e_v < 0.0, rho * Le * (BULK_VISCOSITY_C0 * Le * e_v**2 - BULK_VISCOSITY_C1 * c * e_v), 0.0)
     qt, Qt = hourglass_displacements(x_e, gamma, kappa, Finv)
     S = np.einsum("eai,eaj->eij", Qt, qt)

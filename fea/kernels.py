@@ -13,7 +13,7 @@ _FACES = FACES.astype(np.int64)
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def internal_forces_numba(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c, f):
+def internal_forces_numba(x, v, hexes, b, volume, gamma, kappa, length_factor, mu, lam, rho, c, f):
     """Internal nodal forces of one-point (uniform-gradient) hexahedra, compiled.
 
     For each element e with reference volume V0 and uniform gradients b_k the kernel
@@ -54,6 +54,9 @@ def internal_forces_numba(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c,
     kappa : (n_elem, 12, 12) ndarray
         Hourglass stiffness K_hg per element, index mode*3 + direction [N/m]
         (:func:`ccedi.fea.hex8.hourglass_stiffness`).
+    length_factor : float
+        Scale on the characteristic length ``J V0 / A_max`` [-]
+        (:attr:`ccedi.fea.model.Model.hex_length_factor`).
     mu : float
         Shear modulus [Pa].
     lam : float
@@ -132,7 +135,7 @@ def internal_forces_numba(x, v, hexes, b, volume, gamma, kappa, mu, lam, rho, c,
             cx = p1 * r2 - p2 * r1; cy = p2 * r0 - p0 * r2; cz = p0 * r1 - p1 * r0
             amax2 = max(amax2, cx * cx + cy * cy + cz * cz)
         V0 = volume[e]
-        Le = 2.0 * J * V0 / np.sqrt(amax2)
+        Le = length_factor * 2.0 * J * V0 / np.sqrt(amax2)
         qb = 0.0; Q = 0.0
         if e_v < 0.0:
             qb = rho * Le * (BULK_VISCOSITY_C0 * Le * e_v * e_v - BULK_VISCOSITY_C1 * c * e_v)

@@ -55,11 +55,29 @@ def tangent_stiffness(model: Model, x=None):
     """
     x = model.mesh.nodes if x is None else x
     K = _tetrahedra_tangent(model, x)
-    return K + _hexahedra_tangent(model, x) if len(model.mesh.hexes) else K
+    return K + hexahedra_tangent(model, x) if len(model.mesh.hexes) else K
 
 
-def _hexahedra_tangent(model, x):
-    """Tangent stiffness (3 n, 3 n) [N/m] of the model's hexahedra at x (module docstring)."""
+def hexahedra_tangent(model, x):
+    """Tangent stiffness of the model's hexahedra (module docstring).
+
+    Parameters
+    ----------
+    model : Model
+        The model (its hexahedra contribute).
+    x : numpy.ndarray or None
+        Nodal positions, shape (n, 3) [m]; None for the reference positions.
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix
+        K, shape (3 n, 3 n) [N/m], DOF index node*3 + direction, no constraints applied.
+
+    Raises
+    ------
+    SolverError
+        If an element is inverted (J <= 0) at ``x``.
+    """
     mesh, g, mat = model.mesh, model.geometry, model.material
     x = mesh.nodes if x is None else x
     F = deformation_gradient(x[mesh.hexes], g)
@@ -161,7 +179,7 @@ def internal_force(model: Model, x):
     f = np.zeros_like(x)
     if len(model.mesh.hexes):
         *_, bad = internal_forces_numpy(x, np.zeros_like(x), model.mesh.hexes, g.b, g.volume, g.gamma,
-                                        model.kappa, mat.mu, mat.lam, mat.rho, mat.wave_speed, f)
+                                        model.kappa, 1.0, mat.mu, mat.lam, mat.rho, mat.wave_speed, f)
         if bad >= 0:
             raise SolverError(f"element {bad} inverted (J <= 0)")
     material = SolidMaterial(*model.solid_constants)

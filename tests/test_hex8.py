@@ -19,7 +19,7 @@ def _forces(model, x, v=None, kernel=internal_forces_numpy):
     g, mat = model.geometry, model.material
     f = np.zeros_like(x)
     out = kernel(x, np.zeros_like(x) if v is None else v, model.mesh.hexes, g.b, g.volume, g.gamma,
-                 model.kappa, mat.mu, mat.lam, mat.rho, mat.wave_speed, f)
+                 model.kappa, model.hex_length_factor, mat.mu, mat.lam, mat.rho, mat.wave_speed, f)
     return f, out
 
 

@@ -40,7 +40,7 @@ def energies(model, x, kernel=internal_forces_numpy, v=None):
     g, mat = model.geometry, model.material
     f = np.zeros_like(x)
     out = kernel(x, np.zeros_like(x) if v is None else v, model.mesh.hexes, g.b, g.volume, g.gamma,
-                 model.kappa, mat.mu, mat.lam, mat.rho, mat.wave_speed, f)
+                 model.kappa, model.hex_length_factor, mat.mu, mat.lam, mat.rho, mat.wave_speed, f)
     return f, out
 
 
@@ -151,3 +151,25 @@ def test_sm_a_converges_from_above_under_refinement():
     assert k[0] > k[1] and f1[0] > f1[1]
     assert f1[0] == pytest.approx(f1[1], rel=0.01) and k[0] == pytest.approx(k[1], rel=0.02)
     assert (k[1], f1[1]) == pytest.approx(C3D20R_SM_A, rel=0.005)
+
+
+@pytest.mark.parametrize("mesh", [sm_a(length_in=4.5), __import__("ccedi.fea.tet_mesh", fromlist=["x"]).box_cantilever(
+    0.06, 0.012, 0.012, 3, 3, 15)], ids=["SM-A", "cube box"])
+def test_hexahedron_stable_step_is_near_the_real_limit(mesh):
+    """Central differences are stable for dt < 2 / omega_max (largest eigenvalue of
+    M^-1/2 K M^-1/2): the run at 0.9 of the computed step (TSSFAC) stays below it and a
+    run at 1.3 of it would not."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    from ccedi.fea.explicit import critical_time_step
+    from ccedi.fea.static import free_dofs
+
+    model = cantilever_model(mesh, RUBBER)
+    free = free_dofs(model)
+    scale = sp.diags(1.0 / np.sqrt(np.repeat(model.mass, 3)[free]))
+    w2 = spla.eigsh(scale @ tangent_stiffness(model)[free][:, free] @ scale, k=1, which="LA",
+                    return_eigenvectors=False)[0]
+    limit = 2.0 / np.sqrt(w2)
+    dt = critical_time_step(model)
+    assert 0.9 * dt < limit < 1.3 * dt
