@@ -42,6 +42,7 @@ from ccedi.quantities import QUANTITIES
 
 from .lsdyna import keyword_blocks
 from .mesh import Mesh
+from .tetra import corner_volume
 
 UNITS = {"m": 1.0, "mm": 1e-3}
 """Size of a file's coordinate unit in metres, by ``mesh_unit``."""
@@ -400,13 +401,8 @@ def element_volumes(mesh):
     x = mesh.nodes
     return np.concatenate([
         _jacobians(x, mesh.hexes, _hex_gradients(hex_points)).sum(axis=1),
-        _tet4_volumes(x, mesh.tets4),
+        corner_volume(x[mesh.tets4]),
         _jacobians(x, mesh.tets10, _tet10_gradients(tet_points)) @ tet_weights])
-
-
-def _tet4_volumes(x, tets):
-    a, b, c, d = (x[tets[:, i]] for i in range(4))
-    return np.einsum("ij,ij->i", b - a, np.cross(c - a, d - a)) / 6
 
 
 def _smallest_local_volumes(kind, nodes, cells):
@@ -414,7 +410,7 @@ def _smallest_local_volumes(kind, nodes, cells):
     (and, for the 10-node tetrahedron, its integration points): the element's volume for
     an undistorted element, <= 0 for an inverted one."""
     if kind == "tetra":
-        return _tet4_volumes(nodes, cells)
+        return corner_volume(nodes[cells])
     if kind == "hexahedron":
         corners = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
                             [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
