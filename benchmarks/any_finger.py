@@ -31,7 +31,6 @@ from ccedi.fea.calculix import ccx_version, run_calculix
 from ccedi.fea.gmsh_fingers import TAPERED_REFINEMENT_SIZES, write_tapered_finger
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh_io import read_finger_mesh
-from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import cantilever_model, face_node_weights
 from ccedi.fea.static import tip_deflection
 from ccedi.fea.studies import finger_impulse_model, table1_row

@@ -247,7 +247,7 @@ class Model:
         there are no hexahedra or Lanczos does not converge."""
         if not len(self.mesh.hexes) or self.material is None:
             return 1.0
-        from .static import hexahedra_tangent          # static imports this module
+        from .static import hexahedra_tangent  # static imports this module
         omega = largest_frequency(hexahedra_tangent(self, None), lumped_mass(self.mesh, self.geometry,
                                                                             self.material.rho))
         if not omega > 0.0:

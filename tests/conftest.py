@@ -1,7 +1,9 @@
 """Shared fixtures: the paper's 4.5-in SM-A finger and its analytic beam values."""
+import numpy as np
 import pytest
 
 from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties, tip_stiffness_eb
+from ccedi.fea.hex8 import internal_forces_numpy
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import sm_a
 from ccedi.fea.units import inch_to_m
@@ -38,3 +40,13 @@ def converged_box_hex():
 
     model = cantilever_model(box_cantilever(*BOX, 12, 8, 60), NeoHookean(6.1e6, 0.499, 1000.0))
     return 0.01 / tip_deflection(model, 0.01, linear=True)
+
+
+def hex_forces(model, x, v=None, kernel=internal_forces_numpy):
+    """Nodal forces of the model's hexahedra at x (v: velocities, default zero) and the
+    kernel's returned tuple (dt, strain energy, hourglass energy, bulk power, status)."""
+    g, mat = model.geometry, model.material
+    f = np.zeros_like(x)
+    out = kernel(x, np.zeros_like(x) if v is None else v, model.mesh.hexes, g.b, g.volume, g.gamma,
+                 model.kappa, model.hex_length_factor, mat.mu, mat.lam, mat.rho, mat.wave_speed, f)
+    return f, out

@@ -10,8 +10,15 @@ import pytest
 from scipy.linalg import eigh
 
 from ccedi.errors import InputError, SolverError
-from ccedi.fea.calculix import (TET10_EDGES, calculix_deck, calculix_matrices, ccx_version, hex8_to_hex20,
-                                run_calculix, tip_weights)
+from ccedi.fea.calculix import (
+    TET10_EDGES,
+    calculix_deck,
+    calculix_matrices,
+    ccx_version,
+    hex8_to_hex20,
+    run_calculix,
+    tip_weights,
+)
 from ccedi.fea.hex8 import element_geometry
 from ccedi.fea.material import NeoHookean
 from ccedi.fea.mesh import Mesh

@@ -4,6 +4,7 @@ patch test, compiled kernel and tangent against references, and the coarse finge
 against converged solutions of its own geometry."""
 import numpy as np
 import pytest
+from conftest import hex_forces
 from scipy.spatial.transform import Rotation
 
 from ccedi.fea.hex8 import internal_forces_numpy
@@ -36,14 +37,6 @@ def box_mesh(size, cells, rotation=None):
     return Mesh(nodes=nodes if rotation is None else nodes @ rotation.T, hexes=hexes, node_sets=sets)
 
 
-def energies(model, x, kernel=internal_forces_numpy, v=None):
-    g, mat = model.geometry, model.material
-    f = np.zeros_like(x)
-    out = kernel(x, np.zeros_like(x) if v is None else v, model.mesh.hexes, g.b, g.volume, g.gamma,
-                 model.kappa, model.hex_length_factor, mat.mu, mat.lam, mat.rho, mat.wave_speed, f)
-    return f, out
-
-
 @pytest.mark.parametrize("shape", [(1, 1, 1), (1, 2, 4), (4, 1, 1), (2, 1, 4)])
 @pytest.mark.parametrize("through_thickness", [1, 2])
 def test_pure_bending_energy_is_exact_at_any_aspect_ratio(shape, through_thickness):
@@ -62,7 +55,7 @@ def test_pure_bending_energy_is_exact_at_any_aspect_ratio(shape, through_thickne
     x, y, z = (mesh.nodes @ R).T                     # coordinates in the prism's own frame
     c, nu = 1e-5 / b, RUBBER.nu
     u = np.column_stack([nu * c * x * y, c * z**2 / 2 + nu * c * (y**2 - x**2) / 2, -c * y * z])
-    _, (_, w_strain, w_hg, _, status) = energies(model, mesh.nodes + u @ R.T)
+    _, (_, w_strain, w_hg, _, status) = hex_forces(model, mesh.nodes + u @ R.T)
     exact = 0.5 * RUBBER.E * c**2 * (2 * a) * (2 * b) ** 3 / 12.0 * L
     assert status == -1
     assert (w_strain + w_hg) / exact == pytest.approx(1.0, abs=5e-4)
@@ -77,8 +70,8 @@ def test_large_rotation_of_a_deformed_state_is_objective():
     x = model.mesh.nodes + 2e-4 * rng.standard_normal(model.mesh.nodes.shape)
     R = Rotation.from_rotvec([1.9, -0.4, 1.1]).as_matrix()
     for kernel in (internal_forces_numpy, internal_forces_numba):
-        f0, (_, w0, hg0, _, _) = energies(model, x, kernel)
-        f1, (_, w1, hg1, _, _) = energies(model, x @ R.T + [0.1, 0.2, -0.3], kernel)
+        f0, (_, w0, hg0, _, _) = hex_forces(model, x, kernel=kernel)
+        f1, (_, w1, hg1, _, _) = hex_forces(model, x @ R.T + [0.1, 0.2, -0.3], kernel=kernel)
         assert hg0 > 0.05 * w0
         assert (w1, hg1) == pytest.approx((w0, hg0), rel=1e-9)
         assert np.allclose(f1, f0 @ R.T, rtol=0, atol=1e-9 * np.abs(f0).max())
@@ -91,8 +84,8 @@ def test_numba_kernel_matches_numpy_at_large_deformation():
     F0 = Rotation.from_rotvec([0.4, 1.2, -0.7]).as_matrix() @ np.diag([1.2, 0.9, 0.95])
     x = model.mesh.nodes @ F0.T + 2e-4 * rng.standard_normal(model.mesh.nodes.shape)
     v = 0.05 * rng.standard_normal(x.shape)
-    f_ref, out_ref = energies(model, x, internal_forces_numpy, v)
-    f_nb, out_nb = energies(model, x, internal_forces_numba, v)
+    f_ref, out_ref = hex_forces(model, x, v, internal_forces_numpy)
+    f_nb, out_nb = hex_forces(model, x, v, internal_forces_numba)
     assert out_ref[2] > 0.01 * out_ref[1]
     assert np.allclose(f_nb, f_ref, rtol=1e-10, atol=1e-12 * np.abs(f_ref).max())
     assert np.allclose(out_nb[:4], out_ref[:4], rtol=1e-10) and out_nb[4] == out_ref[4] == -1
@@ -123,7 +116,7 @@ def test_linear_field_gives_no_hourglass_force_on_distorted_elements():
     mesh = sm_a(length_in=1.0)
     model = cantilever_model(mesh, RUBBER)
     F0 = np.array([[1.1, 0.05, 0.0], [0.02, 0.95, 0.1], [0.0, -0.03, 1.2]])
-    f, (_, w, hg, _, _) = energies(model, mesh.nodes @ F0.T + [1e-3, 0.0, 2e-3])
+    f, (_, w, hg, _, _) = hex_forces(model, mesh.nodes @ F0.T + [1e-3, 0.0, 2e-3])
     assert abs(hg) < 1e-12 * w
     interior = np.bincount(mesh.hexes.ravel(), minlength=mesh.n_nodes) == 8
     assert np.abs(f[interior]).max() < 1e-9 * np.abs(f).max()

@@ -12,7 +12,7 @@ from ccedi.fea.explicit import SolidMaterial, critical_time_step, run
 from ccedi.fea.kernels import internal_forces_numba as hex_forces
 from ccedi.fea.material import NeoHookean
 from ccedi.fea.mesh import Mesh
-from ccedi.fea.model import Model, cantilever_model, face_node_weights, tip_pulse
+from ccedi.fea.model import Model, cantilever_model, face_node_weights
 from ccedi.fea.static import internal_force, tangent_stiffness, tip_deflection
 from ccedi.fea.tet_mesh import box_cantilever, quadratic_tets, split_hexes
 
