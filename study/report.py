@@ -119,7 +119,9 @@ def _impulse(out):
         return _missing("impulse")
     rows = [{"alpha_per_s": float(a), **p} for a, p in s["peaks"].items()]
     keys = ["alpha_per_s", "peak_tip_uy_m", "time_of_peak_s", "min_tip_uy_after_peak_m", "peak_von_mises_Pa"]
-    return (f"<p>{s['length_in']:g}-in SM-A finger, {s['force_N']:g} N for {s['duration_s']:g} s at the tip.</p>"
+    f = s["finger"]
+    return (f"<p>{html.escape(f['name'])} ({f['nodes']} nodes, {f['elements']} {f['element_type']} elements, "
+            f"{1e3 * f['length_m']:.1f} mm long), {s['force_N']:g} N for {s['duration_s']:g} s at the tip.</p>"
             + _table(rows, [_col(k) for k in keys]))
 
 

@@ -70,3 +70,13 @@ def test_index_shows_the_inputs_and_the_paper_table_only_for_the_paper_finger(tm
     page = write_index(tmp_path).read_text()
     assert "SM-A paper" not in page and "not the paper's" in page
     assert "[material] E_Pa</td><td>1.22e+07</td><td>Pa" in page
+
+
+def test_index_shows_the_impulse_step_of_a_real_run(tmp_path):
+    """The impulse section reads what ``ccedi impulse`` writes (the finger's description)."""
+    assert main(["impulse", "--alpha", "180", "--length-in", "3", "--t-end-s", "0.002",
+                 "--out", str(tmp_path / "impulse")]) == 0
+    peak = json.loads((tmp_path / "impulse" / "impulse_summary.json").read_text())["peaks"]["180"]
+    page = write_index(tmp_path).read_text()
+    assert "SM-A 3-in finger (" in page and "hex8 elements" in page
+    assert f"{peak['peak_tip_uy_m']:.4g}" in page
