@@ -6,9 +6,12 @@ import numpy as np
 import pytest
 
 from ccedi.fea.explicit import run
+from ccedi.fea.gmsh_fingers import sm_c as sm_c_mesh
 from ccedi.fea.material import RUBBER
-from ccedi.fea.mesh import elliptical_cantilever
+from ccedi.fea.mesh import elliptical_cantilever, sm_a, sm_b
+from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import cantilever_model, tip_pulse
+from ccedi.fea.studies import PAPER_TABLE1
 from ccedi.fea.vtu import write_series, write_vtu
 from ccedi.study.cli import main
 
@@ -44,6 +47,17 @@ def test_cli_table1_writes_every_key(tmp_path):
         assert (row["nodes"], row["elements"]) == (nodes, elements)
         assert row["steps_to_0_2_s"] == pytest.approx(0.2 / (row["dt_us"] * 1e-6), abs=1)
     assert table["SM-B"]["step_ratio"] == pytest.approx(2.83, rel=0.1)      # paper: 2.83
+    # SM-C (Gmsh, 10-node tetrahedra) is the same finger: stiffness and first frequency within
+    # 2 % of SM-A's and SM-B's, node and element counts within 15 % of the paper's
+    sm_c = table["SM-C"]
+    assert sm_c["element_type"] == "tet10"
+    for key in ("nodes", "elements"):
+        assert sm_c[key] == pytest.approx(PAPER_TABLE1["SM-C"][key], rel=0.15)
+    omega1 = {name: natural_frequencies(cantilever_model(make(length_in=4.5), RUBBER), 1)[0]
+              for name, make in (("SM-A", sm_a), ("SM-B", sm_b), ("SM-C", sm_c_mesh))}
+    for ref in ("SM-A", "SM-B"):
+        assert sm_c["stiffness_N_per_m"] == pytest.approx(table[ref]["stiffness_N_per_m"], rel=0.02)
+        assert omega1["SM-C"] == pytest.approx(omega1[ref], rel=0.02)
 
 
 def test_cli_reports_bad_input_in_one_line(capsys):
