@@ -97,6 +97,8 @@ SCHEMA = {
     "study": {
         "impulse_alphas_per_s": _key("alpha_per_s", [70.0, 120.0, 160.0, 180.0, 200.0],
                                      "alphas of the impulse study (Fig. 7)", True),
+        "table1_stiffness": Key(bool, "-", None, None, True,
+                                "solve the nonlinear static tip stiffness of every Table 1 model (SM-C: minutes)"),
         "impulse_force_N": _key("force_N", 1.0, "tip impulse force"),
         "impulse_duration_s": _key("pulse_duration_s", 0.01, "tip impulse duration"),
         "impulse_t_end_s": Key(float, "s", 1e-3, 2.0, 0.2, "simulated time of the impulse runs"),

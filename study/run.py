@@ -35,7 +35,8 @@ from .config import finger_inputs, to_toml
 from .report import write_index
 
 QUICK = {"study": {"impulse_t_end_s": 0.05, "mesh_comparison_t_end_s": 0.03, "identification_lengths_in": [3.0, 4.5],
-                   "contact_alphas_per_s": [600.0], "contact_t_end_s": 1.0, "design_fea_check": False}}
+                   "contact_alphas_per_s": [600.0], "contact_t_end_s": 1.0, "design_fea_check": False,
+                   "table1_stiffness": False}}
 """Settings ``--quick`` overrides: a few-minute smoke run of every step."""
 
 
@@ -68,7 +69,8 @@ def steps(cfg, out, scheduler):
     records = [Path(r) for r in s["measured_records"]]
     design = DesignOptions(weights=tuple(s["design_weights"]), fea_check=s["design_fea_check"])
     return [
-        ("table1", "paper Table 1", lambda: write_table1(cfg, f["impulse_length_in"], out / "table1.json")),
+        ("table1", "paper Table 1", lambda: write_table1(cfg, f["impulse_length_in"], out / "table1.json",
+                                                         stiffness=s["table1_stiffness"])),
         ("steel_rod", "steel rod alpha_cr (Figs. 3, 4)", lambda: paper_steps.steel_rod(out / "steel_rod")),
         ("impulse", "impulse study (Fig. 7)", lambda: write_impulse(
             cfg, s["impulse_alphas_per_s"], out / "impulse", t_end_s=s["impulse_t_end_s"], scheduler=scheduler,
