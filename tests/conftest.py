@@ -50,3 +50,16 @@ def hex_forces(model, x, v=None, kernel=internal_forces_numpy):
     out = kernel(x, np.zeros_like(x) if v is None else v, model.mesh.hexes, g.b, g.volume, g.gamma,
                  model.kappa, model.hex_length_factor, mat.mu, mat.lam, mat.rho, mat.wave_speed, f)
     return f, out
+
+
+def finite_difference_tangent(model, x, h):
+    """d f_int / d x of the model at x by central differences of step h [m], (3 n, 3 n)."""
+    from ccedi.fea.static import internal_force
+
+    K = np.empty((x.size, x.size))
+    for d in range(x.size):
+        dx = np.zeros(x.size)
+        dx[d] = h
+        K[:, d] = (internal_force(model, x + dx.reshape(x.shape))
+                   - internal_force(model, x - dx.reshape(x.shape))).ravel() / (2 * h)
+    return K
