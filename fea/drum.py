@@ -43,7 +43,7 @@ from .contact import Contact, RigidEllipse, boundary_nodes
 from .explicit import run
 from .hex8 import deformation_gradient
 from .material import RUBBER, NeoHookean, max_von_mises_of
-from .mesh import SEMI_AXES, Mesh, elliptical_cantilever, sm_a_elements_along
+from .mesh import SEMI_AXES, SM_A_ROOT_REFINEMENT, Mesh, elliptical_cantilever, sm_a_elements_along
 from .model import Model, RotatingNodes
 from .rotating_frame import drum_to_object, frame_velocities
 from .static import free_dofs, tangent_stiffness
@@ -180,7 +180,8 @@ def finger_frame(theta):
 
 def finger_mesh(setup: DrumSetup):
     """The finger's mesh in its own frame (root at z = 0): SM-A (5 x 5 in the section,
-    ~4 mm along) unless ``finger_section_elements`` / ``finger_elements_along`` say otherwise.
+    ~4 mm along, refined at the root as :func:`ccedi.fea.mesh.sm_a`) unless
+    ``finger_section_elements`` / ``finger_elements_along`` say otherwise.
 
     Parameters
     ----------
@@ -193,7 +194,8 @@ def finger_mesh(setup: DrumSetup):
     """
     L = setup.finger_length_m
     n_along = setup.finger_elements_along or sm_a_elements_along(L)
-    return elliptical_cantilever(L, setup.finger_section_elements, n_along, *setup.finger_semi_axes_m)
+    return elliptical_cantilever(L, setup.finger_section_elements, n_along, *setup.finger_semi_axes_m,
+                                 root_refinement=SM_A_ROOT_REFINEMENT)
 
 
 def finger_on_drum(setup: DrumSetup, alpha, damping="global"):
