@@ -291,10 +291,12 @@ class _Blocks(NamedTuple):
     faces: list
 
 
-def _cell_blocks(mesh, hex_element):
-    """``mesh`` as :class:`_Blocks`, hexahedra written as ``hex_element``."""
-    if hex_element not in HEX_ELEMENTS:
-        raise InputError(f"hex_element must be one of {', '.join(HEX_ELEMENTS)}, got {hex_element!r}")
+def _cell_blocks(mesh, hex_element, extra=()):
+    """``mesh`` as :class:`_Blocks`, hexahedra written as ``hex_element`` (one of
+    :data:`HEX_ELEMENTS` or ``extra``)."""
+    allowed = HEX_ELEMENTS + tuple(extra)
+    if hex_element not in allowed:
+        raise InputError(f"hex_element must be one of {', '.join(allowed)}, got {hex_element!r}")
     cells, faces = {}, []
     nodes, node_sets = mesh.nodes, mesh.node_sets
     if len(mesh.hexes) and hex_element.startswith("C3D20"):
@@ -324,7 +326,7 @@ def _block_tip_weights(mesh, blocks, tip):
     if tip not in mesh.node_sets:
         raise InputError(f"mesh has no node set {tip!r} (has {sorted(mesh.node_sets)})")
     ids = np.asarray(blocks.node_sets[tip], dtype=np.int64)
-    if set(blocks.cells) <= {"C3D8I", "C3D8"}:
+    if set(blocks.cells) <= {"C3D8I", "C3D8", "C3D8R"}:
         return ids, face_node_weights(mesh, ids)
     in_set = np.zeros(len(blocks.nodes), dtype=bool)
     in_set[ids] = True
@@ -454,7 +456,6 @@ def calculix_deck(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_eleme
     if store_matrices and (force_N is not None or n_modes == 0):
         raise InputError("store_matrices needs force_N=None and n_modes >= 1 (a frequency step alone)")
     blocks = _cell_blocks(mesh, hex_element)
-    nodes = blocks.nodes
     if weights is None:
         ids, weights = _block_tip_weights(mesh, blocks, tip)
     else:
@@ -466,17 +467,7 @@ def calculix_deck(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_eleme
         if weights.shape != ids.shape or not np.isfinite(weights).all() or abs(weights.sum() - 1.0) > 1e-9:
             raise InputError(f"weights must be {len(ids)} finite numbers (one per {tip} node) summing "
                              f"to 1, got shape {weights.shape} summing to {weights.sum():.6g}")
-    lines = ["*HEADING", "ccedi clamped finger (SI units: m, kg, s, N, Pa)", "*NODE, NSET=NALL"]
-    lines += [f"{i + 1}, {_real(x)}, {_real(y)}, {_real(z)}" for i, (x, y, z) in enumerate(nodes.tolist())]
-    first = 1
-    for etype, cells in blocks.cells.items():
-        lines += [f"*ELEMENT, TYPE={etype}, ELSET=EALL"] + _element_lines(first, cells)
-        first += len(cells)
-    for name, set_name in ((clamp, "ROOT"), (tip, "TIP")):
-        lines += [f"*NSET, NSET={set_name}"] + _id_lines(blocks.node_sets[name])
-    lines += ["*MATERIAL, NAME=RUBBER", "*ELASTIC", f"{_real(material.E)}, {_real(material.nu)}",
-              "*DENSITY", _real(material.rho), "*SOLID SECTION, ELSET=EALL, MATERIAL=RUBBER",
-              "*BOUNDARY", "ROOT, 1, 3"]
+    lines = _model_lines(blocks, material, clamp, tip)
     if force_N is not None:
         lines += ["*STEP", "*STATIC", "*CLOAD"]
         lines += [f"{i + 1}, {direction + 1}, {_real(w * force_N)}" for i, w in zip(ids, weights) if w != 0.0]
@@ -484,7 +475,131 @@ def calculix_deck(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_eleme
     if n_modes:
         lines += ["*STEP", "*FREQUENCY" + (", SOLVER=MATRIXSTORAGE" if store_matrices else ""),
                   f"{int(n_modes)}", "*END STEP"]
-    return CalculixDeck("\n".join(lines) + "\n", ids, weights, len(nodes), tuple(blocks.cells))
+    return CalculixDeck("\n".join(lines) + "\n", ids, weights, len(blocks.nodes), tuple(blocks.cells))
+
+
+def _model_lines(blocks, material, clamp, tip):
+    """The deck's model data: *NODE, *ELEMENT blocks, *NSET ROOT (``clamp``) and TIP
+    (``tip``), the linear elastic *MATERIAL with *DENSITY, and ROOT clamped."""
+    lines = ["*HEADING", "ccedi clamped finger (SI units: m, kg, s, N, Pa)", "*NODE, NSET=NALL"]
+    lines += [f"{i + 1}, {_real(x)}, {_real(y)}, {_real(z)}" for i, (x, y, z) in enumerate(blocks.nodes.tolist())]
+    first = 1
+    for etype, cells in blocks.cells.items():
+        lines += [f"*ELEMENT, TYPE={etype}, ELSET=EALL"] + _element_lines(first, cells)
+        first += len(cells)
+    for name, set_name in ((clamp, "ROOT"), (tip, "TIP")):
+        lines += [f"*NSET, NSET={set_name}"] + _id_lines(blocks.node_sets[name])
+    return lines + ["*MATERIAL, NAME=RUBBER", "*ELASTIC", f"{_real(material.E)}, {_real(material.nu)}",
+                    "*DENSITY", _real(material.rho), "*SOLID SECTION, ELSET=EALL, MATERIAL=RUBBER",
+                    "*BOUNDARY", "ROOT, 1, 3"]
+
+
+def calculix_impulse_deck(mesh, material, alpha, force_N=1.0, duration_s=0.01, t_end_s=0.2, output_every=100,
+                          hex_element="C3D8R", direction=1):
+    """A CalculiX explicit dynamic deck of the paper's impulse test on a clamped finger.
+
+    The model data of :func:`calculix_deck` (linear elastic material, the small-strain
+    limit of ccedi's neo-Hookean solid), then one ``*STEP, NLGEOM`` with
+    ``*DYNAMIC, EXPLICIT`` (CalculiX's central differences, lumped mass, its own stable
+    increment), mass-proportional Rayleigh damping ``*DAMPING, ALPHA=alpha`` (C = alpha M,
+    as ccedi's), the tip force F along ``direction`` spread over the tip nodes with the
+    weights of :func:`tip_weights`, held for ``duration_s`` (``*AMPLITUDE``), and
+    ``*NODE PRINT`` of U on TIP every ``output_every`` increments (CalculiX 2.20's explicit
+    step ignores ``*TIME POINTS`` and prints every increment otherwise).
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The ccedi mesh with node sets ``root`` (clamped) and ``tip`` (loaded).
+    material : NeoHookean
+        E [Pa], nu, rho [kg/m^3].
+    alpha : float
+        Mass-proportional damping coefficient [1/s], >= 0.
+    force_N : float, optional
+        Total tip force [N], finite and non-zero. Default 1.
+    duration_s : float, optional
+        How long the force is held [s], in (0, t_end_s). Default 0.01.
+    t_end_s : float, optional
+        Simulated time [s], > 0. Default 0.2.
+    output_every : int, optional
+        Increments between outputs, >= 1. Default 100.
+    hex_element : str, optional
+        How hexahedra are written: ``"C3D8R"`` (one-point, the explicit element) or one of
+        :data:`HEX_ELEMENTS`. Default ``"C3D8R"``.
+    direction : int, optional
+        Axis of the force, 0, 1 or 2. Default 1 (y).
+
+    Returns
+    -------
+    CalculixDeck
+        The deck text, tip node ids and weights, node count and element types.
+
+    Raises
+    ------
+    InputError
+        If an input is out of range or a node set is missing.
+    """
+    if not (np.isfinite(alpha) and alpha >= 0.0):
+        raise InputError(f"alpha must be a finite damping coefficient >= 0 in 1/s, got {alpha!r}")
+    if not (np.isfinite(t_end_s) and t_end_s > 0.0):
+        raise InputError(f"t_end_s must be a finite time > 0 in s, got {t_end_s!r}")
+    if not (np.isfinite(duration_s) and 0.0 < duration_s < t_end_s):
+        raise InputError(f"duration_s must be in (0, t_end_s = {t_end_s:g}) s, got {duration_s!r}")
+    if not (np.isfinite(force_N) and force_N != 0.0):
+        raise InputError(f"force_N must be a finite non-zero force in N, got {force_N!r}")
+    if int(output_every) != output_every or output_every < 1:
+        raise InputError(f"output_every must be an integer >= 1, got {output_every!r}")
+    if direction not in (0, 1, 2):
+        raise InputError(f"direction must be 0, 1 or 2 (x, y, z), got {direction!r}")
+    blocks = _cell_blocks(mesh, hex_element, extra=("C3D8R",))
+    ids, weights = _block_tip_weights(mesh, blocks, "tip")
+    lines = _model_lines(blocks, material, "root", "tip")
+    t_off = duration_s * (1.0 + 1e-9)
+    lines += ["*AMPLITUDE, NAME=PULSE", f"0., 1., {_real(duration_s)}, 1., {_real(t_off)}, 0., {_real(t_end_s)}, 0.",
+              "*STEP, NLGEOM, INC=100000000", "*DYNAMIC, EXPLICIT", f"{_real(t_end_s / 1000)}, {_real(t_end_s)}",
+              f"*DAMPING, ALPHA={_real(alpha)}, BETA=0.", "*CLOAD, AMPLITUDE=PULSE"]
+    lines += [f"{i + 1}, {direction + 1}, {_real(w * force_N)}" for i, w in zip(ids, weights) if w != 0.0]
+    lines += [f"*NODE PRINT, NSET=TIP, FREQUENCY={int(output_every)}", "U", "*END STEP"]
+    return CalculixDeck("\n".join(lines) + "\n", ids, weights, len(blocks.nodes), tuple(blocks.cells))
+
+
+def parse_tip_history(dat_text, ids, weights, direction=1):
+    """Every *NODE PRINT block of U in a CalculiX ``.dat`` file, as the weighted tip
+    displacement ``sum_i w_i u_i`` along ``direction`` over time.
+
+    Parameters
+    ----------
+    dat_text : str
+        Contents of the ``.dat`` file.
+    ids : numpy.ndarray
+        0-based ids of the tip nodes.
+    weights : numpy.ndarray
+        Their weights (summing to 1).
+    direction : int, optional
+        Axis, 0, 1 or 2. Default 1.
+
+    Returns
+    -------
+    time_s : numpy.ndarray
+        Output times [s].
+    u_m : numpy.ndarray
+        Weighted tip displacement [m] at those times.
+
+    Raises
+    ------
+    SolverError
+        If the file holds no displacement block.
+    """
+    blocks = re.findall(r"displacements \(vx,vy,vz\) for set \S+ and time\s+(\S+)\s*\n\s*\n(.*?)(?:\n\s*\n|\Z)",
+                        dat_text, re.S)
+    if not blocks:
+        raise SolverError("CalculiX .dat holds no displacement output (the dynamic step did not run)")
+    time_s, u_m = [], []
+    for t, body in blocks:
+        u = {int(r[0]) - 1: float(r[1 + direction]) for r in (line.split() for line in body.strip().splitlines())}
+        time_s.append(float(t))
+        u_m.append(sum(w * u[i] for i, w in zip(ids, weights)))
+    return np.array(time_s), np.array(u_m)
 
 
 def parse_tip_displacements(dat_text):
