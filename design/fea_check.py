@@ -1,7 +1,11 @@
 """Re-check of recommended designs with a full model run (by default the explicit FEA,
 :class:`ccedi.fea.drum.FullContactModel`): the same design outputs
 (:func:`ccedi.design.objectives.design_outputs`) from the full model beside the surrogate's,
-with relative errors (surrogate - full) / full."""
+with relative errors (surrogate - full) / full.
+
+Any finger: a set-up whose finger is a given mesh (``DrumSetup(finger=mesh)``, hexahedra or
+tetrahedra) is re-checked with that mesh on the drum, at its own length; a design of
+another length is refused in one line (:func:`ccedi.design.objectives.setup_for_length`)."""
 import time
 
 from ccedi.fea.drum import DrumSetup, FullContactModel, ObjectStress
@@ -54,7 +58,8 @@ def fea_check(setup: DrumSetup, designs, objective_outputs, model_factory=full_f
 
     For each design: run ``model_factory(setup at its length)`` at its alpha up to the
     predicted breakaway + margin + 0.5 s; the designs are mapped through
-    :func:`ccedi.fea.distributed.map_runs` (``scheduler``).
+    :func:`ccedi.fea.distributed.map_runs` (``scheduler``). A finger mesh
+    (``setup.finger``) is re-checked as it is, at its own length.
 
     Parameters
     ----------
@@ -77,11 +82,18 @@ def fea_check(setup: DrumSetup, designs, objective_outputs, model_factory=full_f
     list of dict
         ``alpha_per_s`` [1/s], ``length_in`` [in], ``surrogate``, ``fea`` (the model's
         outputs), ``relative_error`` (surrogate - full) / full per output, ``wall_time_s`` [s].
+
+    Raises
+    ------
+    InputError
+        A design's length is not that of a finger mesh.
     """
     from functools import partial
 
     from ccedi.fea.distributed import map_runs
 
+    for d in designs:                       # every length before the first run (a finger mesh has one)
+        setup_for_length(setup, d.length_m)
     check = partial(_check_one, setup=setup, objective_outputs=tuple(objective_outputs),
                     model_factory=model_factory)
     rows = map_runs(check, designs, scheduler, label="FEA re-check")

@@ -83,7 +83,8 @@ def rom_segments(length_m):
 
 
 def setup_for_length(base: DrumSetup, length_m):
-    """``base`` with the finger length set to ``length_m`` [m].
+    """``base`` with the finger length set to ``length_m`` [m]. A finger given as a mesh
+    (``base.finger``) has its own length: it is kept, and another length is refused.
 
     Parameters
     ----------
@@ -94,7 +95,17 @@ def setup_for_length(base: DrumSetup, length_m):
     Returns
     -------
     DrumSetup
+
+    Raises
+    ------
+    InputError
+        ``base.finger`` is a mesh and ``length_m`` is not its length (to 1e-6).
     """
+    if base.finger is not None:
+        if not np.isclose(length_m, base.finger_length_m, rtol=1e-6, atol=0.0):
+            raise InputError(f"design length {length_m:.6g} m: the finger is a given {base.finger.element_type} mesh "
+                             f"{base.finger_length_m:.6g} m long; only the generated finger takes another length")
+        return base
     return replace(base, finger_length_m=float(length_m))
 
 

@@ -194,15 +194,22 @@ def penalty_stiffness(mass, dt_cfl):
     return (1.0 / STEP_SHRINK**2 - 1.0) * np.asarray(mass) * (2.0 / dt_cfl) ** 2
 
 
-def boundary_nodes(hexes):
-    """Nodes on the boundary of a hexahedral mesh.
+def boundary_nodes(mesh):
+    """Nodes on the outer surface of a solid mesh (hexahedra, 4- or 10-node tetrahedra).
 
-    A face is on the boundary when it belongs to exactly one element.
+    A face is on the boundary when it belongs to exactly one element (faces matched by
+    their corner nodes). Every node of a boundary face is returned: the 4 corners of a
+    hexahedron's quadrilateral, the 3 corners of a 4-node tetrahedron's triangle, and the
+    3 corners and 3 mid-edge nodes of a 10-node tetrahedron's 6-node triangle. The
+    node-to-surface penalty contact (:func:`contact_forces`) needs them all: a mid-edge
+    node left out could sink into the object unresisted, and each node gets its own
+    penalty stiffness from its own lumped mass (the HRZ masses of the 10-node element are
+    all positive), so none is favoured.
 
     Parameters
     ----------
-    hexes : (n_elem, 8) int ndarray
-        Element connectivity (node indices, :data:`ccedi.fea.hex8.FACES` ordering).
+    mesh : ccedi.fea.mesh.Mesh
+        The solid mesh (node orders of :class:`ccedi.fea.mesh.Mesh`).
 
     Returns
     -------
@@ -210,9 +217,17 @@ def boundary_nodes(hexes):
         Sorted, unique indices of the nodes on boundary faces.
     """
     from .hex8 import FACES
-    faces = np.sort(hexes[:, FACES].reshape(-1, 4), axis=1)
-    _, index, counts = np.unique(faces, axis=0, return_index=True, return_counts=True)
-    return np.unique(faces[index[counts == 1]])
+    from .tetra import CORNER_FACES, QUADRATIC_FACES
+    on_surface = [np.zeros(0, dtype=np.int64)]
+    for cells, faces, corners in ((mesh.hexes, FACES, 4), (mesh.tets4, CORNER_FACES, 3),
+                                  (mesh.tets10, QUADRATIC_FACES, 3)):
+        if not len(cells):
+            continue
+        face_nodes = cells[:, faces].reshape(-1, faces.shape[1])
+        key = np.sort(face_nodes[:, :corners], axis=1)
+        _, index, counts = np.unique(key, axis=0, return_index=True, return_counts=True)
+        on_surface.append(face_nodes[index[counts == 1]].ravel())
+    return np.unique(np.concatenate(on_surface))
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)

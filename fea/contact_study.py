@@ -200,7 +200,8 @@ def tip_lag_series_m(setup: DrumSetup, history):
 
 def window_mean(t, values, window_s):
     """Centred moving average of ``values`` over ``window_s`` [s] (outputs equally spaced at
-    the step of ``t``; near the ends, the mean of the part of the window inside the record).
+    the step of ``t``; near the ends, the mean of the part of the window inside the record;
+    a window longer than the record is cut to its length).
 
     Parameters
     ----------
@@ -216,7 +217,7 @@ def window_mean(t, values, window_s):
     numpy.ndarray
         Averaged values.
     """
-    n = max(1, int(round(window_s / float(np.median(np.diff(t))))))
+    n = min(len(values), max(1, int(round(window_s / float(np.median(np.diff(t)))))))   # a record shorter than the window
     kernel = np.ones(n)
     return np.convolve(values, kernel, mode="same") / np.convolve(np.ones_like(values), kernel, mode="same")
 
@@ -304,11 +305,12 @@ def contact_report(setup: DrumSetup, global_table, global_history, relative_tabl
     str
         Markdown.
     """
-    from .drum import PAPER_CONTACT
+    from .drum import PAPER_CONTACT, finger_mesh
 
+    finger = finger_mesh(setup)
     lines = ["# Finger on the rotating drum: contact study", "",
              f"Set-up: drum radius {1e3 * setup.drum_radius_m:g} mm, finger {1e3 * setup.finger_length_m:g} mm "
-             f"(SM-A, 1275 hex8), omega {setup.omega_rad_s:g} rad/s, object semi-axes "
+             f"({'SM-A' if setup.finger is None else 'given mesh'}, {finger.n_elements} {finger.element_type}), omega {setup.omega_rad_s:g} rad/s, object semi-axes "
              f"{1e3 * setup.object_semi_axes_m[0]:g} x {1e3 * setup.object_semi_axes_m[1]:g} mm at "
              f"({1e3 * setup.object_center_m[0]:g}, {1e3 * setup.object_center_m[1]:g}) mm, mu {setup.friction:g}, "
              f"initial angle {setup.theta0_rad:.5f} rad (calibrated: alpha = 7.5 1/s touches at 0.32 s). "

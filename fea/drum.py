@@ -21,6 +21,13 @@ Choices where Table 2 is ambiguous (all are :class:`DrumSetup` parameters):
   Table 2), root on the drum surface, pointing radially out, soft (8.45 mm) direction
   tangential, 24 mm wide along the drum axis. At t = 0 it turns rigidly with the drum
   (initial velocity omega x r), the paper's "drum rotating at a constant speed".
+  Any other finger mesh (hexahedra, 4- or 10-node tetrahedra, e.g. one read by
+  :func:`ccedi.fea.mesh_io.read_finger_mesh`) goes on the drum as ``DrumSetup(finger=mesh)``:
+  length along z, bending along y, mounted by :func:`mounted_finger` (the centroid of its
+  ``root`` set on the drum's radius, the root's lowest point on the drum surface); its
+  root set turns with the drum, and every node of its outer surface is a contact node
+  (:func:`ccedi.fea.contact.boundary_nodes`: for 10-node tetrahedra the corner and the
+  mid-edge nodes of the boundary faces).
 * initial angle theta0 (the one unknown): calibrated so that the alpha = 7.5 1/s finger
   first touches the object at t = 0.32 s (:func:`calibrate_initial_angle`).
 
@@ -57,6 +64,9 @@ CALIBRATED_THETA0_RAD = -0.012595
 rigid-finger estimate -0.035640 rad, then one FE correction). Recalibrate with
 ``ccedi contact --calibrate`` after changing the geometry."""
 
+DEFAULT_FINGER_LENGTH_M = 0.2032
+"""Length of the generated finger on the drum [m] (8 in, Table 2)."""
+
 PAPER_CONTACT = {"first_contact_s": {7.5: 0.32, 600.0: 0.57},
                  "contact_duration_s": {7.5: 0.92, 180.0: 0.85, 600.0: 0.79}}
 """The paper's reported contact timings (section 3.4)."""
@@ -70,8 +80,10 @@ class DrumSetup:
     ----------
     drum_radius_m : float
         Drum radius [m].
-    finger_length_m : float
-        Finger length [m].
+    finger_length_m : float or None
+        Finger length [m]. None (the default): 8 in (:data:`DEFAULT_FINGER_LENGTH_M`),
+        or the length of ``finger`` (the distance from its root face to the centroid of
+        its ``tip`` set, :func:`finger_length_of`); set after construction.
     omega_rad_s : float
         Drum speed [rad/s], counter-clockwise seen from +z.
     object_center_m : tuple
@@ -96,16 +108,23 @@ class DrumSetup:
         Elements across the finger section.
     finger_elements_along : int or None
         Elements along the finger (None: SM-A, ~4 mm).
+    finger : ccedi.fea.mesh.Mesh or None
+        A finger mesh of any element type (hexahedra, 4- or 10-node tetrahedra) with node
+        sets ``root`` and ``tip``, length along z, bending along y (None: the generated
+        elliptical finger of ``finger_semi_axes_m``, ``finger_section_elements`` and
+        ``finger_elements_along``, which are then not used). Stored as
+        :func:`mounted_finger` places it; its length sets ``finger_length_m``.
 
     Raises
     ------
     InputError
-        A non-positive or non-finite size, a bad element count, or an object that
-        overlaps the drum.
+        A non-positive or non-finite size, a bad element count, an object that overlaps
+        the drum, a ``finger`` that is no valid finger mesh (:func:`mounted_finger`), or a
+        ``finger_length_m`` other than such a finger's length.
     """
 
     drum_radius_m: float = 0.08255
-    finger_length_m: float = 0.2032
+    finger_length_m: float | None = None
     omega_rad_s: float = 2.095
     object_center_m: tuple = (0.1016, 0.18415)
     object_semi_axes_m: tuple = (0.0991, 0.067)
@@ -119,8 +138,10 @@ class DrumSetup:
     object_material: NeoHookean = AL6061
     finger_section_elements: int = 5
     finger_elements_along: int | None = None
+    finger: Mesh | None = None
 
     def __post_init__(self):
+        self._resolve_finger()
         q = QUANTITIES
         checks = {"drum_radius_m": q["drum_radius_m"], "omega_rad_s": q["omega_rad_s"], "friction": q["friction"],
                   "finger_length_m": q["length_m"], "theta0_rad": q["angle_rad"],
@@ -141,6 +162,29 @@ class DrumSetup:
         c = np.hypot(*self.object_center_m)
         if c - max(self.object_semi_axes_m) <= self.drum_radius_m:
             raise InputError("the object overlaps the drum: move object_center_m or shrink it")
+
+    def _resolve_finger(self):
+        """Mount ``finger`` and set ``finger_length_m`` (None: the default or the finger's)."""
+        length = self.finger_length_m
+        if self.finger is None:
+            object.__setattr__(self, "finger_length_m", DEFAULT_FINGER_LENGTH_M if length is None else length)
+            return
+        mounted = mounted_finger(self.finger)
+        object.__setattr__(self, "finger", mounted)
+        own = finger_length_of(mounted)
+        if length is not None and not np.isclose(length, own, rtol=1e-9, atol=0.0):
+            raise InputError(f"DrumSetup finger_length_m = {length!r}: the finger mesh sets the length "
+                             f"({own:.6g} m); leave finger_length_m unset")
+        object.__setattr__(self, "finger_length_m", own)
+
+    @property
+    def finger_thickness_m(self):
+        """The finger's thickness along its bending direction y [m]: 2 b of the generated
+        finger's section, the largest extent along y of a ``finger`` mesh."""
+        if self.finger is None:
+            return 2.0 * self.finger_semi_axes_m[1]
+        y = self.finger.nodes[:, 1]
+        return float(y.max() - y.min())
 
     @property
     def object_surface(self):
@@ -178,10 +222,70 @@ def finger_frame(theta):
     return np.column_stack([np.cross(et, er), et, er])
 
 
+def mounted_finger(mesh):
+    """A finger mesh placed for the drum: translated so that the centroid of its ``root``
+    set lies on the z axis (the drum's radius) and the root's lowest point at z = 0 (the
+    drum surface). A mesh already so placed is returned as it is.
+
+    Parameters
+    ----------
+    mesh : ccedi.fea.mesh.Mesh
+        Hexahedra, 4- or 10-node tetrahedra (one type), node sets ``root`` and ``tip``,
+        length along +z, bending along y.
+
+    Returns
+    -------
+    ccedi.fea.mesh.Mesh
+        The translated mesh (same elements and node sets).
+
+    Raises
+    ------
+    InputError
+        Not a :class:`ccedi.fea.mesh.Mesh`, no single solid element type, a ``root`` or
+        ``tip`` set missing or empty, or nodes below the root (inside the drum).
+    """
+    if not isinstance(mesh, Mesh):
+        raise InputError(f"DrumSetup finger must be a ccedi.fea.mesh.Mesh, got {type(mesh).__name__}")
+    if mesh.element_type not in ("hex8", "tet4", "tet10"):
+        raise InputError(f"DrumSetup finger: element type {mesh.element_type!r}; must be one of hex8, tet4, tet10")
+    for name in ("root", "tip"):
+        if len(mesh.node_sets.get(name, ())) == 0:
+            raise InputError(f"DrumSetup finger: node set {name!r} missing or empty (sets: {sorted(mesh.node_sets)})")
+    root = mesh.nodes[mesh.node_sets["root"]]
+    shift = np.array([-root[:, 0].mean(), -root[:, 1].mean(), -root[:, 2].min()])
+    size = float(np.ptp(mesh.nodes, axis=0).max())
+    nodes = mesh.nodes + shift if np.abs(shift).max() > 1e-12 * size else mesh.nodes
+    below = -nodes[:, 2].min()
+    if below > 1e-9 * size:
+        raise InputError(f"DrumSetup finger: nodes reach {below:.3g} m below the root (inside the drum): "
+                         "the root set must be the finger's end at the lowest z")
+    if nodes is mesh.nodes:
+        return mesh
+    return Mesh(nodes=nodes, hexes=mesh.hexes, tets4=mesh.tets4, tets10=mesh.tets10, node_sets=dict(mesh.node_sets))
+
+
+def finger_length_of(mesh):
+    """Length of a mounted finger (:func:`mounted_finger`): the z of the centroid of its
+    ``tip`` set [m] (the root's lowest point at z = 0).
+
+    Parameters
+    ----------
+    mesh : ccedi.fea.mesh.Mesh
+        A mounted finger.
+
+    Returns
+    -------
+    float
+        Length [m].
+    """
+    return float(mesh.nodes[mesh.node_sets["tip"], 2].mean())
+
+
 def finger_mesh(setup: DrumSetup):
-    """The finger's mesh in its own frame (root at z = 0): SM-A (5 x 5 in the section,
-    ~4 mm along, refined at the root as :func:`ccedi.fea.mesh.sm_a`) unless
-    ``finger_section_elements`` / ``finger_elements_along`` say otherwise.
+    """The finger's mesh in its own frame (root at z = 0): ``setup.finger`` if given, else
+    SM-A (5 x 5 in the section, ~4 mm along, refined at the root as
+    :func:`ccedi.fea.mesh.sm_a`) unless ``finger_section_elements`` /
+    ``finger_elements_along`` say otherwise.
 
     Parameters
     ----------
@@ -192,6 +296,8 @@ def finger_mesh(setup: DrumSetup):
     ccedi.fea.mesh.Mesh
         Node sets ``root`` and ``tip``.
     """
+    if setup.finger is not None:
+        return setup.finger
     L = setup.finger_length_m
     n_along = setup.finger_elements_along or sm_a_elements_along(L)
     return elliptical_cantilever(L, setup.finger_section_elements, n_along, *setup.finger_semi_axes_m,
@@ -218,11 +324,12 @@ def finger_on_drum(setup: DrumSetup, alpha, damping="global"):
     local = finger_mesh(setup)
     Q = finger_frame(setup.theta0_rad)
     nodes = (local.nodes + [0.0, 0.0, setup.drum_radius_m]) @ Q.T
-    mesh = Mesh(nodes=nodes, hexes=local.hexes, node_sets=dict(local.node_sets))
+    mesh = Mesh(nodes=nodes, hexes=local.hexes, tets4=local.tets4, tets10=local.tets10,
+                node_sets=dict(local.node_sets))
     axis = np.array([0.0, 0.0, 1.0])
     rotating = RotatingNodes(nodes=mesh.node_sets["root"], center_m=np.zeros(3), axis=axis,
                              omega_rad_s=setup.omega_rad_s)
-    contact = Contact(nodes=boundary_nodes(mesh.hexes), surface=setup.object_surface)
+    contact = Contact(nodes=boundary_nodes(mesh), surface=setup.object_surface)
     model = Model(mesh=mesh, material=setup.finger_material, alpha=alpha, rotating=rotating, contact=contact,
                   damping=damping)
     v0 = frame_velocities(nodes, rotating.center_m, axis, setup.omega_rad_s)
@@ -270,7 +377,7 @@ class ObjectStress:
         K = tangent_stiffness(self.model)
         self._free = free_dofs(self.model)
         self._solve = spla.factorized(K[self._free][:, self._free].tocsc())
-        on_side = boundary_nodes(mesh.hexes)
+        on_side = boundary_nodes(mesh)
         r = np.hypot(*((local.nodes[on_side, :2] / [a, b]).T))
         self._side = on_side[r > 0.999]                     # the lateral (elliptical) surface
 
@@ -416,7 +523,7 @@ def contact_summary(setup: DrumSetup, result, model):
     else:
         summary.update({"first_contact_side": None, "last_contact_side": None, "max_object_stress_Pa": 0.0,
                         "max_penetration_m": 0.0})
-    summary["penetration_to_thickness"] = summary["max_penetration_m"] / (2 * setup.finger_semi_axes_m[1])
+    summary["penetration_to_thickness"] = summary["max_penetration_m"] / setup.finger_thickness_m
     for key in ("energy_balance_error", "hourglass_energy_fraction", "max_log_strain"):
         summary[key] = result.summary[key]
     summary["warnings"] = list(result.summary["warnings"])

@@ -18,9 +18,17 @@ Cards written (SI units: m, kg, s, N, Pa):
   (ccedi's tip displacement is their area-weighted mean, :func:`ccedi.fea.model.face_node_weights`),
   *DATABASE_SPCFORC for a clamp, *DATABASE_RCFORC for contact (ASCII files, every
   ``output_dt_s``), and *DATABASE_BINARY_D3PLOT (every ``plot_dt_s``);
-* *NODE, *PART / *SECTION_SOLID (ELFORM 1, one-point hexahedron, as ccedi's element) /
-  *ELEMENT_SOLID, with *HOURGLASS (:data:`HOURGLASS_IHQ`, QM = ccedi's hourglass coefficient,
-  Q1/Q2 = ccedi's bulk viscosity) linked by the part's HGID;
+* *NODE, *PART / *SECTION_SOLID / *ELEMENT_SOLID, the element formulation by element type
+  (:data:`ELFORM`): hexahedra ELFORM 1 (one-point, as ccedi's) with *HOURGLASS
+  (:data:`HOURGLASS_IHQ`, QM = ccedi's hourglass coefficient, Q1/Q2 = ccedi's bulk
+  viscosity) linked by the part's HGID; 4-node tetrahedra ELFORM 13 (the one-point nodal
+  pressure tetrahedron, ccedi's averaged nodal pressure element), written in the 8-node
+  format with N4 repeated (N1 N2 N3 N4 N4 N4 N4 N4); 10-node tetrahedra ELFORM 16 (the
+  4-point 10-node tetrahedron, ccedi's integration), in the two-card format of
+  *ELEMENT_SOLID (Card 1: EID PID; Card 2: N1 ... N10, corners then the mid-edge nodes of
+  the edges 1-2, 2-3, 3-1, 1-4, 2-4, 3-4, which is VTK's and ccedi's order). Tetrahedra have
+  no hourglass modes and carry no *HOURGLASS card (LS-DYNA's default bulk viscosity,
+  Q1 = 1.5, Q2 = 0.06, is ccedi's);
 * *MAT_ELASTIC (E, nu, rho of the rubber: ccedi's neo-Hookean solid coincides with it at
   small strain; for large strain use *MAT_HYPERELASTIC_RUBBER with C10 = mu/2, D1 = 2/K);
 * *DAMPING_GLOBAL with VALDMP = alpha: the manual's nodal damping force f = -d m v is
@@ -29,7 +37,8 @@ Cards written (SI units: m, kg, s, N, Pa):
 * *SET_NODE_LIST + *BOUNDARY_SPC_SET for the clamped nodes;
 * *SET_NODE_LIST + *LOAD_NODE_SET + *DEFINE_CURVE for each force pulse: nodes grouped by
   their share of the pulse (*LOAD_NODE_SET applies one force to every node), the curve
-  holding the share, SF the force component [N] (per-node force = SF x curve);
+  holding the share, SF the force component [N] (per-node force = SF x curve); nodes of
+  zero share (the corners of a 10-node tetrahedron's loaded face) are left out;
 * for a rotating root (the drum): solid nodes have no rotational degrees of freedom, so the
   root nodes are made *CONSTRAINED_EXTRA_NODES_SET of a rigid drum part (*PART_INERTIA with
   its centre of mass on the axis, *MAT_RIGID with translations and the x, y rotations
@@ -58,6 +67,8 @@ from .hex8 import BULK_VISCOSITY_C0, BULK_VISCOSITY_C1
 from .outputs import write_text
 
 FINGER_PART, OBJECT_PART, DRUM_PART = 1, 2, 3
+ELFORM = {"hex8": 1, "tet4": 13, "tet10": 16}
+"""*SECTION_SOLID element formulation written for each ccedi element type (module docstring)."""
 HOURGLASS_ID = 1
 CLAMP_SET, CONTACT_SET, ROTATING_SET, FIRST_LOAD_SET = 1, 2, 3, 10
 OBJECT_SHELLS_AROUND, OBJECT_SHELLS_THROUGH = 72, 4
@@ -211,23 +222,92 @@ def _databases(model, output_dt_s, plot_dt_s):
 
 
 def _finger_part(model, q_hg, alpha, beta):
-    """*PART (PID SECID MID EOSID HGID), *SECTION_SOLID (SECID ELFORM), *HOURGLASS (HGID IHQ
-    QM IBQ Q1 Q2), *MAT_ELASTIC (MID RO E PR) and *DAMPING_GLOBAL (LCID VALDMP STX STY STZ
-    SRX SRY SRZ: the scale factors written as 1 so every direction is damped).
+    """*PART (PID SECID MID EOSID HGID), *SECTION_SOLID (SECID ELFORM, :data:`ELFORM` of the
+    mesh's element type), for hexahedra *HOURGLASS (HGID IHQ QM IBQ Q1 Q2), *MAT_ELASTIC
+    (MID RO E PR) and *DAMPING_GLOBAL (LCID VALDMP STX STY STZ SRX SRY SRZ: the scale
+    factors written as 1 so every direction is damped).
     Layouts: Keyword Manual *PART, *SECTION_SOLID, *HOURGLASS, *MAT_ELASTIC (MAT_001),
     *DAMPING_GLOBAL, Card 1."""
     m = model.material
+    kind = model.mesh.element_type
+    hourglass = kind == "hex8"
     lines = ["*PART", "finger", "$       PID     SECID       MID     EOSID      HGID",
-             _card([FINGER_PART, FINGER_PART, FINGER_PART, 0, HOURGLASS_ID]),
-             "*SECTION_SOLID", "$     SECID    ELFORM", _card([FINGER_PART, 1]),
-             "*HOURGLASS", "$      HGID       IHQ        QM       IBQ        Q1        Q2",
-             _card([HOURGLASS_ID, HOURGLASS_IHQ, q_hg, 0, BULK_VISCOSITY_C0, BULK_VISCOSITY_C1]),
-             "*MAT_ELASTIC", "$       MID        RO         E        PR", _card([FINGER_PART, m.rho, m.E, m.nu]),
-             "*DAMPING_GLOBAL", "$      LCID    VALDMP       STX       STY       STZ       SRX       SRY       SRZ",
-             _card([0, alpha, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0])]
+             _card([FINGER_PART, FINGER_PART, FINGER_PART, 0, HOURGLASS_ID if hourglass else 0]),
+             "*SECTION_SOLID", "$     SECID    ELFORM", _card([FINGER_PART, ELFORM[kind]])]
+    if hourglass:
+        lines += ["*HOURGLASS", "$      HGID       IHQ        QM       IBQ        Q1        Q2",
+                  _card([HOURGLASS_ID, HOURGLASS_IHQ, q_hg, 0, BULK_VISCOSITY_C0, BULK_VISCOSITY_C1])]
+    lines += ["*MAT_ELASTIC", "$       MID        RO         E        PR", _card([FINGER_PART, m.rho, m.E, m.nu]),
+              "*DAMPING_GLOBAL", "$      LCID    VALDMP       STX       STY       STZ       SRX       SRY       SRZ",
+              _card([0, alpha, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0])]
     if beta:
         lines.append(f"$ ccedi beta = {beta!r} s (not exported: use *DAMPING_PART_STIFFNESS)")
     return lines
+
+
+def _solid_elements(mesh):
+    """*ELEMENT_SOLID of the finger (PID :data:`FINGER_PART`), 8-column fields: a hexahedron
+    on one line (EID PID N1 ... N8), a 4-node tetrahedron likewise with N4 repeated, a
+    10-node tetrahedron on two (EID PID; N1 ... N10). Layout: Keyword Manual *ELEMENT_SOLID
+    (the one-line format and the two-card ten-node format)."""
+    lines = ["*ELEMENT_SOLID"]
+    lines += [_card([e + 1, FINGER_PART, *(h + 1)], 8) for e, h in enumerate(mesh.hexes)]
+    lines += [_card([e + 1, FINGER_PART, *(t + 1), *([t[3] + 1] * 4)], 8) for e, t in enumerate(mesh.tets4)]
+    for e, t in enumerate(mesh.tets10):
+        lines += [_card([e + 1, FINGER_PART], 8), _card(list(t + 1), 8)]
+    return lines
+
+
+def solid_element_rows(block):
+    """(EID, PID, node ids) of every element of one *ELEMENT_SOLID block, in the one-line
+    format (EID PID N1 ... N8) or the two-card one (EID PID; N1 ... N10); ids as in the deck.
+
+    Parameters
+    ----------
+    block : list of str
+        The block's data lines (:func:`keyword_blocks`), 8-column fields or comma-separated.
+
+    Returns
+    -------
+    list of tuple
+        ``(eid, pid, [node ids])``, zero node ids dropped.
+
+    Raises
+    ------
+    ValueError
+        A field that is not an integer.
+    StopIteration
+        A two-card element without its node card.
+    """
+    rows = iter([int(v) for v in _fields(line.rstrip(), 8) if v] for line in block)
+    out = []
+    for row in rows:
+        nodes = row[2:] if len(row) > 2 else next(rows)
+        out.append((row[0], row[1], [n for n in nodes if n]))
+    return out
+
+
+def solid_kind(nodes):
+    """The element type of one *ELEMENT_SOLID node list: ``"hex8"`` (8 distinct nodes),
+    ``"tet4"`` (4 nodes, or 8 with N4 = N5 = ... = N8) or ``"tet10"`` (10 distinct nodes).
+
+    Parameters
+    ----------
+    nodes : list of int
+        Node ids, zeros dropped.
+
+    Returns
+    -------
+    tuple
+        ``(kind, node ids)`` with the repeated N4 dropped for a tetrahedron; ``(None, nodes)``
+        for any other solid (a wedge, a pyramid, a 20-node hexahedron).
+    """
+    distinct = len(set(nodes))
+    if len(nodes) == 8 and distinct == 4 and len(set(nodes[3:])) == 1:
+        return "tet4", nodes[:4]
+    if len(nodes) == distinct and len(nodes) in (4, 8, 10):
+        return {4: "tet4", 8: "hex8", 10: "tet10"}[len(nodes)], nodes
+    return None, nodes
 
 
 def _drum(model, lcid, first_node, first_element, t_end_s):
@@ -313,8 +393,8 @@ def keyword_lines(model, t_end_s, title="ccedi model", output_dt_s=None, plot_dt
     ------
     InputError
         If ``t_end_s`` or an output interval is not finite and in range, alpha, beta or the
-        hourglass coefficient is out of range, the model has rods or point masses, relative
-        damping, a rotation about another axis, contact with another surface, or a number
+        hourglass coefficient is out of range, the model has rods or point masses, no single
+        solid element type, relative damping, a rotation about another axis, contact with another surface, or a number
         does not fit its fixed-width field.
     """
     t_end_s = require_finite_positive("t_end_s (termination time, s)", t_end_s)
@@ -332,16 +412,18 @@ def keyword_lines(model, t_end_s, title="ccedi model", output_dt_s=None, plot_dt
     if model.contact is not None and not hasattr(model.contact.surface, "a_m"):
         raise InputError("LS-DYNA export writes contact with the rigid elliptical object only")
     mesh = model.mesh
+    if mesh.element_type not in ELFORM:
+        raise InputError(f"LS-DYNA export: element type {mesh.element_type!r}; one of {', '.join(ELFORM)} per model")
     lines = ["*KEYWORD", "*TITLE", title[:80],
              "$ units: m, kg, s, N, Pa. Written by ccedi (fea.lsdyna).",
              *_controls(t_end_s), *_databases(model, output_dt_s, plot_dt_s), *_finger_part(model, q_hg, alpha, beta)]
     lines += ["*NODE"] + [_node_line(i, xyz) for i, xyz in enumerate(mesh.nodes)]
-    lines += ["*ELEMENT_SOLID"] + [_card([e + 1, FINGER_PART, *(h + 1)], 8) for e, h in enumerate(mesh.hexes)]
+    lines += _solid_elements(mesh)
     if len(model.fixed_nodes):
         lines += _node_set(CLAMP_SET, model.fixed_nodes) + ["*BOUNDARY_SPC_SET", _card([CLAMP_SET, 0, 1, 1, 1, 1, 1, 1])]
     sid = FIRST_LOAD_SET
     for pulse in model.pulses:
-        for w in np.unique(pulse.weights):
+        for w in np.unique(pulse.weights[pulse.weights != 0.0]):     # a 10-node face's corners carry nothing
             lines += _pulse_curve(sid, w, pulse.t_start_s, pulse.t_end_s, t_end_s)
             lines += _node_set(sid, pulse.nodes[pulse.weights == w])
             lines += ["*LOAD_NODE_SET"] + [_card([sid, dof + 1, sid, f]) for dof, f in enumerate(pulse.force_N) if f]
@@ -425,6 +507,12 @@ class Deck:
         contact, or None.
     shells : numpy.ndarray or None, optional
         Shell connectivity of the rigid object; not filled by :func:`read_keyword`.
+    tets4 : numpy.ndarray, optional
+        Finger 4-node tetrahedra, shape (e4, 4), 0-based node ids.
+    tets10 : numpy.ndarray, optional
+        Finger 10-node tetrahedra, shape (e10, 10), 0-based node ids (ccedi's node order).
+    elform : int or None, optional
+        ELFORM of the finger part's *SECTION_SOLID.
     """
 
     nodes: np.ndarray
@@ -438,6 +526,9 @@ class Deck:
     loads: list = field(default_factory=list)
     contact: dict | None = None
     shells: np.ndarray | None = None
+    tets4: np.ndarray = field(default_factory=lambda: np.zeros((0, 4), dtype=np.int64))
+    tets10: np.ndarray = field(default_factory=lambda: np.zeros((0, 10), dtype=np.int64))
+    elform: int | None = None
 
 
 def _fields(line, width):
@@ -485,7 +576,9 @@ def read_keyword(path):
     Returns
     -------
     Deck
-        Nodes, elements, material, damping, controls, node sets, loads and contact.
+        Nodes, elements (hexahedra, 4- and 10-node tetrahedra of the finger part, by
+        :func:`solid_kind`), the finger's ELFORM, material, damping, controls, node sets,
+        loads and contact.
 
     Raises
     ------
@@ -507,9 +600,16 @@ def read_keyword(path):
             node_ids.append(int(f[0]) - 1)
             coords.append([float(c) for c in f[1:4]])
     coords = np.asarray(coords)[np.argsort(node_ids)]
-    solids = [[int(v) for v in f] for f in (_fields(line, 8) for line in blocks["*ELEMENT_SOLID"][0])]
-    hexes = np.asarray([s[2:10] for s in solids if s[1] == FINGER_PART], dtype=np.int64) - 1
-    finger_nodes = np.unique(hexes)
+    cells = {"hex8": [], "tet4": [], "tet10": []}
+    for block in blocks["*ELEMENT_SOLID"]:
+        for _, pid, nodes in solid_element_rows(block):
+            kind, nodes = solid_kind(nodes)
+            if pid == FINGER_PART and kind is not None:
+                cells[kind].append(nodes)
+    hexes, tets4, tets10 = (np.asarray(cells[k], dtype=np.int64).reshape(-1, n) - 1
+                            for k, n in (("hex8", 8), ("tet4", 4), ("tet10", 10)))
+    finger_nodes = np.unique(np.concatenate([hexes.ravel(), tets4.ravel(), tets10.ravel()]))
+    section = one("*SECTION_SOLID") if "*SECTION_SOLID" in blocks else None
     mat = one("*MAT_ELASTIC")[0]
     sets = {}
     for block in blocks.get("*SET_NODE_LIST", []):
@@ -536,4 +636,5 @@ def read_keyword(path):
                 alpha_per_s=float(one("*DAMPING_GLOBAL")[0][1]), tssfac=float(one("*CONTROL_TIMESTEP")[0][1]),
                 t_end_s=float(one("*CONTROL_TERMINATION")[0][0]), node_sets=sets,
                 spc_sets=[int(f[0]) for f in (_fields(line, 10) for b in blocks.get("*BOUNDARY_SPC_SET", []) for line in b)],
-                loads=loads, contact=contact)
+                loads=loads, contact=contact, tets4=tets4, tets10=tets10,
+                elform=int(section[0][1]) if section else None)

@@ -40,7 +40,7 @@ from scipy.sparse.csgraph import connected_components
 from ccedi.errors import InputError, brief_repr, one_line
 from ccedi.quantities import QUANTITIES
 
-from .lsdyna import keyword_blocks
+from .lsdyna import keyword_blocks, solid_element_rows, solid_kind
 from .mesh import Mesh
 from .tetra import corner_volume
 
@@ -260,11 +260,7 @@ def _read_keyword(path):
                  else [line[:8]] + [line[8 + 16 * k:24 + 16 * k] for k in range(3)])
             ids.append(int(f[0]))
             points.append([float(c) for c in f[1:4]])
-        elements = []
-        for block in blocks.get("*ELEMENT_SOLID", []):
-            rows = iter([int(v) for v in _keyword_fields(ln, 8) if v] for ln in block)
-            for row in rows:
-                elements.append(row[2:] if len(row) > 2 else next(rows))
+        elements = [nodes for block in blocks.get("*ELEMENT_SOLID", []) for _, _, nodes in solid_element_rows(block)]
         sets = {}
         for block in blocks.get("*SET_NODE_LIST", []):
             rows = [_keyword_fields(ln, 10) for ln in block]
@@ -290,12 +286,10 @@ def _read_keyword(path):
 
 def _keyword_solid(path, nodes):
     """(meshio type, node ids) of one *ELEMENT_SOLID node list (zeros dropped)."""
-    nodes = [n for n in nodes if n]
+    kind, solid = solid_kind(nodes)
+    if kind is not None:
+        return {"tet4": "tetra", "hex8": "hexahedron", "tet10": "tetra10"}[kind], solid
     distinct = len(set(nodes))
-    if len(nodes) == 8 and distinct == 4 and len(set(nodes[3:])) == 1:
-        return "tetra", nodes[:4]
-    if len(nodes) == distinct and len(nodes) in (4, 8, 10):
-        return {4: "tetra", 8: "hexahedron", 10: "tetra10"}[len(nodes)], nodes
     shape = {5: "pyramid", 6: "wedge"}.get(distinct, f"{len(nodes)}-node solid of {distinct} distinct nodes")
     raise InputError(f"{path}: unsupported cell type {shape} (an *ELEMENT_SOLID of nodes {nodes[:10]})")
 

@@ -11,6 +11,14 @@ swaps one for the other with one argument.
 
 ``nonlinear=True`` is the co-rotational chain (large rotations exact, the nonlinear
 enhancement); ``nonlinear=False`` the linear Craig-Bampton model in the drum frame.
+
+Which fingers: the generated elliptical finger of :class:`ccedi.fea.drum.DrumSetup` only.
+The superelements are cut at node planes z = const of its structured hexahedral mesh, their
+sections move as rigid sections, and the contact points sit on the faces at +-b. A finger
+mesh given as ``DrumSetup(finger=...)`` (any imported or Gmsh finger, e.g. tetrahedra) has no
+such planes, and a tapered or holed finger no single section to put the contact points on,
+so :func:`require_generated_finger` refuses it in one line; its contact run is the full
+FEA, :class:`ccedi.fea.drum.FullContactModel`.
 """
 import time
 
@@ -66,6 +74,26 @@ load is 51.5 / 30.6 / 54.7 / 52.2 / 68.6 um/N for 1 / 3 / 5 / 7 / 9 loaded nodes
 FE's contact patch is 3 nodes, 8 mm, in the median at alpha = 7.5, 180 and 600 1/s)."""
 
 
+def require_generated_finger(setup: DrumSetup):
+    """Refuse a set-up whose finger is a given mesh (module docstring: the chain is cut at
+    the node planes of the generated finger).
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        The drum set-up.
+
+    Raises
+    ------
+    InputError
+        ``setup.finger`` is set.
+    """
+    if setup.finger is not None:
+        raise InputError(f"the contact ROM needs the generated elliptical finger (its superelements are cut at "
+                         f"the node planes of a structured hexahedral mesh); this finger is a given "
+                         f"{setup.finger.element_type} mesh: run the full FEA (FullContactModel, ccedi contact)")
+
+
 def fe_face_stiffness_per_length(setup: DrumSetup, patch_nodes=FACE_PATCH_NODES):
     """Contact stiffness per unit length of finger face [N/m^2] of the full FE model, for
     the ROM's rigid sections (fitted from the FEA).
@@ -97,7 +125,13 @@ def fe_face_stiffness_per_length(setup: DrumSetup, patch_nodes=FACE_PATCH_NODES)
     -------
     float
         k' [N/m^2].
+
+    Raises
+    ------
+    InputError
+        ``setup`` has a finger mesh (:func:`require_generated_finger`).
     """
+    require_generated_finger(setup)
     model, _ = finger_on_drum(setup, 0.0)
     local = finger_mesh(setup)
     zs = np.unique(local.nodes[:, 2])
@@ -157,7 +191,8 @@ class ReducedContactModel:
     Raises
     ------
     InputError
-        ``contact`` neither "face" nor "stations".
+        ``contact`` neither "face" nor "stations", or ``setup`` has a finger mesh
+        (:func:`require_generated_finger`: the ROM is built on the generated finger only).
 
     Notes
     -----
@@ -180,6 +215,7 @@ class ReducedContactModel:
 
     def __init__(self, setup: DrumSetup, n_segments=DEFAULT_SEGMENTS, nonlinear=True, fit=True, contact=None,
                  k_per_length=None):
+        require_generated_finger(setup)
         self.setup = setup
         self.nonlinear = bool(nonlinear)
         self.name = "rom-corotational" if self.nonlinear else "rom-linear"

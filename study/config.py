@@ -24,7 +24,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 
 from ccedi.errors import InputError, brief_repr, one_line
-from ccedi.fea.drum import DrumSetup
+from ccedi.fea.drum import DEFAULT_FINGER_LENGTH_M, DrumSetup
 from ccedi.fea.material import RUBBER, NeoHookean
 from ccedi.fea.mesh import SEMI_AXES
 from ccedi.fea.mesh_io import BENDING_DIRECTIONS, PLANES, UNITS, FingerMeshSpec
@@ -66,8 +66,9 @@ SCHEMA = {
     },
     "finger": {
         "impulse_length_in": _key("length_in", 4.5, "finger length of the impulse studies (Figs. 6, 7)"),
-        "contact_length_in": _key("length_in", round(m_to_inch(_DRUM["finger_length_m"]), 6),
-                                  "finger length of the drum contact study (Figs. 10, 13, 14)"),
+        "contact_length_in": _key("length_in", round(m_to_inch(DEFAULT_FINGER_LENGTH_M), 6),
+                                  "finger length of the drum contact study (Figs. 10, 13, 14; not used with a mesh, "
+                                  "whose own length holds)"),
         "section_semi_axes_m": _key("section_semi_axis_m", list(SEMI_AXES),
                                     "elliptical section semi-axes [a along x, b along y, the bending direction]",
                                     True, 2, 2),
@@ -271,16 +272,19 @@ def configured_mesh(cfg):
     return None if spec is None else spec.load()
 
 
-def drum_setup(cfg):
-    """The :class:`ccedi.fea.drum.DrumSetup` of the validated inputs ``cfg`` (contact-length finger);
-    an inconsistent set-up is an InputError naming the [drum] section."""
+def drum_setup(cfg, finger=None):
+    """The :class:`ccedi.fea.drum.DrumSetup` of the validated inputs ``cfg``: the generated
+    finger of ``[finger] contact_length_in``, or the mesh ``finger`` (e.g.
+    :func:`configured_mesh`), whose own length then holds and ``contact_length_in`` is not
+    used. An inconsistent set-up is an InputError naming the [drum] section."""
     material, semi_axes = finger_inputs(cfg)
     d = cfg["drum"]
+    length_m = None if finger is not None else inch_to_m(cfg["finger"]["contact_length_in"])
     try:
         return DrumSetup(drum_radius_m=d["drum_radius_m"], omega_rad_s=d["omega_rad_s"], theta0_rad=d["theta0_rad"],
                          object_center_m=tuple(d["object_center_m"]), object_semi_axes_m=tuple(d["object_semi_axes_m"]),
-                         friction=d["friction"], finger_length_m=inch_to_m(cfg["finger"]["contact_length_in"]),
-                         finger_material=material, finger_semi_axes_m=semi_axes)
+                         friction=d["friction"], finger_length_m=length_m, finger_material=material,
+                         finger_semi_axes_m=semi_axes, finger=finger)
     except InputError as err:
         raise InputError(f"[drum]: {err}") from None
 

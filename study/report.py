@@ -248,6 +248,15 @@ def _timings(out):
             + _table(rows, [("step", "step"), _col("wall_time_s", "wall time")]))
 
 
+def _skipped(out):
+    """The steps this run skipped, each with its reason (``study.json``, :func:`ccedi.study.run.skipped_steps`)."""
+    s = _load(out, "study.json")
+    if not s or not s.get("skipped"):
+        return ""
+    items = "".join(f"<li><code>{html.escape(step)}</code>: {html.escape(why)}</li>" for step, why in s["skipped"].items())
+    return f"<p class='missing'>Steps skipped for this finger:</p><ul>{items}</ul>"
+
+
 def _warnings(out):
     """The validity warnings every step recorded in ``study.json`` (:mod:`ccedi.fea.validity`)."""
     s = _load(out, "study.json")
@@ -283,7 +292,7 @@ def write_index(out):
     stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     body = [f"<h1>ccedi design study</h1><p>Generated {stamp} from the files in this directory. Units: SI "
             "unless a header says otherwise; every number below was computed by this run.</p>",
-            "<h2>Run</h2>", _timings(out), _warnings(out), _inputs(out)]
+            "<h2>Run</h2>", _timings(out), _skipped(out), _warnings(out), _inputs(out)]
     for title, section, figures in SECTIONS:
         body += [f"<h2>{html.escape(title)}</h2>", section(out)]
         body += [_figure(src, cap) for src, cap in figures if (out / src).exists()]

@@ -18,6 +18,11 @@ function of :mod:`ccedi.study.paper_steps`):
 
 The inputs are parsed and validated once; every step gets them as objects, and the
 resolved inputs are written to ``config.toml`` first, for the record.
+
+With a ``[finger] mesh`` every step that computes a finger runs on that mesh (table1 adds
+its row, impulse, contact), and the steps that need the generated elliptical finger at
+other lengths or meshes (mesh, damping_fits, design: :func:`skipped_steps`) are skipped;
+their reasons go to ``study.json`` (``skipped``), stdout and ``index.html``.
 Every output is written atomically, so an interrupted study (Ctrl-C) leaves the
 finished steps' files and no partial ones; ``study.json`` records each finished step's
 wall time [s] and validity warnings (:mod:`ccedi.fea.validity`; the index lists them).
@@ -87,6 +92,30 @@ def steps(cfg, out, scheduler):
             contact_setup(cfg), design, out / "design" / "design.json", out / "design", scheduler=scheduler)),
         ("calibrate", "close the loop on measured records", lambda: calibrate_records(records, out / "calibrate")),
     ]
+
+
+def skipped_steps(cfg):
+    """The steps that do not apply to the configured finger, with the reason.
+
+    Parameters
+    ----------
+    cfg : dict
+        Validated inputs (:func:`ccedi.study.config.load`).
+
+    Returns
+    -------
+    dict
+        ``{step name: reason}``; empty for the generated finger.
+    """
+    if cfg["finger"]["mesh"] is None:
+        return {}
+    return {"mesh": "Fig. 6 compares the generated SM-A and SM-B meshes of the elliptical finger; the [finger] "
+                    "mesh is one mesh (its stable step and stiffness are in Table 1)",
+            "damping_fits": "Fig. 8 needs the finger at several lengths, and the [finger] mesh has one; its "
+                            "alpha_cr: ccedi identify --alpha-cr --config FILE",
+            "design": "the design varies the finger length on the contact ROM, which is built on the generated "
+                      "finger only (ccedi.rom.contact_rom); the [finger] mesh runs the full FEA on the drum "
+                      "(the contact step)"}
 
 
 def calibrate_records(records, out):
@@ -214,15 +243,23 @@ def run_study(cfg, out, scheduler=None, quick=False, only=None):
         cfg = {sec: {**keys, **QUICK.get(sec, {})} for sec, keys in cfg.items()}
     out = Path(out)
     scheduler = scheduler or cfg["study"]["scheduler"]
-    todo = [st for st in steps(cfg, out, scheduler) if only is None or st[0] in only]
+    skipped = {name: why for name, why in skipped_steps(cfg).items() if only is None or name in only}
+    todo = [st for st in steps(cfg, out, scheduler) if (only is None or st[0] in only) and st[0] not in skipped]
     if any(name == "calibrate" for name, _, _ in todo):
         _check_records(cfg["study"]["measured_records"])
     write_text(out / CONFIG_NAME, to_toml(cfg))
-    record = {"config": cfg, "quick": quick, "scheduler": scheduler, "wall_time_s": {}, "warnings": {}}
+    record = {"config": cfg, "quick": quick, "scheduler": scheduler, "wall_time_s": {}, "warnings": {},
+              "skipped": {}}
     if only is not None and (out / "study.json").exists():     # keep the other steps' timings and warnings
         before = json.loads((out / "study.json").read_text())
         record["wall_time_s"] = before["wall_time_s"]
         record["warnings"] = before.get("warnings", {})
+        record["skipped"] = {k: v for k, v in before.get("skipped", {}).items() if k not in {n for n, _, _ in todo}}
+    record["skipped"].update(skipped)
+    for name, why in skipped.items():
+        record["wall_time_s"].pop(name, None)
+        print(f"ccedi study: {name} skipped: {why}", flush=True)
+    write_json(out / "study.json", record)
     t0 = time.perf_counter()
     finished = ((name, *_run_step(name, cfg, out, scheduler)) for name, _, _ in todo) if scheduler == SERIAL \
         else _distributed(sorted(todo, key=lambda st: LONGEST_FIRST.index(st[0])), cfg, out, scheduler)

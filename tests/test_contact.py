@@ -8,6 +8,7 @@ from ccedi.fea.explicit import run
 from ccedi.fea.material import NeoHookean
 from ccedi.fea.mesh import elliptical_cantilever
 from ccedi.fea.model import ForcePulse, Model, face_node_weights
+from ccedi.fea.tet_mesh import box_cantilever, quadratic_tets, split_hexes
 
 STIFF = NeoHookean(E=2e8, nu=0.3, rho=1000.0)
 
@@ -107,5 +108,20 @@ def test_rotated_ellipse_pushes_along_its_normal():
 
 def test_boundary_nodes_of_a_block():
     mesh = elliptical_cantilever(0.01, 3, 3)
-    nb = boundary_nodes(mesh.hexes)
+    nb = boundary_nodes(mesh)
     assert len(nb) == mesh.n_nodes - 2 * 2 * 2             # the 2x2x2 interior nodes are not on it
+
+
+@pytest.mark.parametrize("kind", ["hex8", "tet4", "tet10"])
+def test_boundary_nodes_of_a_box_are_the_nodes_on_its_faces(kind):
+    """Hexahedra, their 4-node split and its 10-node version: the surface nodes are exactly
+    the nodes on the box's six planes (straight edges put every mid-edge node of a face on
+    its plane, and every interior edge's strictly inside)."""
+    mesh = box_cantilever(0.03, 0.02, 0.01, 3, 2, 4)
+    mesh = {"hex8": mesh, "tet4": split_hexes(mesh), "tet10": quadratic_tets(split_hexes(mesh))}[kind]
+    X = mesh.nodes
+    lo, hi = X.min(axis=0), X.max(axis=0)
+    on_planes = np.flatnonzero((np.isclose(X, lo, atol=1e-12) | np.isclose(X, hi, atol=1e-12)).any(axis=1))
+    assert mesh.element_type == kind
+    assert np.array_equal(boundary_nodes(mesh), on_planes)
+    assert len(on_planes) < mesh.n_nodes                    # the box has interior nodes

@@ -14,7 +14,10 @@ import pytest
 from ccedi.errors import InputError
 from ccedi.fea.drum import DrumSetup, finger_on_drum
 from ccedi.fea.hex8 import BULK_VISCOSITY_C0, BULK_VISCOSITY_C1
-from ccedi.fea.lsdyna import keyword_blocks, keyword_lines, read_keyword, write_keyword
+from ccedi.fea.gmsh_fingers import tapered_finger
+from ccedi.fea.lsdyna import CLAMP_SET, keyword_blocks, keyword_lines, read_keyword, write_keyword
+from ccedi.fea.mesh import Mesh
+from ccedi.fea.mesh_io import read_finger_mesh
 from ccedi.fea.studies import impulse_model
 from ccedi.study import cli
 
@@ -68,8 +71,17 @@ INTEGER_FIELDS = {"ENDCYC", "NOSOL", "BINARY", "LCUR", "IOOPT", "OPTION2", "LCDT
                   "IVATN", "ICID", "PHASE", "IRIGID", "SSID", "MSID", "SSTYP", "MSTYP", "SID", "HGEN", "RWEN",
                   "SLNTEN", "RYLEN", "IRGEN", "MATEN", "DRLEN", "DISEN", "ISDO", "LCTM", "ERODE", "MS1ST",
                   "SPCNID", "BNDLCO", "SIDR", "DATTYP", "LCINT", "M1", "M2", "M3", "SBOXID", "MBOXID", "SPR", "MPR",
+                  "EID", *(f"N{k}" for k in range(1, 11)),
                   *(f"ID{k}" for k in range(1, 9)), *(f"NID{k}" for k in range(1, 9))}
 TEXT_FIELDS = {"HEADING", "ALIAS", "SOLVER"}
+SOLID_ONE_LINE = ["EID", "PID", *(f"N{k}" for k in range(1, 9))]
+SOLID_TEN_NODES = [["EID", "PID"], [f"N{k}" for k in range(1, 11)]]
+"""*ELEMENT_SOLID, 8 columns a field: the one-line format (a tetrahedron as N1 N2 N3 N4 N4 N4
+N4 N4), and the two-card ten-node format (Card 1 EID PID, Card 2 N1..N10), which PyDyna's
+ElementSolid tells from the other by the number of fields on an element's first line."""
+PAPER_ELFORM = {"hex8": 1, "tet4": 13, "tet10": 16}
+"""*SECTION_SOLID ELFORM (manual): 1 constant stress solid, 13 one-point nodal pressure
+tetrahedron, 16 4- or 5-point 10-noded tetrahedron."""
 ROTATION_DOF_AXIS = {5: (1.0, 0.0, 0.0), 6: (0.0, 1.0, 0.0), 7: (0.0, 0.0, 1.0)}
 """*BOUNDARY_PRESCRIBED_MOTION DOF: EQ.5/6/7 x-, y-, z-rotational degree of freedom."""
 
@@ -93,6 +105,24 @@ def _cut(line, names, width):
             out[name] = int(text)
         else:
             out[name] = float(text)
+    return out
+
+
+def solid_cards(text):
+    """(EID, PID, [N1, ...]) of every element of the *ELEMENT_SOLID cards, each line cut
+    into the manual's 8-column fields (:data:`SOLID_ONE_LINE`, :data:`SOLID_TEN_NODES`)."""
+    out = []
+    for lines in keyword_blocks(text).get("*ELEMENT_SOLID", []):
+        rows = iter(lines)
+        for line in rows:
+            if len(line.split()) > 2:
+                row = _cut(line, SOLID_ONE_LINE, 8)
+                names = SOLID_ONE_LINE[2:]
+            else:
+                head, row = _cut(line, SOLID_TEN_NODES[0], 8), _cut(next(rows), SOLID_TEN_NODES[1], 8)
+                row.update(head)
+                names = SOLID_TEN_NODES[1]
+            out.append((row["EID"], row["PID"], [row[n] for n in names]))
     return out
 
 
@@ -166,11 +196,21 @@ def check_deck(text, model, t_end_s):
     np.testing.assert_array_equal(np.sort(history), np.sort(model.mesh.node_sets["tip"]) + 1)
 
     finger = _part(cards, "finger")
-    hourglass = _one(cards, "*HOURGLASS", HGID=finger[1]["HGID"])[0]
-    assert finger[1]["HGID"] is not None and hourglass["IHQ"] == 6
-    assert hourglass["QM"] == model.hourglass_coefficient
-    assert (hourglass["Q1"], hourglass["Q2"]) == (BULK_VISCOSITY_C0, BULK_VISCOSITY_C1)
-    assert _one(cards, "*SECTION_SOLID", SECID=finger[1]["SECID"])[0]["ELFORM"] == 1
+    mesh = model.mesh
+    kind = mesh.element_type
+    if kind == "hex8":
+        hourglass = _one(cards, "*HOURGLASS", HGID=finger[1]["HGID"])[0]
+        assert finger[1]["HGID"] is not None and hourglass["IHQ"] == 6
+        assert hourglass["QM"] == model.hourglass_coefficient
+        assert (hourglass["Q1"], hourglass["Q2"]) == (BULK_VISCOSITY_C0, BULK_VISCOSITY_C1)
+    else:                                       # tetrahedra: no hourglass modes, no card
+        assert finger[1]["HGID"] in (None, 0) and "*HOURGLASS" not in cards
+    assert _one(cards, "*SECTION_SOLID", SECID=finger[1]["SECID"])[0]["ELFORM"] == PAPER_ELFORM[kind]
+    solids = solid_cards(text)
+    assert {pid for _, pid, _ in solids} == {finger[1]["PID"]}
+    assert [eid for eid, _, _ in solids] == list(range(1, mesh.n_elements + 1))
+    expected = {"hex8": mesh.hexes, "tet4": mesh.tets4[:, [0, 1, 2, 3, 3, 3, 3, 3]], "tet10": mesh.tets10}[kind]
+    np.testing.assert_array_equal(np.array([n for _, _, n in solids]), expected + 1)
     mat = _one(cards, "*MAT_ELASTIC", MID=finger[1]["MID"])[0]
     m = model.material
     assert (mat["RO"], mat["E"], mat["PR"]) == (m.rho, m.E, m.nu)
@@ -365,3 +405,47 @@ def test_export_writes_a_checked_contact_deck(tmp_path, capsys):
     assert cli.main(["export", "--case", "contact", "--alpha", "180", "--t-end-s", "1.2", "--out", str(out)]) == 0
     model, _ = finger_on_drum(DrumSetup(), alpha=180.0)
     check_deck(out.read_text(), model, 1.2)
+
+
+@pytest.fixture(scope="module")
+def tet_fingers():
+    """The tapered finger with a hole (not a prism), coarse, as 4- and 10-node tetrahedra."""
+    return {kind: tapered_finger(0.012, order=order) for kind, order in (("tet4", 1), ("tet10", 2))}
+
+
+@pytest.mark.parametrize("kind", ["tet4", "tet10"])
+@pytest.mark.parametrize("case", ["impulse", "drum"])
+def test_tetrahedral_decks_match_the_manual_and_read_back(tmp_path, tet_fingers, kind, case):
+    """Impulse and drum decks of a tetrahedral finger: every card against the manual's
+    layouts (ELFORM 13 / 16, the element cards), and both readers, :func:`read_keyword` and
+    :func:`ccedi.fea.mesh_io.read_finger_mesh` (the impulse deck: the drum deck's finger is
+    turned onto the drum), give back the same nodes, elements and types."""
+    mesh = tet_fingers[kind]
+    model = (impulse_model(alpha=180.0, mesh=mesh) if case == "impulse"
+             else finger_on_drum(DrumSetup(finger=mesh), alpha=7.5)[0])
+    assert model.mesh.element_type == kind
+    path = write_keyword(model, tmp_path / f"{case}.k", t_end_s=0.2)
+    check_deck(path.read_text(), model, 0.2)
+    deck = read_keyword(path)
+    assert deck.elform == PAPER_ELFORM[kind] and deck.hexes.shape == (0, 8)
+    np.testing.assert_allclose(deck.nodes, model.mesh.nodes, rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(deck.tets4, model.mesh.tets4)
+    np.testing.assert_array_equal(deck.tets10, model.mesh.tets10)
+    if case == "drum":                          # turned onto the drum: not a finger along z
+        return
+    back = read_finger_mesh(path, clamp=str(CLAMP_SET))
+    assert back.element_type == kind and back.n_nodes == model.mesh.n_nodes
+    np.testing.assert_allclose(back.nodes, model.mesh.nodes, rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(back.tets4, model.mesh.tets4)
+    np.testing.assert_array_equal(back.tets10, model.mesh.tets10)
+    np.testing.assert_array_equal(back.node_sets["root"], np.sort(model.mesh.node_sets["root"]))
+
+
+def test_a_mixed_mesh_is_refused_in_one_line(tmp_path, tet_fingers):
+    mesh = tet_fingers["tet4"]
+    model = impulse_model(alpha=180.0, mesh=mesh)
+    model.mesh = Mesh(nodes=mesh.nodes, tets4=mesh.tets4[1:], hexes=mesh.tets4[:1, [0, 1, 2, 3, 0, 1, 2, 3]],
+                      node_sets=mesh.node_sets)
+    with pytest.raises(InputError, match="element type 'mixed'"):
+        write_keyword(model, tmp_path / "x.k", t_end_s=0.2)
+    assert not (tmp_path / "x.k").exists()

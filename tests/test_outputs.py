@@ -7,11 +7,12 @@ import pytest
 
 from ccedi.fea.explicit import run
 from ccedi.fea.gmsh_fingers import sm_c as sm_c_mesh
-from ccedi.fea.material import RUBBER
+from ccedi.fea.material import RUBBER, cauchy_von_mises
 from ccedi.fea.mesh import elliptical_cantilever, sm_a, sm_b
 from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import cantilever_model, tip_pulse
 from ccedi.fea.studies import PAPER_TABLE1
+from ccedi.fea.tet_mesh import box_cantilever, quadratic_tets, split_hexes
 from ccedi.fea.vtu import write_series, write_vtu
 from ccedi.study.cli import main
 
@@ -32,6 +33,28 @@ def test_vtu_round_trip(tmp_path, model):
     assert back.cell_data["von_mises_Pa"][0].max() > 0.0
     pvd = write_series(tmp_path / "series", model, res)
     assert pvd.read_text().count("<DataSet") == len(res.snapshots) == 2
+
+
+@pytest.mark.parametrize("kind", ["hex8", "tet4", "tet10"])
+def test_vtu_of_every_element_type_under_a_homogeneous_stretch(tmp_path, kind):
+    """A box of each element type stretched homogeneously: the VTU holds the mesh's own cells
+    (type and connectivity), the displacement, and in every cell the von Mises stress of
+    that deformation gradient (a wrong node order or gradient breaks the homogeneity)."""
+    box = box_cantilever(0.03, 0.02, 0.01, 3, 2, 4)
+    mesh = {"hex8": box, "tet4": split_hexes(box), "tet10": quadratic_tets(split_hexes(box))}[kind]
+    model = cantilever_model(mesh, RUBBER)
+    F = np.array([[1.02, 0.01, 0.0], [0.0, 0.99, 0.0], [0.0, 0.03, 1.01]])
+    x = mesh.nodes @ F.T
+    back = meshio.read(write_vtu(tmp_path / f"{kind}.vtu", model, x))
+    vtk = {"hex8": "hexahedron", "tet4": "tetra", "tet10": "tetra10"}[kind]
+    cells = {"hex8": mesh.hexes, "tet4": mesh.tets4, "tet10": mesh.tets10}[kind]
+    assert list(back.cells_dict) == [vtk]
+    np.testing.assert_array_equal(back.cells_dict[vtk], cells)
+    np.testing.assert_allclose(back.points, x, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(back.point_data["displacement_m"], x - mesh.nodes, rtol=0, atol=1e-15)
+    expected = cauchy_von_mises(F[None], RUBBER.mu, RUBBER.lam)[0]
+    np.testing.assert_allclose(back.cell_data["von_mises_Pa"][0], expected, rtol=1e-9)
+    assert expected > 1e5
 
 
 @pytest.mark.slow

@@ -151,7 +151,8 @@ def write_design(setup, options, json_path, out, scheduler="local"):
     Raises
     ------
     ccedi.errors.InputError
-        An option is out of range, or the problem is infeasible.
+        An option is out of range, the problem is infeasible, or the finger is a given mesh
+        (the surrogate varies the length on the contact ROM, which needs the generated finger).
     """
     import pandas as pd
 
@@ -168,6 +169,9 @@ def write_design(setup, options, json_path, out, scheduler="local"):
     )
     from ccedi.fea.outputs import write_csv, write_figure, write_json
 
+    from ccedi.rom.contact_rom import require_generated_finger
+
+    require_generated_finger(setup)               # the surrogate is the ROM's, over the length
     o = options
     normalised_weights(o.weights)                 # before the ROM grid, not after it
     for name, value, lo in (("--grid", min(o.grid), 4), ("--validation-runs", o.validation_runs, 1),

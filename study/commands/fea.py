@@ -121,7 +121,8 @@ def write_impulse(cfg, alphas, out, length_in=None, force_N=1.0, duration_s=0.01
 
 
 def contact_setup(cfg, theta0_rad=None, calibrate=False):
-    """The drum set-up of ``cfg``, with the initial angle given or recalibrated.
+    """The drum set-up of ``cfg`` (its ``[finger] mesh`` on the drum when set, read now),
+    with the initial angle given or recalibrated.
 
     Parameters
     ----------
@@ -140,9 +141,9 @@ def contact_setup(cfg, theta0_rad=None, calibrate=False):
     from dataclasses import replace
 
     from ccedi.fea.drum import calibrate_initial_angle
-    from ccedi.study.config import drum_setup
+    from ccedi.study.config import configured_mesh, drum_setup
 
-    setup = drum_setup(cfg)
+    setup = drum_setup(cfg, finger=configured_mesh(cfg))
     if theta0_rad is not None:
         setup = replace(setup, theta0_rad=theta0_rad)
     if calibrate:

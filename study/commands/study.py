@@ -44,13 +44,14 @@ def add_parsers(sub):
     e = add_command(sub, "export", help="a model as an LS-DYNA keyword deck, or its run as VTU (ParaView), "
                        "CSV or Parquet time series")
     e.add_argument("--case", choices=("impulse", "contact"), default="impulse",
-                   help="impulse: clamped SM-A finger, tip pulse; contact: the finger on the drum "
-                   "([finger] contact_length_in of --config, default 8 in)")
+                   help="impulse: clamped finger (SM-A, or [finger] mesh of --config), tip pulse; contact: the "
+                   "finger on the drum ([finger] mesh, else contact_length_in of --config, default 8 in)")
     e.add_argument("--format", choices=("lsdyna", "vtu", "csv", "parquet"), default="lsdyna",
                    help="lsdyna: a keyword deck of the model; vtu, csv, parquet: run the case and write its "
                         "animation (ParaView) or time history")
     e.add_argument("--alpha", type=float, default=180.0, help="mass-proportional damping [1/s]")
-    e.add_argument("--length-in", type=float, default=4.5, help="finger length of the impulse case [in]")
+    e.add_argument("--length-in", type=float, default=None,
+                   help="SM-A finger length of the impulse case [in] (4.5 when not given; not with a [finger] mesh)")
     e.add_argument("--t-end-s", type=float, help="simulated time [s] (default 0.2 impulse, 1.5 contact)")
     e.add_argument("--out", required=True, help="file (lsdyna: .k; csv/parquet) or directory (vtu)")
     add_config_argument(e)
@@ -86,14 +87,17 @@ def _case(args, t_end_s):
     from ccedi.fea.drum import contact_run, finger_on_drum
     from ccedi.fea.explicit import run
     from ccedi.fea.studies import impulse_model
-    from ccedi.study.config import drum_setup, finger_inputs
+    from ccedi.study.commands.fea import contact_setup, finger_of
+    from ccedi.study.config import finger_inputs
 
     cfg = load_config(args)
     if args.case == "impulse":
         material, semi_axes = finger_inputs(cfg)
-        model = impulse_model(length_in=args.length_in, alpha=args.alpha, material=material, semi_axes_m=semi_axes)
+        mesh, length_in, _ = finger_of(cfg, args.length_in)
+        model = impulse_model(length_in=length_in, alpha=args.alpha, material=material, semi_axes_m=semi_axes,
+                              mesh=mesh)
         return model, lambda every: run(model, t_end_s, snapshot_every=every, progress=True)
-    setup = drum_setup(cfg)
+    setup = contact_setup(cfg)
     model = finger_on_drum(setup, args.alpha)[0]
     return model, lambda every: contact_run(setup, args.alpha, t_end_s=t_end_s, snapshot_every=every,
                                             progress=True)[0]
@@ -112,7 +116,8 @@ def cmd_export(args):
     else:
         output_file(args.out if args.format == "lsdyna" else Path(args.out).with_suffix(f".{args.format}"), "--out")
     check_flag("--alpha", [args.alpha], "study", "contact_alphas_per_s")
-    check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
+    if args.length_in is not None:
+        check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
     t_end_s = args.t_end_s if args.t_end_s is not None else {"impulse": 0.2, "contact": 1.5}[args.case]
     check_flag("--t-end-s", t_end_s, "study", f"{args.case}_t_end_s")
     model, simulate = _case(args, t_end_s)
