@@ -15,8 +15,10 @@ $(STAMP): pyproject.toml
 demo: $(STAMP)
 	$(BIN)/ccedi study --out reports
 
+# two pytest-xdist workers (the CI machine has 2 cores), whole test files per worker so that
+# each module-scoped fixture (an FE run shared by several tests) is computed once
 test: $(STAMP)
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n 2 --dist loadfile
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/fea_speed.py

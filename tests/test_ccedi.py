@@ -3,6 +3,7 @@ exact single-DOF responses (fast), then on the paper's FE structures."""
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import ROD_ELEMENTS
 
 from ccedi.errors import InputError
 from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_impulse_model
@@ -124,7 +125,9 @@ def test_searches_take_impulse_models_only():
 
 @pytest.fixture(scope="module")
 def rod_critical():
-    return rod_alpha_cr(omega1_guess=PAPER_ROD["omega1_rad_s"], rtol=0.02)
+    """alpha_cr of the paper's rod on ROD_ELEMENTS elements (converged for mode 1, conftest)."""
+    return rod_alpha_cr(omega1_guess=PAPER_ROD["omega1_rad_s"], rtol=0.02,
+                        model=steel_rod_impulse_model(n_elements=ROD_ELEMENTS))
 
 
 @pytest.mark.slow
@@ -138,7 +141,7 @@ def test_steel_rod_alpha_from_zeta_reproduces_zeta(rod_critical):
     """alpha = zeta alpha_cr with the measured zeta = 0.0055: the simulated free vibration
     has a log-decrement damping ratio within 10 % of 0.0055."""
     alpha = PAPER_ROD["zeta"] * rod_critical.alpha_cr_per_s
-    t, y = steel_rod_impulse_model().run(alpha, 4.0, 4000).tip_signal()
+    t, y = steel_rod_impulse_model(n_elements=ROD_ELEMENTS).run(alpha, 4.0, 4000).tip_signal()
     free = t > STEEL_ROD["duration_s"]
     ld = log_decrement(t[free], y[free], y_final=0.0)
     assert ld.zeta == pytest.approx(PAPER_ROD["zeta"], rel=0.10)

@@ -11,6 +11,7 @@ from ccedi.fea.material import RUBBER, cauchy_von_mises
 from ccedi.fea.mesh import elliptical_cantilever, sm_a, sm_b
 from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import cantilever_model, tip_pulse
+from ccedi.fea.static import tip_deflection
 from ccedi.fea.studies import PAPER_TABLE1
 from ccedi.fea.tet_mesh import box_cantilever, quadratic_tets, split_hexes
 from ccedi.fea.vtu import write_series, write_vtu
@@ -59,27 +60,35 @@ def test_vtu_of_every_element_type_under_a_homogeneous_stretch(tmp_path, kind):
 
 @pytest.mark.slow
 def test_cli_table1_writes_every_key(tmp_path):
+    """``table1`` without the nonlinear static solves (SM-B's and SM-C's took minutes; the
+    stiffness key is checked on SM-A's row in tests/test_static.py): keys, counts, volume,
+    steps and the step ratio. SM-C (Gmsh, 10-node tetrahedra) is the same finger as SM-A
+    and SM-B: its small-load (linear) tip stiffness and its first frequency within 2 % of
+    theirs (measured 70.91 N/m against 70.24 and 70.90; the nonlinear 1-2 N figures differ
+    from these by the same geometric stiffening on each mesh), its node and element counts
+    within 15 % of the paper's."""
     path = tmp_path / "t1.json"
-    assert main(["table1", "--json", str(path)]) == 0
+    assert main(["table1", "--no-stiffness", "--json", str(path)]) == 0
     table = json.loads(path.read_text())
     for name, (nodes, elements) in {"SM-A": (1080, 725), "SM-B": (5900, 4698)}.items():
         row = table[name]
         assert set(row) == {"element_type", "nodes", "elements", "average_length_mm", "volume_cm3", "dt_us",
-                            "steps_to_0_2_s", "step_ratio", "stiffness_N_per_m"}
+                            "steps_to_0_2_s", "step_ratio"}
         assert row["element_type"] == "hex8" and row["volume_cm3"] == pytest.approx(36.0, rel=0.01)
         assert (row["nodes"], row["elements"]) == (nodes, elements)
         assert row["steps_to_0_2_s"] == pytest.approx(0.2 / (row["dt_us"] * 1e-6), abs=1)
     assert table["SM-B"]["step_ratio"] == pytest.approx(2.83, rel=0.1)      # paper: 2.83
-    # SM-C (Gmsh, 10-node tetrahedra) is the same finger: stiffness and first frequency within
-    # 2 % of SM-A's and SM-B's, node and element counts within 15 % of the paper's
     sm_c = table["SM-C"]
     assert sm_c["element_type"] == "tet10"
     for key in ("nodes", "elements"):
         assert sm_c[key] == pytest.approx(PAPER_TABLE1["SM-C"][key], rel=0.15)
-    omega1 = {name: natural_frequencies(cantilever_model(make(length_in=4.5), RUBBER), 1)[0]
+    models = {name: cantilever_model(make(length_in=4.5), RUBBER)
               for name, make in (("SM-A", sm_a), ("SM-B", sm_b), ("SM-C", sm_c_mesh))}
+    assert models["SM-C"].mesh.n_nodes == sm_c["nodes"]
+    k = {name: 1.0 / tip_deflection(model, 1.0, linear=True) for name, model in models.items()}
+    omega1 = {name: natural_frequencies(model, 1)[0] for name, model in models.items()}
     for ref in ("SM-A", "SM-B"):
-        assert sm_c["stiffness_N_per_m"] == pytest.approx(table[ref]["stiffness_N_per_m"], rel=0.02)
+        assert k["SM-C"] == pytest.approx(k[ref], rel=0.02)
         assert omega1["SM-C"] == pytest.approx(omega1[ref], rel=0.02)
 
 
