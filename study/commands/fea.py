@@ -1,6 +1,6 @@
 """``ccedi`` sub-commands of the explicit FEA (:mod:`ccedi.fea`).
 
-  table1         the paper's Table 1 for SM-A, SM-B, SM-C and a [finger] mesh (nodes, elements, time step, stiffness)
+  table1         the paper's Table 1 for SM-A, SM-B, SM-C, DM and a [finger] mesh (nodes, elements, time step, stiffness)
   impulse        impulse response of the SM-A finger for several alpha (paper Fig. 7), CSV + plot
   contact        the finger on the drum over the object (paper 3.3-3.4), one alpha
   contact-sweep  the same for several alpha; paper Figs. 10, 13, 14 analogues
@@ -24,8 +24,8 @@ def _fmt(value):
 
 
 def write_table1(cfg, length_in, json_path=None, stiffness=True):
-    """Print Table 1 of the configured finger (with the paper's values for the paper's
-    finger) and write it as JSON.
+    """Print Table 1 of the configured finger (for the paper's finger, with the detailed
+    model DM's row and the paper's values) and write it as JSON.
 
     Parameters
     ----------
@@ -49,9 +49,9 @@ def write_table1(cfg, length_in, json_path=None, stiffness=True):
 
     material, semi_axes = finger_inputs(cfg)
     finger = configured_mesh(cfg)
-    result = table1(length_in=length_in, material=material, stiffness=stiffness, semi_axes_m=semi_axes,
-                    finger=finger)
     paper_finger = is_paper_finger(length_in, material, semi_axes)
+    result = table1(length_in=length_in, material=material, stiffness=stiffness, semi_axes_m=semi_axes,
+                    finger=finger, detailed=paper_finger)
     for name, row in result.items():
         paper = PAPER_TABLE1.get(name, {}) if paper_finger else {}
         print(f"{name}: " + ", ".join(
