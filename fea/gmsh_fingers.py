@@ -1,9 +1,13 @@
 """Tetrahedral finger meshes generated with Gmsh (the ``gmsh`` Python package): the paper's
-SM-C and a finger that is not a prism.
+SM-C, its detailed model DM and a finger that is not a prism.
 
 * :func:`sm_c`: the paper's simplified model C, 10-node tetrahedra of the straight
   elliptical finger (semi-axes 12 mm along x, 8.45 mm along y, length along z, root at
   z = 0) at an average element length of 4 mm;
+* :func:`detailed_model`: the paper's detailed model DM (Fig. 5(a)), a reconstruction of
+  the real finger (circular end, tapering rectangular base, cone, thin plate, elliptical
+  ribs) whose two free dimensions :func:`fit_detailed_model` fits to Table 1's volume
+  and tip stiffness;
 * :func:`tapered_finger`: an elliptical section tapering linearly from root to tip, with a
   transverse hole through it (along y, the bending direction) at mid-length: the
   imported finger of the tests and benchmarks; :func:`write_tapered_finger` writes it as a
@@ -82,9 +86,11 @@ def _element_order(order):
     return order
 
 
-def _mesh_and_write(gmsh, volume, length_m, element_size_m, order, path, msh_version=4, binary=False):
+def _mesh_and_write(gmsh, volume, length_m, element_size_m, order, path, msh_version=4, binary=False,
+                    straight=False):
     """Name the root face ``clamp``, the tip face ``tip`` and ``volume`` ``finger``, mesh
-    at the average element length ``element_size_m`` and write ``path``."""
+    at the average element length ``element_size_m`` and write ``path`` (``straight``:
+    10-node tetrahedra with straight edges, mid-edge nodes at the edges' midpoints)."""
     gmsh.model.occ.synchronize()
     faces = gmsh.model.getBoundary([(3, volume)], oriented=False)
     z = {tag: gmsh.model.occ.getCenterOfMass(dim, tag)[2] for dim, tag in faces}
@@ -97,17 +103,20 @@ def _mesh_and_write(gmsh, volume, length_m, element_size_m, order, path, msh_ver
     gmsh.option.setNumber("Mesh.ElementOrder", order)
     gmsh.option.setNumber("Mesh.MshFileVersion", MSH_VERSIONS[msh_version])
     gmsh.option.setNumber("Mesh.Binary", int(bool(binary)))
+    if straight:
+        gmsh.option.setNumber("Mesh.SecondOrderLinear", 1)
+        gmsh.option.setNumber("Mesh.HighOrderOptimize", 0)
     gmsh.model.mesh.generate(3)
     gmsh.write(str(path))
 
 
-def _generated(build, length_m, element_size_m, order, name):
+def _generated(build, length_m, element_size_m, order, name, straight=False):
     """Build the geometry with ``build(occ) -> volume tag``, mesh it, read it back as a
     :class:`ccedi.fea.mesh.Mesh` (node sets ``root`` and ``tip``)."""
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / f"{name}.msh"
         with _gmsh_model(name) as gmsh:
-            _mesh_and_write(gmsh, build(gmsh.model.occ), length_m, element_size_m, order, path)
+            _mesh_and_write(gmsh, build(gmsh.model.occ), length_m, element_size_m, order, path, straight=straight)
         return read_finger_mesh(path, clamp="clamp", tip="tip")
 
 
@@ -437,6 +446,12 @@ def detailed_model(element_size_m=DM_ELEMENT_LENGTH, cone_radius_m=DM_CONE_RADIU
     order : int, optional
         2: 10-node tetrahedra (the paper's DM); 1: 4-node. Default 2.
 
+    The 10-node tetrahedra have straight edges (mid-edge nodes at the midpoints): Gmsh's
+    curved ones need its high-order optimisation on this geometry's thin parts (at 10, 8
+    and 6 mm, 59, 46 and 7 elements have a negative Jacobian without it), which was seen
+    to give different meshes from run to run on a loaded machine and once to abort the
+    process ("Failed to reach critical value ... ScaledJac").
+
     Returns
     -------
     Mesh
@@ -450,7 +465,7 @@ def detailed_model(element_size_m=DM_ELEMENT_LENGTH, cone_radius_m=DM_CONE_RADIU
     """
     length_m, cone, rib = _dm_inputs(cone_radius_m, rib_thickness_m)
     return _generated(_dm_geometry(length_m, cone, rib), length_m, _element_size(element_size_m),
-                      _element_order(order), "detailed_model")
+                      _element_order(order), "detailed_model", straight=True)
 
 
 def detailed_model_volume(cone_radius_m=DM_CONE_RADIUS, rib_thickness_m=DM_RIB_THICKNESS):
