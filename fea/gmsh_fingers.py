@@ -395,10 +395,16 @@ def _dm_inputs(cone_radius_m, rib_thickness_m):
     return length_m, cone, rib
 
 
-DM_CONE_RADIUS = 11.0e-3
-"""Root radius of the DM's cone [m]: fitted to Table 1's stiffness (:func:`fit_detailed_model`)."""
-DM_RIB_THICKNESS = 2.0e-3
-"""Thickness along z of the DM's ribs [m]: fitted to Table 1's volume (:func:`fit_detailed_model`)."""
+DM_CONE_RADIUS = 11.2186e-3
+"""Root radius of the DM's cone [m]: fitted to Table 1's stiffness by
+:func:`fit_detailed_model` in ``benchmarks/dm_fit.py`` at 2.8 mm (two evaluations from
+11.15 mm: 79.23 and 80.81 N/m, the latter within its 1 % tolerance of 81.2 N/m; stiffness
+evaluated as the linear one at 2.8 mm times the nonlinear-to-linear ratio 1.048 measured on
+a 6-mm DM of an 11-mm cone and 2-mm ribs, 77.28 / 73.75 N/m: the nonlinear solves take
+minutes there and tens of minutes at 2.8 mm)."""
+DM_RIB_THICKNESS = 0.8138e-3
+"""Thickness along z of the DM's ribs [m]: fitted to Table 1's volume (30 cm^3, CAD) at
+:data:`DM_CONE_RADIUS` (:func:`rib_thickness_for_volume`)."""
 DM_TABLE1 = {"volume_m3": 30.0e-6, "stiffness_N_per_m": 81.2}
 """The DM's Table 1 figures the free dimensions are fitted to."""
 
@@ -433,6 +439,12 @@ def detailed_model(element_size_m=DM_ELEMENT_LENGTH, cone_radius_m=DM_CONE_RADIU
     0.2 s, step ratio, node and element counts, omega_1, the damping behaviour of Fig. 6
     and the stresses.
 
+    The 10-node tetrahedra have straight edges (mid-edge nodes at the midpoints): Gmsh's
+    curved ones need its high-order optimisation on this geometry's thin parts (at 10, 8
+    and 6 mm, 59, 46 and 7 elements have a negative Jacobian without it), which was seen
+    to give different meshes from run to run on a loaded machine and once to abort the
+    process ("Failed to reach critical value ... ScaledJac").
+
     Parameters
     ----------
     element_size_m : float, optional
@@ -445,12 +457,6 @@ def detailed_model(element_size_m=DM_ELEMENT_LENGTH, cone_radius_m=DM_CONE_RADIU
         :data:`DM_RIB_THICKNESS`.
     order : int, optional
         2: 10-node tetrahedra (the paper's DM); 1: 4-node. Default 2.
-
-    The 10-node tetrahedra have straight edges (mid-edge nodes at the midpoints): Gmsh's
-    curved ones need its high-order optimisation on this geometry's thin parts (at 10, 8
-    and 6 mm, 59, 46 and 7 elements have a negative Jacobian without it), which was seen
-    to give different meshes from run to run on a loaded machine and once to abort the
-    process ("Failed to reach critical value ... ScaledJac").
 
     Returns
     -------
