@@ -1,9 +1,13 @@
 """Tetrahedral finger meshes generated with Gmsh (the ``gmsh`` Python package): the paper's
-SM-C and a finger that is not a prism.
+SM-C, its detailed model DM and a finger that is not a prism.
 
 * :func:`sm_c`: the paper's simplified model C, 10-node tetrahedra of the straight
   elliptical finger (semi-axes 12 mm along x, 8.45 mm along y, length along z, root at
   z = 0) at an average element length of 4 mm;
+* :func:`detailed_model`: the paper's detailed model DM (Fig. 5(a)), a reconstruction of
+  the real finger (circular end, tapering rectangular base, cone, thin plate, elliptical
+  ribs) whose two free dimensions :func:`fit_detailed_model` fits to Table 1's volume
+  and tip stiffness;
 * :func:`tapered_finger`: an elliptical section tapering linearly from root to tip, with a
   transverse hole through it (along y, the bending direction) at mid-length: the
   imported finger of the tests and benchmarks; :func:`write_tapered_finger` writes it as a
@@ -30,10 +34,11 @@ import contextlib
 import tempfile
 import threading
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
-from ccedi.errors import InputError, require_finite_positive
+from ccedi.errors import InputError, SolverError, require_finite_positive
 
 from .mesh import SEMI_AXES, _finger_length_m, _finger_section
 from .mesh_io import read_finger_mesh
@@ -81,9 +86,11 @@ def _element_order(order):
     return order
 
 
-def _mesh_and_write(gmsh, volume, length_m, element_size_m, order, path, msh_version=4, binary=False):
+def _mesh_and_write(gmsh, volume, length_m, element_size_m, order, path, msh_version=4, binary=False,
+                    straight=False):
     """Name the root face ``clamp``, the tip face ``tip`` and ``volume`` ``finger``, mesh
-    at the average element length ``element_size_m`` and write ``path``."""
+    at the average element length ``element_size_m`` and write ``path`` (``straight``:
+    10-node tetrahedra with straight edges, mid-edge nodes at the edges' midpoints)."""
     gmsh.model.occ.synchronize()
     faces = gmsh.model.getBoundary([(3, volume)], oriented=False)
     z = {tag: gmsh.model.occ.getCenterOfMass(dim, tag)[2] for dim, tag in faces}
@@ -96,17 +103,20 @@ def _mesh_and_write(gmsh, volume, length_m, element_size_m, order, path, msh_ver
     gmsh.option.setNumber("Mesh.ElementOrder", order)
     gmsh.option.setNumber("Mesh.MshFileVersion", MSH_VERSIONS[msh_version])
     gmsh.option.setNumber("Mesh.Binary", int(bool(binary)))
+    if straight:
+        gmsh.option.setNumber("Mesh.SecondOrderLinear", 1)
+        gmsh.option.setNumber("Mesh.HighOrderOptimize", 0)
     gmsh.model.mesh.generate(3)
     gmsh.write(str(path))
 
 
-def _generated(build, length_m, element_size_m, order, name):
+def _generated(build, length_m, element_size_m, order, name, straight=False):
     """Build the geometry with ``build(occ) -> volume tag``, mesh it, read it back as a
     :class:`ccedi.fea.mesh.Mesh` (node sets ``root`` and ``tip``)."""
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / f"{name}.msh"
         with _gmsh_model(name) as gmsh:
-            _mesh_and_write(gmsh, build(gmsh.model.occ), length_m, element_size_m, order, path)
+            _mesh_and_write(gmsh, build(gmsh.model.occ), length_m, element_size_m, order, path, straight=straight)
         return read_finger_mesh(path, clamp="clamp", tip="tip")
 
 
@@ -292,3 +302,305 @@ def tapered_volume(length_in=4.5, root_semi_axes_m=TAPERED_ROOT_SEMI_AXES, tip_s
     (a0, b0), (a1, b1) = _finger_section(root_semi_axes_m), _finger_section(tip_semi_axes_m)
     da, db = a1 - a0, b1 - b0
     return float(np.pi * length_m * (a0 * b0 + (a0 * db + b0 * da) / 2 + da * db / 3))
+
+
+DM_LENGTH_IN = 4.5
+"""Length of the detailed model [in] (the paper's 4.5-in finger)."""
+DM_ELEMENT_LENGTH = 2.8e-3
+"""The detailed model's average element length [m] (Table 1: "tetra, 2.8 mm")."""
+DM_ROOT_RADIUS = 17.5e-3
+"""Radius of the DM's fixed circular end [m] (the paper's 17.5 mm)."""
+DM_DISK_THICKNESS = 2.0e-3
+"""Thickness along z of the DM's circular end [m] (chosen)."""
+DM_BASE_ROOT_HALF = (15.0e-3, 6.0e-3)
+"""Half-sides (x, y) of the DM's rectangular base section at the circular end [m]
+(chosen: 30 mm x 12 mm, inside the 17.5-mm circle)."""
+DM_BASE_END_HALF = (0.6, 0.3)
+"""Half-sides (x, y) of the DM's rectangular base section where its taper ends, as
+fractions of the cone's radius there (chosen: inside the cone, so that no face of the base
+meets the cone at a grazing angle)."""
+DM_BASE_LENGTH = 30.0e-3
+"""Length along z of the DM's tapering rectangular base [m] (chosen)."""
+DM_CONE_TAPER = 0.5
+"""Tip radius / root radius of the DM's cone (chosen)."""
+DM_PLATE_HALF_THICKNESS = 1.0e-3
+"""Half-thickness (y) of the DM's thin horizontal plate [m] (chosen: 2 mm, thin in the
+bending direction y)."""
+DM_RIB_MARGINS = (4.0e-3, 2.0e-3)
+"""A rib's semi-axes (x, y) exceed the cone's radius at the rib by these [m] (chosen);
+the plate's half-width exceeds it by half the first. Every rib and the plate thus stand
+clear of the cone by a millimetre or more, so that no two faces meet at a grazing angle
+(which would leave sliver tetrahedra and a tiny explicit time step)."""
+DM_RIBS = 8
+"""Number of ribs of the DM (chosen), evenly spaced from the end of the base to the tip;
+the last one is flush with the tip."""
+DM_CONE_RADIUS_RANGE = (8.0e-3, 12.5e-3)
+"""Root radii [m] of the cone :func:`detailed_model` accepts."""
+
+
+def _ruled_box(occ, z0, z1, half0, half1):
+    """The solid ruled between the rectangles ``|x| <= half[0], |y| <= half[1]`` at z0 and z1."""
+    wires = []
+    for z, (hx, hy) in ((z0, half0), (z1, half1)):
+        corners = [occ.addPoint(x, y, z) for x, y in ((-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy))]
+        wires.append(occ.addWire([occ.addLine(corners[i], corners[(i + 1) % 4]) for i in range(4)]))
+    return [(d, t) for d, t in occ.addThruSections(wires, makeSolid=True, makeRuled=True) if d == 3]
+
+
+def _dm_geometry(length_m, cone_radius_m, rib_thickness_m):
+    """``build(occ)`` of the detailed model (:func:`detailed_model`): the union of the
+    circular end, the tapering rectangular base, the cone, the plate and the ribs. Only the
+    circular end reaches z = 0 and only the last rib z = L (the other parts start and end
+    inside them), so that OpenCASCADE's union sees no coincident faces."""
+    def radius(z):
+        return cone_radius_m * (1.0 - (1.0 - DM_CONE_TAPER) * z / length_m)
+
+    def build(occ):
+        inset = DM_DISK_THICKNESS / 2
+        end = length_m - rib_thickness_m / 2
+        mx, my = DM_RIB_MARGINS
+        disk = [(3, occ.addCylinder(0.0, 0.0, 0.0, 0.0, 0.0, DM_DISK_THICKNESS, DM_ROOT_RADIUS))]
+        r_base = radius(DM_BASE_LENGTH)
+        parts = _ruled_box(occ, inset, DM_BASE_LENGTH, DM_BASE_ROOT_HALF,
+                           (DM_BASE_END_HALF[0] * r_base, DM_BASE_END_HALF[1] * r_base))
+        parts.append((3, occ.addCone(0.0, 0.0, inset, 0.0, 0.0, end - inset, radius(inset), radius(end))))
+        parts += _ruled_box(occ, inset, end, (radius(inset) + mx / 2, DM_PLATE_HALF_THICKNESS),
+                            (radius(end) + mx / 2, DM_PLATE_HALF_THICKNESS))
+        pitch = (length_m - DM_BASE_LENGTH) / DM_RIBS
+        for k in range(1, DM_RIBS + 1):
+            z0 = DM_BASE_LENGTH + k * pitch - rib_thickness_m
+            r = radius(z0 + rib_thickness_m / 2)
+            rib = occ.addDisk(0.0, 0.0, z0, r + mx, r + my)
+            parts += [(d, t) for d, t in occ.extrude([(2, rib)], 0.0, 0.0, rib_thickness_m) if d == 3]
+        body, _ = occ.fuse(parts[:1], parts[1:])
+        out, _ = occ.fuse(disk, body)
+        solids = [t for d, t in out if d == 3]
+        if len(solids) != 1:
+            raise InputError(f"detailed model: the parts' union gave {len(solids)} solids, not one "
+                             f"(cone_radius_m = {cone_radius_m!r}, rib_thickness_m = {rib_thickness_m!r})")
+        return solids[0]
+    return build
+
+
+def _dm_inputs(cone_radius_m, rib_thickness_m):
+    length_m = _finger_length_m(length_in=DM_LENGTH_IN)
+    cone = require_finite_positive("cone_radius_m (m)", cone_radius_m)
+    lo, hi = DM_CONE_RADIUS_RANGE
+    if not lo <= cone <= hi:
+        raise InputError(f"cone_radius_m = {cone_radius_m!r}: must be in {lo:.4g}..{hi:.4g} (m)")
+    rib = require_finite_positive("rib_thickness_m (m)", rib_thickness_m)
+    if not 0.5e-3 <= rib <= 0.8 * (length_m - DM_BASE_LENGTH) / DM_RIBS:
+        raise InputError(f"rib_thickness_m = {rib_thickness_m!r}: must be in 0.0005..{0.8 * (length_m - DM_BASE_LENGTH) / DM_RIBS:.4g} "
+                         "(m), below 0.8 of the rib pitch")
+    return length_m, cone, rib
+
+
+DM_CONE_RADIUS = 11.2186e-3
+"""Root radius of the DM's cone [m]: fitted to Table 1's stiffness by
+:func:`fit_detailed_model` in ``benchmarks/dm_fit.py`` at 2.8 mm (two evaluations from
+11.15 mm: 79.23 and 80.81 N/m, the latter within its 1 % tolerance of 81.2 N/m; stiffness
+evaluated as the linear one at 2.8 mm times the nonlinear-to-linear ratio 1.048 measured on
+a 6-mm DM of an 11-mm cone and 2-mm ribs, 77.28 / 73.75 N/m: the nonlinear solves take
+minutes there and tens of minutes at 2.8 mm)."""
+DM_RIB_THICKNESS = 0.8138e-3
+"""Thickness along z of the DM's ribs [m]: fitted to Table 1's volume (30 cm^3, CAD) at
+:data:`DM_CONE_RADIUS` (:func:`rib_thickness_for_volume`)."""
+DM_TABLE1 = {"volume_m3": 30.0e-6, "stiffness_N_per_m": 81.2}
+"""The DM's Table 1 figures the free dimensions are fitted to."""
+
+
+def detailed_model(element_size_m=DM_ELEMENT_LENGTH, cone_radius_m=DM_CONE_RADIUS,
+                   rib_thickness_m=DM_RIB_THICKNESS, order=2):
+    """The paper's detailed model DM (Fig. 5(a), Table 1): a reconstruction of the real
+    4.5-in finger (WK52H), meshed with tetrahedra.
+
+    Length 4.5 in along z, root at z = 0, bending along y. The solid is the union of
+    (paper's words in quotes, everything else chosen here since the paper gives no
+    dimension):
+
+    * "the fixed circular end (of 17.5 mm radius)": a disk of radius
+      :data:`DM_ROOT_RADIUS`, :data:`DM_DISK_THICKNESS` thick, whose face z = 0 is the
+      clamp;
+    * "a rectangular section tapering from the fixed circular end": a ruled block from
+      :data:`DM_BASE_ROOT_HALF` at the disk to :data:`DM_BASE_END_HALF` (of the cone's
+      radius) at z = :data:`DM_BASE_LENGTH`;
+    * "a cone": circular, root radius ``cone_radius_m``, tip radius
+      :data:`DM_CONE_TAPER` times that;
+    * "a thin horizontal plate": 2 x :data:`DM_PLATE_HALF_THICKNESS` thick in y (the
+      bending direction, "designed to bend easily" in it), its half-width the cone's
+      radius + :data:`DM_RIB_MARGINS` [0] / 2;
+    * "evenly spaced elliptical ribs": :data:`DM_RIBS` elliptical disks ``rib_thickness_m``
+      thick, semi-axes the cone's radius + :data:`DM_RIB_MARGINS`, evenly spaced from the
+      base to the tip, the last one's face being the tip face.
+
+    Matched to Table 1 (:func:`fit_detailed_model`): the volume (30 cm^3) by the rib
+    thickness and the nonlinear static tip stiffness (81.2 N/m, 1 N and 2 N as the paper)
+    by the cone's root radius. Everything else is a prediction: the time step, steps to
+    0.2 s, step ratio, node and element counts, omega_1, the damping behaviour of Fig. 6
+    and the stresses.
+
+    The 10-node tetrahedra have straight edges (mid-edge nodes at the midpoints): Gmsh's
+    curved ones need its high-order optimisation on this geometry's thin parts (at 10, 8
+    and 6 mm, 59, 46 and 7 elements have a negative Jacobian without it), which was seen
+    to give different meshes from run to run on a loaded machine and once to abort the
+    process ("Failed to reach critical value ... ScaledJac").
+
+    Parameters
+    ----------
+    element_size_m : float, optional
+        Average element length [m], 1e-4..0.05 (module docstring). Default 2.8 mm (Table 1).
+    cone_radius_m : float, optional
+        Root radius of the cone [m], within :data:`DM_CONE_RADIUS_RANGE`. Default the
+        fitted :data:`DM_CONE_RADIUS`.
+    rib_thickness_m : float, optional
+        Rib thickness [m], 0.5 mm..0.8 of the rib pitch. Default the fitted
+        :data:`DM_RIB_THICKNESS`.
+    order : int, optional
+        2: 10-node tetrahedra (the paper's DM); 1: 4-node. Default 2.
+
+    Returns
+    -------
+    Mesh
+        ``tets10`` (or ``tets4``), node sets ``root`` (the circular end, z = 0) and ``tip``
+        (the last rib's face, z = L). At the defaults (measured, ``benchmarks/dm_fit.json``):
+        26963 nodes, 15230 elements, mesh volume 29.78 cm^3, stable step 0.438 us
+        (paper: 36782, 23147, 30 cm^3, 0.22 us).
+
+    Raises
+    ------
+    InputError
+        A size, radius, thickness or order out of range.
+    """
+    length_m, cone, rib = _dm_inputs(cone_radius_m, rib_thickness_m)
+    return _generated(_dm_geometry(length_m, cone, rib), length_m, _element_size(element_size_m),
+                      _element_order(order), "detailed_model", straight=True)
+
+
+def detailed_model_volume(cone_radius_m=DM_CONE_RADIUS, rib_thickness_m=DM_RIB_THICKNESS):
+    """CAD volume of :func:`detailed_model` (OpenCASCADE's mass property, no mesh).
+
+    Parameters
+    ----------
+    cone_radius_m, rib_thickness_m : float, optional
+        As :func:`detailed_model`.
+
+    Returns
+    -------
+    float
+        Volume [m^3].
+
+    Raises
+    ------
+    InputError
+        A radius or thickness out of range.
+    """
+    length_m, cone, rib = _dm_inputs(cone_radius_m, rib_thickness_m)
+    with _gmsh_model("detailed_model_volume") as gmsh:
+        volume = _dm_geometry(length_m, cone, rib)(gmsh.model.occ)
+        gmsh.model.occ.synchronize()
+        return gmsh.model.occ.getMass(3, volume)
+
+
+def rib_thickness_for_volume(volume_m3, cone_radius_m):
+    """The rib thickness [m] that gives :func:`detailed_model` the CAD volume ``volume_m3``
+    at cone radius ``cone_radius_m``: the volume is affine in the rib thickness (a rib adds
+    its ellipse less the cone's and the plate's sections, constant across its thickness
+    to within the cone's taper), so two CAD volumes (1 mm and 2 mm ribs) give it.
+
+    Parameters
+    ----------
+    volume_m3 : float
+        Target volume [m^3].
+    cone_radius_m : float
+        Root radius of the cone [m].
+
+    Returns
+    -------
+    float
+        Rib thickness [m].
+
+    Raises
+    ------
+    InputError
+        The thickness needed is out of :func:`detailed_model`'s range.
+    """
+    v1, v2 = (detailed_model_volume(cone_radius_m, t) for t in (1.0e-3, 2.0e-3))
+    thickness = 1.0e-3 + (volume_m3 - v1) / (v2 - v1) * 1.0e-3
+    _dm_inputs(cone_radius_m, thickness)
+    return float(thickness)
+
+
+class DetailedModelFit(NamedTuple):
+    """Result of :func:`fit_detailed_model`.
+
+    Parameters
+    ----------
+    cone_radius_m, rib_thickness_m : float
+        The fitted dimensions [m].
+    volume_m3 : float
+        CAD volume at them [m^3].
+    stiffness_N_per_m : float
+        Tip stiffness at them [N/m].
+    evaluations : list
+        ``(cone_radius_m, rib_thickness_m, stiffness_N_per_m)`` of every stiffness solve.
+    """
+
+    cone_radius_m: float
+    rib_thickness_m: float
+    volume_m3: float
+    stiffness_N_per_m: float
+    evaluations: list
+
+
+def fit_detailed_model(stiffness_of, volume_m3=DM_TABLE1["volume_m3"],
+                       stiffness_N_per_m=DM_TABLE1["stiffness_N_per_m"], element_size_m=DM_ELEMENT_LENGTH,
+                       cone_radius_m=DM_CONE_RADIUS, rtol=0.005, max_evaluations=6):
+    """Fit the DM's two free dimensions to Table 1: the rib thickness to the volume
+    (:func:`rib_thickness_for_volume`, at every cone radius) and the cone's root radius to
+    the tip stiffness, by a secant search on log k against log r (k ~ r^4 of a cone in
+    bending for the first step, the measured slope after).
+
+    Parameters
+    ----------
+    stiffness_of : callable
+        ``stiffness_of(mesh) -> float``, tip stiffness [N/m] of a DM mesh (Table 1's:
+        :func:`ccedi.fea.static.tip_stiffness` of its cantilever model).
+    volume_m3 : float, optional
+        Target volume [m^3]. Default Table 1's 30 cm^3.
+    stiffness_N_per_m : float, optional
+        Target stiffness [N/m]. Default Table 1's 81.2 N/m.
+    element_size_m : float, optional
+        Average element length [m] of the meshes solved. Default 2.8 mm.
+    cone_radius_m : float, optional
+        First cone radius [m].
+    rtol : float, optional
+        Relative tolerance on the stiffness. Default 0.5 %.
+    max_evaluations : int, optional
+        Stiffness solves allowed.
+
+    Returns
+    -------
+    DetailedModelFit
+
+    Raises
+    ------
+    SolverError
+        The stiffness is not within ``rtol`` after ``max_evaluations`` solves.
+    InputError
+        A dimension leaves the generator's range on the way.
+    """
+    evaluations = []
+    r = cone_radius_m
+    for _ in range(max_evaluations):
+        thickness = rib_thickness_for_volume(volume_m3, r)
+        k = float(stiffness_of(detailed_model(element_size_m, r, thickness)))
+        evaluations.append((r, thickness, k))
+        if abs(k / stiffness_N_per_m - 1.0) <= rtol:
+            return DetailedModelFit(r, thickness, detailed_model_volume(r, thickness), k, evaluations)
+        slope = 4.0
+        if len(evaluations) > 1:
+            (r0, _, k0), (r1, _, k1) = evaluations[-2:]
+            slope = np.log(k1 / k0) / np.log(r1 / r0)
+        r = float(np.clip(r * (stiffness_N_per_m / k) ** (1.0 / slope), *DM_CONE_RADIUS_RANGE))
+    raise SolverError(f"fit_detailed_model: stiffness {k:.4g} N/m not within {rtol:g} of {stiffness_N_per_m:g} N/m "
+                      f"after {max_evaluations} solves {evaluations}")

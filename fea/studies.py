@@ -87,10 +87,12 @@ def table1_row(mesh, material, stiffness=True, omega1=False):
     return row
 
 
-def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES, finger=None):
+def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES, finger=None, detailed=False,
+           detailed_stiffness=None):
     """Table 1 of the paper for SM-A, SM-B (hexahedra) and SM-C (10-node tetrahedra,
-    :func:`ccedi.fea.gmsh_fingers.sm_c`) with section semi-axes ``semi_axes_m`` [m] (and a
-    finger of the user's), each row from :func:`table1_row`, with the step ratio to SM-A.
+    :func:`ccedi.fea.gmsh_fingers.sm_c`) with section semi-axes ``semi_axes_m`` [m] (the
+    detailed model DM, and a finger of the user's), each row from :func:`table1_row`, with
+    the step ratio to SM-A.
 
     Parameters
     ----------
@@ -105,6 +107,14 @@ def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES
     finger : ccedi.fea.mesh.Mesh, optional
         A finger mesh of the user's: one more row, ``"finger"``, with its first natural
         frequency ``omega1_rad_s`` too.
+    detailed : bool, optional
+        One more row, ``"DM"``: the paper's detailed model
+        (:func:`ccedi.fea.gmsh_fingers.detailed_model`, 4.5 in, 2.8 mm; its own geometry,
+        whatever ``length_in`` and ``semi_axes_m``), with ``omega1_rad_s``. Its mesh (about
+        28 000 nodes) adds a minute or so without its stiffness, and the nonlinear solves of
+        some 83 000 DOFs with it (README: measured times).
+    detailed_stiffness : bool, optional
+        Solve the DM's stiffness too (default: as ``stiffness``).
 
     Returns
     -------
@@ -112,12 +122,15 @@ def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES
         ``{model name: row}``, rows as :func:`table1_row` plus ``step_ratio`` (steps to
         0.2 s over SM-A's).
     """
-    from .gmsh_fingers import sm_c
+    from .gmsh_fingers import detailed_model, sm_c
 
     meshes = {"SM-A": sm_a(length_in=length_in, semi_axes_m=semi_axes_m),
               "SM-B": sm_b(length_in=length_in, semi_axes_m=semi_axes_m),
               "SM-C": sm_c(length_in=length_in, semi_axes_m=semi_axes_m)}
     out = {name: table1_row(mesh, material, stiffness) for name, mesh in meshes.items()}
+    if detailed:
+        dm_stiffness = stiffness if detailed_stiffness is None else detailed_stiffness
+        out["DM"] = table1_row(detailed_model(), material, dm_stiffness, omega1=True)
     if finger is not None:
         out["finger"] = table1_row(finger, material, stiffness, omega1=True)
     for name in out:

@@ -7,6 +7,10 @@ searches take any impulse model of the structure (default: the full FE one,
 :func:`ccedi.fea.studies.finger_impulse_model` or :func:`ccedi.fea.steel_rod.steel_rod_impulse_model`; e.g. its
 modal ROM from :func:`ccedi.rom.modal.reduce_impulse_model`).
 """
+from dataclasses import dataclass
+
+import numpy as np
+
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import SEMI_AXES, sm_a
 from ccedi.fea.modal import natural_frequencies
@@ -163,3 +167,140 @@ def alpha_cr_table(lengths_in=(3.0, 4.5, 6.0, 8.0), rtol=0.01, scheduler="serial
 
     return map_runs(partial(_alpha_cr_row, rtol=rtol, material=material, semi_axes_m=semi_axes_m), lengths_in,
                     scheduler, label="alpha_cr")
+
+
+PAPER_FIG6 = {"alpha_per_s": 180.0, "dm_matching_alpha_per_s": 260.0}
+"""The paper's Fig. 6: the alpha [1/s] of the comparison (simplified models over-damped, DM
+under-damped) and the alpha at which the DM's response is like SM-A's."""
+
+
+def quasi_static_peak_stress(model, tip_displacements_m):
+    """Largest von Mises stress [Pa] of the linear static deflection under a uniform tip
+    force (along y) scaled to each tip displacement: the stress at the peak of a response
+    dominated by the first bending mode, whose shape a tip-loaded static deflection
+    approximates (one sparse solve, the deflection then scaled; the neo-Hookean stress of
+    the scaled positions).
+
+    Parameters
+    ----------
+    model : ccedi.fea.model.Model
+        A clamped finger (node sets ``root`` and ``tip``).
+    tip_displacements_m : sequence of float
+        Area-weighted mean tip displacements along y [m].
+
+    Returns
+    -------
+    list of float
+        Max von Mises stress [Pa] over the elements, one per displacement.
+    """
+    from ccedi.fea.explicit import max_von_mises
+    from ccedi.fea.model import face_node_weights
+    from ccedi.fea.static import static_solve
+
+    mesh = model.mesh
+    tip = mesh.node_sets["tip"]
+    w = face_node_weights(mesh, tip)
+    f = np.zeros_like(mesh.nodes)
+    f[tip, 1] = w
+    u = static_solve(model, f, linear=True) - mesh.nodes
+    u /= float(w @ u[tip, 1])
+    return [float(max_von_mises(model, mesh.nodes + d * u)) for d in tip_displacements_m]
+
+
+@dataclass(frozen=True)
+class DetailedModelComparison:
+    """Result of :func:`detailed_model_comparison` (paper Fig. 6 with the DM).
+
+    Parameters
+    ----------
+    time_s : numpy.ndarray
+        Output times [s].
+    sm_a_tip_m, dm_tip_m, dm_matched_tip_m : numpy.ndarray
+        Tip responses [m]: SM-A and the DM at ``alpha_per_s``, the DM at the matching alpha.
+    alpha_per_s : float
+        The comparison's alpha [1/s].
+    match : ccedi.rom.ccedi.AlphaMatch
+        The DM's alpha whose response is nearest SM-A's (RMS).
+    dm_under_damped, sm_a_under_damped, dm_matched_under_damped : bool
+        Whether each response crosses zero after its peak
+        (:func:`ccedi.rom.damping.oscillates`).
+    peak_stress_Pa : dict
+        Quasi-static peak von Mises stress [Pa] (:func:`quasi_static_peak_stress`) of
+        ``"SM-A"``, ``"DM"`` and ``"DM matched"``.
+    omega1_rad_s : dict
+        First modal frequency [rad/s] of ``"SM-A"`` and ``"DM"`` (the ROMs').
+    """
+
+    time_s: np.ndarray
+    sm_a_tip_m: np.ndarray
+    dm_tip_m: np.ndarray
+    dm_matched_tip_m: np.ndarray
+    alpha_per_s: float
+    match: object
+    dm_under_damped: bool
+    sm_a_under_damped: bool
+    dm_matched_under_damped: bool
+    peak_stress_Pa: dict
+    omega1_rad_s: dict
+
+
+def detailed_model_comparison(dm_mesh, sm_a_mesh=None, alpha=PAPER_FIG6["alpha_per_s"], force_N=1.0,
+                              duration_s=0.01, t_end_s=0.2, n_outputs=400, material=RUBBER, n_modes=6,
+                              bounds_per_s=(100.0, 600.0), noise_band=1e-3):
+    """Paper Fig. 6 with the detailed model: SM-A and the DM under the same tip pulse at
+    ``alpha``, and the DM's alpha whose response is nearest SM-A's (:func:`ccedi.rom.ccedi.match_alpha`,
+    least RMS difference over ``t_end_s``), all on the modal ROMs
+    (:func:`ccedi.rom.modal.reduce_impulse_model`: ``n_modes`` modes of each FE model
+    linearised at rest), which a full explicit run of the DM checks
+    (``benchmarks/dm_fig6.py``); peak stresses by :func:`quasi_static_peak_stress`.
+
+    Parameters
+    ----------
+    dm_mesh : ccedi.fea.mesh.Mesh
+        The DM (:func:`ccedi.fea.gmsh_fingers.detailed_model`).
+    sm_a_mesh : ccedi.fea.mesh.Mesh, optional
+        SM-A (default: the 4.5-in one).
+    alpha : float, optional
+        Mass-proportional damping of the comparison [1/s]. Default 180.
+    force_N, duration_s : float, optional
+        Tip pulse [N] along +y and how long it is held [s].
+    t_end_s : float, optional
+        Simulated time [s]. Default 0.2 (the paper's figure).
+    n_outputs : int, optional
+        Output times.
+    material : ccedi.fea.material.NeoHookean, optional
+        Finger material.
+    n_modes : int, optional
+        Modes of each ROM.
+    bounds_per_s : tuple, optional
+        Search bounds on the DM's matching alpha [1/s].
+    noise_band : float, optional
+        Zero-crossing band of the under-damped test, relative to the peak [-].
+
+    Returns
+    -------
+    DetailedModelComparison
+    """
+    from ccedi.fea.studies import finger_impulse_model
+
+    from .ccedi import match_alpha
+    from .damping import oscillates
+    from .modal import reduce_impulse_model
+
+    sm_a_mesh = sm_a(length_in=4.5) if sm_a_mesh is None else sm_a_mesh
+    full = {name: finger_impulse_model(force_N=force_N, duration_s=duration_s, material=material, mesh=mesh)
+            for name, mesh in (("SM-A", sm_a_mesh), ("DM", dm_mesh))}
+    roms = {name: reduce_impulse_model(f, n_modes=n_modes, alpha=alpha) for name, f in full.items()}
+    t, y_sm = roms["SM-A"].run(alpha, t_end_s, n_outputs).tip_signal()
+    y_dm = roms["DM"].run(alpha, t_end_s, n_outputs).tip_signal()[1]
+    match = match_alpha(roms["DM"], t, y_sm, bounds_per_s, t_end_s=t_end_s, n_outputs=n_outputs)
+    y_match = roms["DM"].run(match.alpha_per_s, t_end_s, n_outputs).tip_signal()[1]
+    dm_stress = quasi_static_peak_stress(full["DM"].fea_model(alpha), [y_dm.max(), y_match.max()])
+    stress = {"SM-A": quasi_static_peak_stress(full["SM-A"].fea_model(alpha), [y_sm.max()])[0],
+              "DM": dm_stress[0], "DM matched": dm_stress[1]}
+    damped = {name: bool(oscillates(t, y, y_final=0.0, noise_band=noise_band))
+              for name, y in (("sm", y_sm), ("dm", y_dm), ("match", y_match))}
+    return DetailedModelComparison(
+        time_s=t, sm_a_tip_m=y_sm, dm_tip_m=y_dm, dm_matched_tip_m=y_match, alpha_per_s=float(alpha), match=match,
+        dm_under_damped=damped["dm"], sm_a_under_damped=damped["sm"], dm_matched_under_damped=damped["match"],
+        peak_stress_Pa=stress, omega1_rad_s={n: float(r.rom.omega_rad_s.min()) for n, r in roms.items()})

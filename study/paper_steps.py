@@ -1,5 +1,5 @@
 """Study steps that no other sub-command covers: the steel rod of the paper's section 2.2
-(Figs. 3 and 4 analogues) and the SM-A / SM-B mesh comparison (Fig. 6 analogue)."""
+(Figs. 3 and 4 analogues) and the SM-A / SM-B / detailed model comparison (Fig. 6 analogue)."""
 from functools import partial
 
 import numpy as np
@@ -112,8 +112,10 @@ def _mesh_run(name, length_in, alpha, force_N, duration_s, t_end_s, material, se
 def mesh_comparison(out, length_in, alpha, force_N, duration_s, t_end_s, scheduler, material, semi_axes_m):
     """Fig. 6 analogue: tip response and max von Mises stress of SM-A and SM-B (``material``,
     section semi-axes ``semi_axes_m`` [m]) under the same impulse at one alpha. Writes
-    mesh_comparison.csv/.json and the figure."""
+    mesh_comparison.csv/.json and the figure; for the paper's finger also the detailed
+    model's half of Fig. 6 (:func:`dm_comparison`, summary under ``"detailed_model"``)."""
     from ccedi.fea.distributed import map_runs
+    from ccedi.fea.studies import is_paper_finger
 
     run = partial(_mesh_run, length_in=length_in, alpha=alpha, force_N=force_N, duration_s=duration_s,
                   t_end_s=t_end_s, material=material, semi_axes_m=semi_axes_m)
@@ -135,4 +137,72 @@ def mesh_comparison(out, length_in, alpha, force_N, duration_s, t_end_s, schedul
     a1.legend()
     write_figure(out / "fig6_mesh_comparison.png", fig)
     write_json(out / "mesh_comparison.json", summary)
+    if is_paper_finger(length_in, material, semi_axes_m):
+        summary["detailed_model"] = dm_comparison(out, alpha, force_N, duration_s, material)
+    return summary
+
+
+def dm_comparison(out, alpha, force_N, duration_s, material, t_end_s=0.2):
+    """Fig. 6 with the detailed model: SM-A and the DM (2.8 mm,
+    :func:`ccedi.fea.gmsh_fingers.detailed_model`) on their modal ROMs at ``alpha`` [1/s],
+    and the DM's alpha whose response is nearest SM-A's
+    (:func:`ccedi.rom.finger_identification.detailed_model_comparison`; the ROM against a
+    full explicit run of the DM is ``benchmarks/dm_fig6.py``). Writes dm_comparison.csv/.json
+    and fig6_detailed_model.png in ``out``.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        Output directory.
+    alpha : float
+        Mass-proportional damping of the comparison [1/s].
+    force_N, duration_s : float
+        Tip pulse [N] along +y and how long it is held [s].
+    material : ccedi.fea.material.NeoHookean
+        Finger material.
+    t_end_s : float, optional
+        Simulated time [s]. Default 0.2.
+
+    Returns
+    -------
+    dict
+        ``alpha_per_s``, ``dm_matching_alpha_per_s`` (and the paper's), the relative RMS
+        misfit of the match, whether each response is under-damped, per model
+        ``peak_tip_uy_m`` [m], ``quasi_static_peak_von_mises_Pa`` [Pa], ``omega1_rad_s``,
+        the DM's ``nodes`` and ``elements``, and ``wall_time_s``.
+    """
+    import time
+
+    from ccedi.fea.gmsh_fingers import detailed_model
+    from ccedi.rom.finger_identification import PAPER_FIG6, detailed_model_comparison
+
+    t0 = time.perf_counter()
+    dm = detailed_model()
+    c = detailed_model_comparison(dm, alpha=alpha, force_N=force_N, duration_s=duration_s, t_end_s=t_end_s,
+                                  material=material)
+    a_m = c.match.alpha_per_s
+    write_csv(out / "dm_comparison.csv", pd.DataFrame({"time_s": c.time_s, "sm_a_tip_uy_m": c.sm_a_tip_m,
+                                                       "dm_tip_uy_m": c.dm_tip_m,
+                                                       "dm_matched_tip_uy_m": c.dm_matched_tip_m}))
+    fig, ax = _axes()
+    for y, label in ((c.sm_a_tip_m, f"SM-A, alpha = {alpha:g} 1/s"), (c.dm_tip_m, f"DM, alpha = {alpha:g} 1/s"),
+                     (c.dm_matched_tip_m, f"DM, alpha = {a_m:.4g} 1/s (nearest SM-A)")):
+        ax.plot(c.time_s, 1e3 * y, label=label)
+    ax.axhline(0.0, color="k", lw=0.5)
+    ax.set(xlabel="time [s]", ylabel="tip displacement y [mm]",
+           title="4.5-in finger, SM-A and detailed model, 6-mode ROMs (paper Fig. 6 analogue)")
+    ax.legend()
+    write_figure(out / "fig6_detailed_model.png", fig)
+    models = {name: {"peak_tip_uy_m": float(y.max()), "quasi_static_peak_von_mises_Pa": c.peak_stress_Pa[name],
+                     "under_damped": u}
+              for name, y, u in (("SM-A", c.sm_a_tip_m, c.sm_a_under_damped), ("DM", c.dm_tip_m, c.dm_under_damped),
+                                 ("DM matched", c.dm_matched_tip_m, c.dm_matched_under_damped))}
+    for name in ("SM-A", "DM"):
+        models[name]["omega1_rad_s"] = c.omega1_rad_s[name]
+    summary = {"alpha_per_s": alpha, "dm_matching_alpha_per_s": a_m,
+               "paper_dm_matching_alpha_per_s": PAPER_FIG6["dm_matching_alpha_per_s"],
+               "match_relative_rms_error": c.match.relative_rms_error, "t_end_s": t_end_s,
+               "dm_nodes": dm.n_nodes, "dm_elements": dm.n_elements, "models": models,
+               "wall_time_s": time.perf_counter() - t0}
+    write_json(out / "dm_comparison.json", summary)
     return summary

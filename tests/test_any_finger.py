@@ -42,7 +42,7 @@ def _tapered_beam_stiffness(E, length_m):
 def test_table1_row_of_an_imported_finger(finger, tmp_path):
     toml, msh, volume = finger
     path = tmp_path / "t1.json"
-    assert main(["table1", "--no-stiffness", "--config", str(toml), "--json", str(path)]) == 0
+    assert main(["table1", "--no-stiffness", "--no-detailed-model", "--config", str(toml), "--json", str(path)]) == 0
     row = json.loads(path.read_text())["finger"]
     mesh = read_finger_mesh(msh, clamp="clamp", tip="tip")
     assert (row["element_type"], row["nodes"], row["elements"]) == ("tet10", mesh.n_nodes, mesh.n_elements)

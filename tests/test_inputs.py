@@ -42,9 +42,9 @@ def test_first_frequency_follows_the_material_and_section_of_the_inputs():
 def test_table1_command_reads_the_material_of_the_config(tmp_path, capsys):
     base, stiff = tmp_path / "base.json", tmp_path / "stiff.json"
     config = _write(tmp_path, "[material]\nE_Pa = 24.4e6\nrho_kg_m3 = 1000.0\n")
-    assert main(["table1", "--no-stiffness", "--json", str(base)]) == 0
+    assert main(["table1", "--no-stiffness", "--no-detailed-model", "--json", str(base)]) == 0
     assert "(paper" in capsys.readouterr().out                    # the paper's finger: compared with Table 1
-    assert main(["table1", "--no-stiffness", "--json", str(stiff), "--config", str(config)]) == 0
+    assert main(["table1", "--no-stiffness", "--no-detailed-model", "--json", str(stiff), "--config", str(config)]) == 0
     assert "(paper" not in capsys.readouterr().out                # another rubber: no paper column
     b, s = json.loads(base.read_text()), json.loads(stiff.read_text())
     for name in ("SM-A", "SM-B"):     # dt ~ h / c, c = sqrt(M / rho): 4 x E halves the stable step

@@ -35,7 +35,7 @@ def test_index_reports_the_numbers_of_the_run_and_marks_missing_steps(tmp_path):
                                                    "stiffness_N_per_m": 74.35}})
     page = write_index(tmp_path).read_text()
     assert "4.411" in page and "74.35" in page and "tip stiffness [N/m]" in page
-    assert page.count("did not run") == 7
+    assert page.count("did not run") == 8
 
 
 def test_export_csv_vtu_and_parquet(tmp_path, capsys):

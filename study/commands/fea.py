@@ -1,6 +1,6 @@
 """``ccedi`` sub-commands of the explicit FEA (:mod:`ccedi.fea`).
 
-  table1         the paper's Table 1 for SM-A, SM-B, SM-C and a [finger] mesh (nodes, elements, time step, stiffness)
+  table1         the paper's Table 1 for SM-A, SM-B, SM-C, DM and a [finger] mesh (nodes, elements, time step, stiffness)
   impulse        impulse response of the SM-A finger for several alpha (paper Fig. 7), CSV + plot
   contact        the finger on the drum over the object (paper 3.3-3.4), one alpha
   contact-sweep  the same for several alpha; paper Figs. 10, 13, 14 analogues
@@ -23,9 +23,9 @@ def _fmt(value):
     return value if isinstance(value, str) else (f"{value:d}" if isinstance(value, int) else f"{value:.4g}")
 
 
-def write_table1(cfg, length_in, json_path=None, stiffness=True):
-    """Print Table 1 of the configured finger (with the paper's values for the paper's
-    finger) and write it as JSON.
+def write_table1(cfg, length_in, json_path=None, stiffness=True, detailed=True, detailed_stiffness=None):
+    """Print Table 1 of the configured finger (for the paper's finger, with the detailed
+    model DM's row and the paper's values) and write it as JSON.
 
     Parameters
     ----------
@@ -37,6 +37,11 @@ def write_table1(cfg, length_in, json_path=None, stiffness=True):
         Where to write the table.
     stiffness : bool
         Also solve for the tip stiffness [N/m].
+    detailed : bool
+        Add the detailed model DM's row (for the paper's finger only).
+    detailed_stiffness : bool or None
+        Solve the DM's tip stiffness (None: as ``stiffness``; its nonlinear solves at
+        2.8 mm take tens of minutes).
 
     Returns
     -------
@@ -49,9 +54,9 @@ def write_table1(cfg, length_in, json_path=None, stiffness=True):
 
     material, semi_axes = finger_inputs(cfg)
     finger = configured_mesh(cfg)
-    result = table1(length_in=length_in, material=material, stiffness=stiffness, semi_axes_m=semi_axes,
-                    finger=finger)
     paper_finger = is_paper_finger(length_in, material, semi_axes)
+    result = table1(length_in=length_in, material=material, stiffness=stiffness, semi_axes_m=semi_axes,
+                    finger=finger, detailed=detailed and paper_finger, detailed_stiffness=detailed_stiffness)
     for name, row in result.items():
         paper = PAPER_TABLE1.get(name, {}) if paper_finger else {}
         print(f"{name}: " + ", ".join(
@@ -206,7 +211,8 @@ def finger_of(cfg, length_in=None):
 
 def _cmd_table1(args):
     check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
-    write_table1(load_config(args), args.length_in, args.json, stiffness=not args.no_stiffness)
+    write_table1(load_config(args), args.length_in, args.json, stiffness=not args.no_stiffness,
+                 detailed=not args.no_detailed_model)
 
 
 def _cmd_impulse(args):
@@ -336,10 +342,12 @@ def add_parsers(sub):
         The sub-command registry of the ``ccedi`` parser.
     """
     t = add_command(sub, "table1", help="paper Table 1: nodes, elements, stable time step and tip stiffness "
-                       "of SM-A, SM-B, SM-C and the --config's [finger] mesh")
+                       "of SM-A, SM-B, SM-C, the detailed model DM and the --config's [finger] mesh")
     t.add_argument("--length-in", type=float, default=4.5, help="finger length [in] (default 4.5)")
     add_output_argument(t, "--json", "file", help="write the table as JSON to this path")
     t.add_argument("--no-stiffness", action="store_true", help="skip the static stiffness solves")
+    t.add_argument("--no-detailed-model", action="store_true",
+                   help="leave out the detailed model DM (a 2.8 mm mesh of about 28 000 nodes)")
     add_config_argument(t)
     t.set_defaults(func=_cmd_table1)
     i = add_command(sub, "impulse", help="tip impulse response of the SM-A finger for several alpha "
