@@ -27,7 +27,6 @@ from _output import report  # (benchmarks/ is on sys.path when run as a script)
 
 from ccedi.fea.explicit import TSSFAC, critical_time_step
 from ccedi.fea.gmsh_fingers import DM_CONE_RADIUS, DM_RIB_THICKNESS, detailed_model
-from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import sm_a
 from ccedi.fea.studies import finger_impulse_model
 from ccedi.rom.ccedi import match_alpha

@@ -100,6 +100,8 @@ SCHEMA = {
                                      "alphas of the impulse study (Fig. 7)", True),
         "table1_stiffness": Key(bool, "-", None, None, True,
                                 "solve the nonlinear static tip stiffness of every Table 1 model (SM-C: minutes)"),
+        "detailed_model": Key(bool, "-", None, None, True,
+                              "add the detailed model DM (2.8 mm, ~27 000 nodes) to Table 1 and Fig. 6 (minutes)"),
         "impulse_force_N": _key("force_N", 1.0, "tip impulse force"),
         "impulse_duration_s": _key("pulse_duration_s", 0.01, "tip impulse duration"),
         "impulse_t_end_s": Key(float, "s", 1e-3, 2.0, 0.2, "simulated time of the impulse runs"),

@@ -109,11 +109,13 @@ def _mesh_run(name, length_in, alpha, force_N, duration_s, t_end_s, material, se
     return h, res.summary
 
 
-def mesh_comparison(out, length_in, alpha, force_N, duration_s, t_end_s, scheduler, material, semi_axes_m):
+def mesh_comparison(out, length_in, alpha, force_N, duration_s, t_end_s, scheduler, material, semi_axes_m,
+                    detailed_model=True):
     """Fig. 6 analogue: tip response and max von Mises stress of SM-A and SM-B (``material``,
     section semi-axes ``semi_axes_m`` [m]) under the same impulse at one alpha. Writes
-    mesh_comparison.csv/.json and the figure; for the paper's finger also the detailed
-    model's half of Fig. 6 (:func:`dm_comparison`, summary under ``"detailed_model"``)."""
+    mesh_comparison.csv/.json and the figure; for the paper's finger, when
+    ``detailed_model``, also the detailed model's half of Fig. 6 (:func:`dm_comparison`,
+    summary under ``"detailed_model"``)."""
     from ccedi.fea.distributed import map_runs
     from ccedi.fea.studies import is_paper_finger
 
@@ -137,7 +139,7 @@ def mesh_comparison(out, length_in, alpha, force_N, duration_s, t_end_s, schedul
     a1.legend()
     write_figure(out / "fig6_mesh_comparison.png", fig)
     write_json(out / "mesh_comparison.json", summary)
-    if is_paper_finger(length_in, material, semi_axes_m):
+    if detailed_model and is_paper_finger(length_in, material, semi_axes_m):
         summary["detailed_model"] = dm_comparison(out, alpha, force_N, duration_s, material)
     return summary
 

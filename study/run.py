@@ -41,7 +41,7 @@ from .report import write_index
 
 QUICK = {"study": {"impulse_t_end_s": 0.05, "mesh_comparison_t_end_s": 0.03, "identification_lengths_in": [3.0, 4.5],
                    "contact_alphas_per_s": [600.0], "contact_t_end_s": 1.0, "design_fea_check": False,
-                   "table1_stiffness": False}}
+                   "table1_stiffness": False, "detailed_model": False}}
 """Settings ``--quick`` overrides: a few-minute smoke run of every step."""
 
 
@@ -77,14 +77,16 @@ def steps(cfg, out, scheduler):
     # nonlinear solves at 2.8 mm would take tens of minutes, so the study leaves it out.
     return [
         ("table1", "paper Table 1", lambda: write_table1(cfg, f["impulse_length_in"], out / "table1.json",
-                                                         stiffness=s["table1_stiffness"], detailed_stiffness=False)),
+                                                         stiffness=s["table1_stiffness"], detailed=s["detailed_model"],
+                                                         detailed_stiffness=False)),
         ("steel_rod", "steel rod alpha_cr (Figs. 3, 4)", lambda: paper_steps.steel_rod(out / "steel_rod")),
         ("impulse", "impulse study (Fig. 7)", lambda: write_impulse(
             cfg, s["impulse_alphas_per_s"], out / "impulse", t_end_s=s["impulse_t_end_s"], scheduler=scheduler,
             **impulse)),
         ("mesh", "SM-A vs SM-B and the DM (Fig. 6)", lambda: paper_steps.mesh_comparison(
             out / "mesh", f["impulse_length_in"], s["mesh_comparison_alpha_per_s"], s["impulse_force_N"],
-            s["impulse_duration_s"], s["mesh_comparison_t_end_s"], scheduler, material, semi_axes)),
+            s["impulse_duration_s"], s["mesh_comparison_t_end_s"], scheduler, material, semi_axes,
+            detailed_model=s["detailed_model"])),
         ("damping_fits", "alpha_cr over lengths (Fig. 8)", lambda: write_damping_fits(
             cfg, s["identification_lengths_in"], out / "damping_fits", scheduler=scheduler)),
         ("contact", "drum contact sweep (Figs. 10, 13, 14)", lambda: write_contact_sweep(

@@ -2,7 +2,6 @@
 Gmsh into a .msh file and given as ``[finger] mesh``): contact on the drum, export, the
 design re-check, the contact ROM's refusal and ``ccedi study``."""
 import json
-from dataclasses import replace
 
 import meshio
 import numpy as np

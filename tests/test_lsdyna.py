@@ -13,8 +13,8 @@ import pytest
 
 from ccedi.errors import InputError
 from ccedi.fea.drum import DrumSetup, finger_on_drum
-from ccedi.fea.hex8 import BULK_VISCOSITY_C0, BULK_VISCOSITY_C1
 from ccedi.fea.gmsh_fingers import tapered_finger
+from ccedi.fea.hex8 import BULK_VISCOSITY_C0, BULK_VISCOSITY_C1
 from ccedi.fea.lsdyna import CLAMP_SET, keyword_blocks, keyword_lines, read_keyword, write_keyword
 from ccedi.fea.mesh import Mesh
 from ccedi.fea.mesh_io import read_finger_mesh

@@ -168,7 +168,6 @@ def write_design(setup, options, json_path, out, scheduler="local"):
         validation_points,
     )
     from ccedi.fea.outputs import write_csv, write_figure, write_json
-
     from ccedi.rom.contact_rom import require_generated_finger
 
     require_generated_finger(setup)               # the surrogate is the ROM's, over the length
