@@ -1,9 +1,12 @@
-"""The calibration model: the declared finger's Rayleigh-damped modes (:mod:`ccedi.calibrate.beam`)
-plus any set of catalogued effects, each a physical extension with named SI parameters.
+"""The calibration model: the declared finger's FE-derived Rayleigh-damped modes
+(:mod:`ccedi.calibrate.finger_modes`, tip mass and root compliance as Ritz additions) plus
+any set of catalogued effects, each a physical extension with named SI parameters.
 
 Baseline parameters: ``alpha_per_s`` (mass-proportional damping, 1/s) and ``E_factor``
-(Young's modulus over the declared one, within the sidecar's tolerance). With modes omega_i,
-tip values b_i and weight participations p_i (see :mod:`ccedi.calibrate.beam`)::
+(Young's modulus over the declared one, within the sidecar's tolerance; the FE modes are
+built once at the declared E and their frequencies scale exactly as sqrt(E_factor)). The
+model keeps the y-bending modes below the record's sampling rate (at least
+``MIN_MODES``). With modes omega_i, tip values b_i and weight participations p_i::
 
     zeta_i = alpha / (2 omega_i) + beta omega_i / 2
     w(t)   = tip displacement of the modal model under the pulse F0 on [t0, t0 + T), plus
@@ -20,13 +23,13 @@ import numpy as np
 
 from ccedi.rom.modal import ModalROM
 
-from .beam import CantileverRitz
 from .dynamics import integrate_tip
 from .effects import CATALOGUE, Parameter, Scales
 from .experiment import Experiment
+from .finger_modes import finger_basis
 
-N_MODES = 6
-"""Modes kept in the calibration model."""
+MIN_MODES = 3
+"""Fewest y-bending modes kept, whatever the sampling rate."""
 
 
 NONLINEAR = {"prony_g", "drag_N_s2_m3", "friction_N", "cubic_N_m3"}
@@ -82,8 +85,9 @@ def e_factor_bound(E_factor, tol):
 class FingerModel:
     """Predicts the sensor reading of an :class:`Experiment` for parameter values.
 
-    Builds the Ritz cantilever of the declared finger and the record scales
-    (:class:`ccedi.calibrate.effects.Scales`) once.
+    Takes the FE basis of the declared finger (:func:`ccedi.calibrate.finger_modes.finger_basis`,
+    cached per finger) and builds the record scales (:class:`ccedi.calibrate.effects.Scales`)
+    once.
 
     Parameters
     ----------
@@ -94,8 +98,10 @@ class FingerModel:
     ----------
     exp : Experiment
         The experiment.
-    ritz : CantileverRitz
-        The finger's Ritz model.
+    basis : ccedi.calibrate.finger_modes.FingerBasis
+        The finger's FE modes at the declared E.
+    n_modes : int
+        y-bending modes kept: those below the record's sampling rate, at least MIN_MODES.
     scales : Scales
         Scales of the record for bounds and starting values.
     """
@@ -103,11 +109,14 @@ class FingerModel:
     def __init__(self, exp: Experiment):
         f = exp.finger
         self.exp = exp
-        self.ritz = CantileverRitz(f.length_m, f.rho_kg_m3 * f.area_m2, f.second_moment_m4)
-        modes = self.ritz.modes(f.E_Pa, N_MODES)
+        self.basis = finger_basis(f.length_m, tuple(f.semi_axes_m), f.nu, f.rho_kg_m3, f.E_Pa)
+        rate_hz = 1.0 / float(np.median(np.diff(exp.time_s)))
+        below = int(np.sum(self.basis.omega_rad_s / (2.0 * np.pi) < rate_hz))
+        self.n_modes = min(max(MIN_MODES, below), len(self.basis.omega_rad_s))
+        modes = self.basis.modes(1.0, n_modes=self.n_modes)
         y = exp.displacement_m
         ei = f.E_Pa * f.second_moment_m4
-        self.scales = Scales(mass_kg=self.ritz.mass_kg, stiffness_N_m=3.0 * ei / f.length_m**3,
+        self.scales = Scales(mass_kg=self.basis.mass_kg, stiffness_N_m=1.0 / modes.static_flexibility_m_N,
                              ei_over_l=ei / f.length_m, omega1=float(modes.omega_rad_s[0]),
                              omega2=float(modes.omega_rad_s[1]),
                              amplitude_m=0.5 * float(np.ptp(y)), duration_s=float(exp.time_s[-1] - exp.time_s[0]),
@@ -143,10 +152,11 @@ class FingerModel:
         Returns
         -------
         Modes
-            The N_MODES lowest modes.
+            The ``n_modes`` lowest modes (one more with a compliant root).
         """
-        return self.ritz.modes(self.exp.finger.E_Pa * v["E_factor"], N_MODES, tip_mass_kg=v.get("tip_mass_kg", 0.0),
-                               root_stiffness=v.get("root_stiffness_N_m_rad"))
+        root = v.get("root_stiffness_N_m_rad")
+        return self.basis.modes(v["E_factor"], tip_mass_kg=v.get("tip_mass_kg", 0.0), root_stiffness=root,
+                                n_modes=self.n_modes + (root is not None))
 
     def predict(self, v, time_s=None):
         """Sensor reading predicted for parameter values ``v`` (module docstring).
