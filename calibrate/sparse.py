@@ -32,7 +32,7 @@ LIBRARY = {
     "v^3": (lambda u, v: v**3, "N s^3/m^3"),
 }
 """Candidate missing tip forces: name -> (theta(u [m], v [m/s]), unit of the coefficient)."""
-THRESHOLD = 0.1
+THRESHOLD = 0.3
 MAX_TERMS = 2
 
 
@@ -98,10 +98,12 @@ def impulse_response(modes, zeta, time_s):
     t = np.asarray(time_s)[None, :]
     w, z = modes.omega_rad_s[:, None], np.asarray(zeta)[:, None]
     mu = w * np.sqrt(np.abs(1.0 - z**2))
-    under = z < 1.0
-    ring = np.exp(-z * w * t) * t * np.sinc(mu * t / np.pi)
-    over = (np.exp((mu - z * w) * t) - np.exp(-(mu + z * w) * t)) / (2.0 * np.maximum(mu, 1e-300))
-    return (modes.tip[:, None] ** 2 * np.where(under, ring, over)).sum(axis=0)
+    shape = np.exp(-z * w * t) * t * np.sinc(mu * t / np.pi)
+    over = z[:, 0] >= 1.0
+    if over.any():
+        zw, m = (z * w)[over], np.maximum(mu[over], 1e-300)
+        shape[over] = (np.exp((m - zw) * t) - np.exp(-(m + zw) * t)) / (2.0 * m)
+    return (modes.tip[:, None] ** 2 * shape).sum(axis=0)
 
 
 def _stlsq(A, r):
@@ -150,7 +152,7 @@ def sparse_term(time_s, residual_m, u_m, modes, zeta):
     h = impulse_response(modes, zeta, t - t[0])
     cols = np.column_stack([fftconvolve(theta(u_m, v), h)[:len(t)] * dt for theta, _ in LIBRARY.values()])
     names = list(LIBRARY)
-    r = np.asarray(residual_m) - np.mean(residual_m)
+    r = np.asarray(residual_m, dtype=float)
     rms = float(np.sqrt(np.mean(r**2)))
     single = {}
     for k, name in enumerate(names):
