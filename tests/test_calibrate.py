@@ -8,9 +8,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from ccedi.calibrate.dynamics import integrate_tip
+from ccedi.calibrate.dynamics import integrate_tip, viscoelastic_pulse_response
 from ccedi.calibrate.experiment import load_experiment
 from ccedi.calibrate.finger_modes import finger_basis
+from ccedi.calibrate.model import MODE_AMPLITUDE, rung_modes
 from ccedi.calibrate.synthetic import Truth, declared_finger, solid_response, solid_system
 from ccedi.errors import InputError
 from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties
@@ -85,6 +86,37 @@ def test_rk4_matches_the_exact_pulse_response(basis):
     zeta = 4.0 / (2.0 * modes.omega_rad_s)
     exact = ModalROM(modes.omega_rad_s, modes.tip**2, zeta_fitted=zeta).pulse_response(t, 1.0, 0.01)
     assert nrmse(integrate_tip(t, modes, zeta, 1.0, 0.01), exact) < 1e-4
+
+
+def test_viscoelastic_response_is_the_integrators_and_the_elastic_one_at_g_0(basis):
+    """The exact 3-state modal solution against RK4 on the same equations, and at g = 0
+    against ModalROM's closed form (independent derivations)."""
+    modes = basis.modes(n_modes=4)
+    t = np.arange(1001) * 1e-3
+    zeta = 4.0 / (2.0 * modes.omega_rad_s)
+    exact = viscoelastic_pulse_response(t - 0.02, modes, zeta, 1.0, 0.01, 0.25, 0.05)
+    assert nrmse(exact, integrate_tip(t, modes, zeta, 1.0, 0.01, 0.02, prony_g=0.25, prony_tau_s=0.05)) < 1e-4
+    elastic = ModalROM(modes.omega_rad_s, modes.tip**2, zeta_fitted=zeta).pulse_response(t, 1.0, 0.01)
+    assert nrmse(viscoelastic_pulse_response(t, modes, zeta, 1.0, 0.01, 0.0, 0.05), elastic) < 1e-12
+    # relaxation softens the finger: the late sag under a long pulse is 1 / (1 - g) times the elastic one
+    long = viscoelastic_pulse_response(np.array([3.0]), modes, zeta, 1.0, 10.0, 0.25, 0.05)
+    assert long[0] == pytest.approx(modes.static_flexibility_m_N / 0.75, rel=0.02)
+
+
+def test_the_modes_kept_are_those_the_pulse_rings(basis):
+    """A shorter pulse rings more modes; every mode dropped from the pulse's response changes
+    it by less than MODE_AMPLITUDE of the first mode's amplitude each."""
+    modes = basis.modes()
+    n_long, n_short = (rung_modes(modes.omega_rad_s, modes.tip, T) for T in (0.01, 0.001))
+    assert 3 <= n_long < n_short <= len(modes.omega_rad_s)
+    t = np.arange(2001) * 1e-3
+    zeta = 4.0 / (2.0 * modes.omega_rad_s)
+    for n, T in ((n_long, 0.01), (n_short, 0.001)):
+        full = ModalROM(modes.omega_rad_s, modes.tip**2, zeta_fitted=zeta).pulse_response(t, 1.0, T)
+        kept = ModalROM(modes.omega_rad_s[:n], modes.tip[:n]**2, zeta_fitted=zeta[:n]).pulse_response(t, 1.0, T)
+        first = ModalROM(modes.omega_rad_s[:1], modes.tip[:1]**2, zeta_fitted=zeta[:1]).pulse_response(t, 1.0, T)
+        dropped = len(modes.omega_rad_s) - n
+        assert np.max(np.abs(full - kept)) <= dropped * MODE_AMPLITUDE * np.max(np.abs(first)) + 1e-15
 
 
 @pytest.mark.slow
