@@ -22,7 +22,14 @@
    (:func:`separating_measurement`), and the search stops. The final model is then the
    lower-BIC one, provisionally (its E and alpha are what the record supports either way),
    but ``effects_found`` does not list it.
-6. Beyond the catalogue: when the search stops with the residual's RMS more than
+6. No nearest effect: when the search stops (no candidate qualifies, or ``MAX_EFFECTS``
+   added) with effects added but the residual not at the noise level, the catalogue has
+   not explained the record: each effect may only be the nearest stand-in for physics it
+   lacks (on the bundled magnet record, cubic stiffening, then viscoelasticity, then root
+   compliance each removed 65-83 % of what was left, and E drifted 13 %). The effects are
+   then not accepted: the final model is the baseline, and the chain is reported as
+   ``rejected``.
+7. Beyond the catalogue: when the search stops with the residual's RMS more than
    ``UNEXPLAINED_EXCESS`` above the noise, the result is flagged ``unexplained_residual``,
    with the best sparse force term found on the residual (:mod:`ccedi.calibrate.sparse`).
 """
@@ -111,6 +118,9 @@ class Calibration:
         parameters fitted together, or None), ``why`` and ``separating_measurement``.
     unexplained : ccedi.calibrate.sparse.SparseTerm or None
         The sparse term on the final residual when it is flagged unexplained.
+    rejected : Fit or None
+        The model with the effects the search added that did not bring the residual to
+        the noise level (module docstring, step 6), or None.
     """
 
     experiment: Experiment
@@ -122,6 +132,7 @@ class Calibration:
     adequacy: Adequacy
     ambiguous: dict | None = None
     unexplained: object = None
+    rejected: Fit | None = None
 
     @property
     def unexplained_residual(self):
@@ -347,13 +358,20 @@ def calibrate(exp: Experiment, candidates=None, progress=None):
                             f"{current.holdout_rms_m:.3g} -> {tried[best].holdout_rms_m:.3g} m, "
                             f"{excess_explained(current, tried[best], sigma):.0%} of the excess over the noise"))
         current = tried[best]
+    rejected = None
+    if ambiguous is None and current.effects and not at_noise_level(current, sigma, n):
+        rejected, current = current, baseline
+        rounds.append(Round(baseline, rounds[0].evidence, [], {}, None,
+                            f"{'+'.join(rejected.effects)} leave the residual at {rejected.rms_m / sigma:.3f} sigma, "
+                            f"not the noise level: the catalogue does not explain the record, no effect accepted"))
     unexplained = None
     if adequacy.adequate and current.rms_m > (1.0 + UNEXPLAINED_EXCESS) * sigma:
         m = model.modes(current.values)
         zeta = current.values["alpha_per_s"] / (2.0 * m.omega_rad_s) + current.values.get("beta_s", 0.0) * m.omega_rad_s / 2.0
         unexplained = sparse_term(exp.time_s, exp.displacement_m - current.prediction, current.prediction, m, zeta)
     return Calibration(experiment=exp, model=model, baseline=baseline, final=current, rounds=rounds,
-                       noise_std_m=sigma, adequacy=adequacy, ambiguous=ambiguous, unexplained=unexplained)
+                       noise_std_m=sigma, adequacy=adequacy, ambiguous=ambiguous, unexplained=unexplained,
+                       rejected=rejected)
 
 
 def summary(cal: Calibration):
@@ -377,13 +395,15 @@ def summary(cal: Calibration):
         ``ccedi calibrate --write-config`` writes), ``noise_floor_nrmse``, ``stop_reason``,
         ``final_evidence``, ``final_suggestions``, ``ambiguous`` (None, or the two effects
         with both fits, their BIC difference, correlation and the separating
-        measurement), ``unexplained_residual`` (bool) and ``sparse_term`` (None, or the
+        measurement), ``rejected_effects`` (None, or the effects added that left the
+        residual above the noise, with their parameters, NRMSE and RMS over the noise
+        std), ``unexplained_residual`` (bool) and ``sparse_term`` (None, or the
         best sparse force term on the residual, :meth:`ccedi.calibrate.sparse.SparseTerm.summary`).
     """
     found = []
     fin = cal.final
     for r in cal.rounds:
-        if r.added is None:
+        if r.added is None or cal.rejected is not None:
             continue
         f = r.candidates[r.added]
         new = [p for p in f.values if p not in r.start.values]
@@ -411,6 +431,9 @@ def summary(cal: Calibration):
             "stop_reason": last.reason, "final_evidence": last.evidence,
             "final_suggestions": [{"effect": k, "reason": why} for k, why in last.suggested],
             "ambiguous": _ambiguous_summary(cal.ambiguous),
+            "rejected_effects": None if cal.rejected is None else {
+                "effects": list(cal.rejected.effects), "params": cal.rejected.values, "nrmse": cal.rejected.nrmse,
+                "rms_over_noise": cal.rejected.rms_m / cal.noise_std_m},
             "unexplained_residual": cal.unexplained_residual,
             "sparse_term": cal.unexplained.summary() if cal.unexplained is not None else None}
 

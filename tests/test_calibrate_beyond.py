@@ -65,6 +65,20 @@ def test_root_compliance_is_not_called_a_tip_mass():
     assert sep["relative_difference"] > 0.05
 
 
+def test_an_effect_that_leaves_the_residual_above_the_noise_is_not_accepted():
+    """The magnet record (a tip force F_m (d / (d - u))^2, outside the catalogue) offered only
+    cubic stiffening, its nearest stand-in: the cubic lowers BIC and removes most of the misfit
+    but leaves the residual above the noise, so it is rejected, the final model is the
+    baseline, and the residual is flagged unexplained with a sparse term."""
+    cal = calibrate(load_experiment(DATA / "outside_magnet_attraction_high.csv"), candidates=["geometric_nonlinearity"])
+    s = summary(cal)
+    assert s["effects_found"] == [] and s["selected_effect"] is None
+    assert s["rejected_effects"]["effects"] == ["geometric_nonlinearity"]
+    assert s["rejected_effects"]["rms_over_noise"] > 1.1 and s["rejected_effects"]["nrmse"] < s["baseline"]["nrmse"]
+    assert s["final_params"] == s["baseline"]["params"]
+    assert s["unexplained_residual"] is True and s["sparse_term"]["terms"]
+
+
 def test_write_config_is_read_back_by_every_config_command(tmp_path):
     """calibrate --write-config, then the study config loader (what design, study, impulse
     and contact read) gets the calibrated E and alpha; the drum's finger has that E."""
