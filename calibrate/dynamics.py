@@ -25,8 +25,13 @@ from numba import njit
 
 V_SLIP = 1.0e-3
 """Velocity scale of the regularised Coulomb friction tanh(u'/V_SLIP) [m/s]."""
-H_OMEGA = 0.3
-"""Integration step times the highest modal frequency [-] (RK4 phase error ~1e-4 per cycle)."""
+H_OMEGA = 1.0
+"""Integration step times the highest modal frequency [-]. RK4 is stable to 2.8; at 1.0 its
+phase error is 5 % per cycle and its numerical damping 0.7 % per step on the highest mode
+only, and the highest modes kept carry the least amplitude: against the exact response of
+the 8-in finger (1 kHz output) the NRMSE is 1.2e-4 for a 10 ms pulse (6 modes) and 5.3e-4
+for a 1 ms pulse (10 modes), a few % of the 1e-2 noise floor, and 3x faster than at 0.3
+(1.4e-6, 2.1e-5)."""
 
 
 @njit(cache=True)
