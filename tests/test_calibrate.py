@@ -209,7 +209,8 @@ def test_cli_writes_the_documented_keys_and_the_report(record, tmp_path):
                  "--report", str(rep)]) == 0
     result = json.loads(out.read_text())
     assert {"baseline", "effects_found", "selected_effect", "final_nrmse", "noise_floor_nrmse", "model_adequate",
-            "adequacy"} <= set(result)
+            "adequacy", "calibrated", "ambiguous", "rejected_effects", "unexplained_residual", "sparse_term"} <= set(result)
+    assert result["ambiguous"] is None and result["rejected_effects"] is None and result["unexplained_residual"] is False
     assert result["model_adequate"] is True
     assert {"nrmse", "params"} <= set(result["baseline"])
     for e in result["effects_found"]:

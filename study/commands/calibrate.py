@@ -105,6 +105,10 @@ def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None, 
         a = result["ambiguous"]
         print(f"ambiguous: {' or '.join(a['effects'])} (neither added); separate them by "
               f"{a['separating_measurement']['measurement']}")
+    if result["rejected_effects"]:
+        r = result["rejected_effects"]
+        print(f"not accepted: {'+'.join(r['effects'])} leave the residual at {r['rms_over_noise']:.3f} sigma "
+              f"(the nearest catalogued stand-ins, not the missing physics)")
     if result["unexplained_residual"]:
         s = result["sparse_term"]
         print(f"unexplained residual: best sparse term {s['force']} removes {s['error_reduction']:.0%} of it")
