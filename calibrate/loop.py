@@ -302,8 +302,9 @@ def calibrate(exp: Experiment, candidates=None, progress=None):
     Calibration
         Baseline and final fits, the rounds, the noise level, the adequacy of the
         declared model (when it is inadequate, one round that adds nothing), an
-        ambiguity when two effects could not be told apart, and the sparse term when the
-        residual is left unexplained.
+        ambiguity when two effects could not be told apart, the effects not accepted
+        because they left the residual above the noise (step 6), and the sparse term when
+        the residual is left unexplained.
     """
     model = FingerModel(exp)
     names = list(CATALOGUE) if candidates is None else list(candidates)
