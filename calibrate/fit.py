@@ -64,6 +64,9 @@ class Fit:
         Full-record RMS over the record's range [-].
     max_error_m : float
         Largest absolute error [m].
+    correlation : dict
+        {(p, q): correlation coefficient} of every pair of parameters p before q, from
+        the same covariance [-].
     """
 
     effects: tuple
@@ -75,6 +78,7 @@ class Fit:
     rms_m: float
     nrmse: float
     max_error_m: float
+    correlation: dict
 
     @property
     def n_parameters(self):
@@ -141,11 +145,15 @@ def _scored(model, effects, params, res, train):
     cov = s2 * np.linalg.pinv(res.jac.T @ res.jac)
     sz = np.sqrt(np.clip(np.diag(cov), 0.0, None))
     stderr = {p.name: float(v[p.name] * np.log(10.0) * s if p.log else p.scale * s) for p, s in zip(params, sz)}
+    outer = np.outer(sz, sz)
+    corr = np.divide(cov, outer, out=np.zeros_like(cov), where=outer > 0)
+    pairs = {(params[i].name, params[j].name): float(corr[i, j]) for i in range(len(params))
+             for j in range(i + 1, len(params))}
     rms = float(np.sqrt(np.mean(err**2)))
     return Fit(effects=tuple(effects), values=v, stderr=stderr, prediction=pred,
                bic=float(n * np.log(rss / n) + k * np.log(n)),
                holdout_rms_m=float(np.sqrt(np.mean(err[~train] ** 2))), rms_m=rms,
-               nrmse=rms / float(np.ptp(y)), max_error_m=float(np.max(np.abs(err))))
+               nrmse=rms / float(np.ptp(y)), max_error_m=float(np.max(np.abs(err))), correlation=pairs)
 
 
 def fit_baseline(model: FingerModel, n_E=17, zetas=(0.01, 0.03, 0.1, 0.3, 1.0, 2.0)):

@@ -7,11 +7,31 @@
    no effect is added to cover a wrong declaration.
 2. Residual analysis (:mod:`ccedi.calibrate.residual`): signatures and suggested effects.
 3. Every catalogued effect not yet in the model is refitted together with it.
-4. Selection: the candidate with the lowest training BIC wins if it lowers BIC by more
-   than ``BIC_MARGIN`` and lowers the held-out RMS error; it is added, refitted on the
-   whole record, and the search repeats. The search stops when the residual is at the
-   noise level (chi-square test: RMS(r)^2 / sigma^2 <= 1 + ``NOISE_Z`` sqrt(2 / n)), when no
-   candidate wins, or after ``MAX_EFFECTS`` effects.
+4. Selection: a candidate qualifies if it lowers the training BIC by more than
+   ``BIC_MARGIN``, lowers the held-out RMS error and explains at least
+   ``EXPLAINED_FRACTION`` of the excess of the residual's mean square over the noise
+   variance (RMS^2 - sigma^2): an effect that leaves most of the misfit is not what is
+   missing. The qualifying candidate with the lowest BIC is added, and the search repeats.
+   The search stops when the residual is at the noise level (chi-square test:
+   RMS(r)^2 / sigma^2 <= 1 + ``NOISE_Z`` sqrt(2 / n)), when no candidate qualifies, or
+   after ``MAX_EFFECTS`` effects.
+5. Ambiguity: when the runner-up qualifies too and its BIC is within ``AMBIGUITY_BIC`` of
+   the best, or the two effects fitted together have parameters correlated beyond
+   ``AMBIGUITY_CORRELATION`` (the data cannot split the misfit between them), neither is
+   selected: both fits are reported with the measurement that would separate them
+   (:func:`separating_measurement`), and the search stops. The final model is then the
+   lower-BIC one, provisionally (its E and alpha are what the record supports either way),
+   but ``effects_found`` does not list it.
+6. No nearest effect: when the search stops (no candidate qualifies, or ``MAX_EFFECTS``
+   added) with effects added but the residual not at the noise level, the catalogue has
+   not explained the record: each effect may only be the nearest stand-in for physics it
+   lacks (on the bundled magnet record, cubic stiffening, then viscoelasticity, then root
+   compliance each removed 65-83 % of what was left, and E drifted 13 %). The effects are
+   then not accepted: the final model is the baseline, and the chain is reported as
+   ``rejected``.
+7. Beyond the catalogue: when the search stops with the residual's RMS more than
+   ``UNEXPLAINED_EXCESS`` above the noise, the result is flagged ``unexplained_residual``,
+   with the best sparse force term found on the residual (:mod:`ccedi.calibrate.sparse`).
 """
 from dataclasses import dataclass
 
@@ -23,11 +43,23 @@ from .experiment import Experiment
 from .fit import Fit, fit, fit_baseline
 from .model import FingerModel
 from .residual import analyse, noise_std, suggest
+from .sparse import sparse_term
 
 BIC_MARGIN = 10.0
 """Minimum BIC decrease to add an effect ("very strong" evidence on Kass & Raftery's scale)."""
 NOISE_Z = 3.0
 MAX_EFFECTS = 3
+EXPLAINED_FRACTION = 0.5
+"""Least fraction of the residual's excess mean square over the noise an effect must explain."""
+AMBIGUITY_BIC = 6.0
+"""BIC difference below which two qualifying effects are not told apart ("strong" evidence
+starts at 6 on Kass & Raftery's scale)."""
+AMBIGUITY_CORRELATION = 0.95
+"""|correlation| of two effects' parameters fitted together beyond which they are ambiguous."""
+AMBIGUITY_JOINT_BIC = 30.0
+"""The joint fit of the best two is made when the runner-up's BIC is within this of the best."""
+UNEXPLAINED_EXCESS = 0.1
+"""Relative excess of the final residual RMS over the noise std that is flagged unexplained."""
 
 
 @dataclass(frozen=True)
@@ -80,6 +112,15 @@ class Calibration:
     adequacy : Adequacy
         Whether the declared finger can explain the record, with the evidence; when it
         cannot, ``final`` is the baseline.
+    ambiguous : dict or None
+        When the search stopped on two effects it cannot tell apart: ``effects`` (the
+        two names), ``fits`` ({name: Fit}), ``delta_bic``, ``correlation`` (of their
+        parameters fitted together, or None), ``why`` and ``separating_measurement``.
+    unexplained : ccedi.calibrate.sparse.SparseTerm or None
+        The sparse term on the final residual when it is flagged unexplained.
+    rejected : Fit or None
+        The model with the effects the search added that did not bring the residual to
+        the noise level (module docstring, step 6), or None.
     """
 
     experiment: Experiment
@@ -89,6 +130,15 @@ class Calibration:
     rounds: list
     noise_std_m: float
     adequacy: Adequacy
+    ambiguous: dict | None = None
+    unexplained: object = None
+    rejected: Fit | None = None
+
+    @property
+    def unexplained_residual(self):
+        """True when the search stopped with the residual RMS more than UNEXPLAINED_EXCESS
+        above the noise on an adequate declared model."""
+        return self.unexplained is not None
 
     @property
     def noise_floor_nrmse(self):
@@ -125,6 +175,116 @@ def _candidate_starts(name):
     return ()
 
 
+def excess_explained(current: Fit, candidate: Fit, sigma):
+    """Fraction of the residual's excess mean square over the noise a candidate removes.
+
+    (RMS_current^2 - RMS_candidate^2) / (RMS_current^2 - sigma^2).
+
+    Parameters
+    ----------
+    current, candidate : Fit
+        The model before and after adding the candidate.
+    sigma : float
+        Noise standard deviation [m].
+
+    Returns
+    -------
+    float
+        The fraction [-] (1 when the current residual is already at or below the noise).
+    """
+    excess = current.rms_m**2 - sigma**2
+    return 1.0 if excess <= 0.0 else (current.rms_m**2 - candidate.rms_m**2) / excess
+
+
+def observables(model: FingerModel, values):
+    """What a measurement could show of a fitted model: its first three frequencies and
+    its static tip flexibility.
+
+    Parameters
+    ----------
+    model : FingerModel
+        The calibration model.
+    values : dict
+        Fitted parameter values.
+
+    Returns
+    -------
+    dict
+        ``mode_1_frequency_hz``, ``mode_2_frequency_hz``, ``mode_3_frequency_hz`` [Hz] and
+        ``static_tip_flexibility_m_N`` [m/N] (a static tip load test) and
+        ``turned_over_change_m`` [m] (the change of the rest reading with the finger
+        turned over: twice the gravity sag).
+    """
+    m = model.modes(values)
+    out = {f"mode_{i + 1}_frequency_hz": float(m.omega_rad_s[i] / (2.0 * np.pi)) for i in range(3)}
+    out["static_tip_flexibility_m_N"] = m.static_flexibility_m_N
+    out["turned_over_change_m"] = -2.0 * values.get("gravity_m_s2", 0.0) * m.static_sag_per_g
+    return out
+
+
+MEASUREMENTS = {"mode_1_frequency_hz": "the first mode's frequency",
+                "mode_2_frequency_hz": "the second mode's frequency (a shorter pulse or a hammer tap rings it)",
+                "mode_3_frequency_hz": "the third mode's frequency (a hammer tap rings it)",
+                "static_tip_flexibility_m_N": "the static tip deflection under a known tip load",
+                "turned_over_change_m": "the rest reading with the finger turned over (gravity reversed)"}
+"""The measurements :func:`separating_measurement` can name."""
+
+
+def separating_measurement(model: FingerModel, a: Fit, b: Fit):
+    """The measurement that best tells two fitted models apart: the observable
+    (:func:`observables`) whose predictions differ most, relatively.
+
+    Parameters
+    ----------
+    model : FingerModel
+        The calibration model.
+    a, b : Fit
+        The two fits.
+
+    Returns
+    -------
+    dict
+        ``quantity``, ``measurement`` (in words), ``values`` (by effect set),
+        ``relative_difference`` [-], and ``all`` (every observable's relative difference).
+    """
+    oa, ob = observables(model, a.values), observables(model, b.values)
+    rel = {k: abs(oa[k] - ob[k]) / max(abs(oa[k]), abs(ob[k]), 1e-300) for k in oa}
+    best = max(rel, key=rel.get)
+    return {"quantity": best, "measurement": MEASUREMENTS[best],
+            "values": {"+".join(a.effects): oa[best], "+".join(b.effects): ob[best]},
+            "relative_difference": rel[best], "all": rel}
+
+
+def _correlation(f: Fit, p, q):
+    """Correlation of the first parameters p and q of a fit, from its covariance."""
+    return f.correlation.get((p, q), f.correlation.get((q, p), 0.0))
+
+
+def _ambiguity(model, current, best, runner, tried, sigma):
+    """The ambiguity record of the best two qualifying candidates, or None when the
+    evidence separates them (module docstring, step 5)."""
+    if runner is None:
+        return None
+    fa, fb = tried[best], tried[runner]
+    delta = fb.bic - fa.bic
+    if delta >= AMBIGUITY_JOINT_BIC:
+        return None
+    corr = None
+    if delta >= AMBIGUITY_BIC:
+        joint = fit(model, current.effects + (best, runner), start=fa.values | fb.values)
+        pa = next(p for p in fa.values if p not in current.values)
+        pb = next(p for p in fb.values if p not in current.values)
+        corr = _correlation(joint, pa, pb)
+        if abs(corr) <= AMBIGUITY_CORRELATION:
+            return None
+        why = (f"{best} and {runner} fitted together: {pa} and {pb} correlated {corr:+.3f} (beyond "
+               f"{AMBIGUITY_CORRELATION:g}); the record cannot split the misfit between them")
+    else:
+        why = f"BIC of {runner} within {delta:.1f} of {best} (< {AMBIGUITY_BIC:g}): no strong evidence for either"
+    return {"effects": [best, runner], "fits": {best: fa, runner: fb}, "delta_bic": delta, "correlation": corr,
+            "why": why, "separating_measurement": separating_measurement(model, fa, fb)}
+
+
 def calibrate(exp: Experiment, candidates=None, progress=None):
     """Run the calibration loop on an experiment (module docstring).
 
@@ -140,8 +300,11 @@ def calibrate(exp: Experiment, candidates=None, progress=None):
     Returns
     -------
     Calibration
-        Baseline and final fits, the rounds, the noise level and the adequacy of the
-        declared model (when it is inadequate, one round that adds nothing).
+        Baseline and final fits, the rounds, the noise level, the adequacy of the
+        declared model (when it is inadequate, one round that adds nothing), an
+        ambiguity when two effects could not be told apart, the effects not accepted
+        because they left the residual above the noise (step 6), and the sparse term when
+        the residual is left unexplained.
     """
     model = FingerModel(exp)
     names = list(CATALOGUE) if candidates is None else list(candidates)
@@ -150,6 +313,7 @@ def calibrate(exp: Experiment, candidates=None, progress=None):
     current = baseline = fit_baseline(model)
     adequacy = assess(model, baseline, sigma)
     rounds = []
+    ambiguous = None
     while True:
         evidence = analyse(model, current)
         if not adequacy.adequate:
@@ -171,19 +335,44 @@ def calibrate(exp: Experiment, candidates=None, progress=None):
                 progress(f"round {len(rounds) + 1}: {'+'.join(current.effects + (name,))}")
             tried[name] = fit(model, current.effects + (name,), start=current.values,
                               extra_starts=_candidate_starts(name))
-        better = {k: f for k, f in tried.items() if f.holdout_rms_m < current.holdout_rms_m}
-        best = min(better, key=lambda k: better[k].bic, default=None)
-        if best is None or better[best].bic > current.bic - BIC_MARGIN:
-            gain = "" if best is None else f" (best: {best}, BIC {better[best].bic - current.bic:+.1f})"
+        qualified = {k: f for k, f in tried.items() if f.holdout_rms_m < current.holdout_rms_m
+                     and f.bic <= current.bic - BIC_MARGIN and excess_explained(current, f, sigma) >= EXPLAINED_FRACTION}
+        ranked = sorted(qualified, key=lambda k: qualified[k].bic)
+        if not ranked:
+            lower = {k: f for k, f in tried.items() if f.holdout_rms_m < current.holdout_rms_m}
+            best = min(lower, key=lambda k: lower[k].bic, default=None)
+            gain = "" if best is None else (f" (best: {best}, BIC {lower[best].bic - current.bic:+.1f}, explains "
+                                            f"{excess_explained(current, lower[best], sigma):.0%} of the excess over "
+                                            f"the noise)")
             rounds.append(Round(current, evidence, suggested, tried, None,
-                                f"no candidate lowers BIC by {BIC_MARGIN:g} and the held-out error{gain}"))
+                                f"no candidate lowers BIC by {BIC_MARGIN:g} and the held-out error while explaining "
+                                f"{EXPLAINED_FRACTION:.0%} of the excess over the noise{gain}"))
+            break
+        best = ranked[0]
+        ambiguous = _ambiguity(model, current, best, ranked[1] if len(ranked) > 1 else None, tried, sigma)
+        if ambiguous is not None:
+            rounds.append(Round(current, evidence, suggested, tried, None, "ambiguous: " + ambiguous["why"]))
+            current = tried[best]
             break
         rounds.append(Round(current, evidence, suggested, tried, best,
-                            f"BIC {better[best].bic - current.bic:+.1f}, held-out RMS "
-                            f"{current.holdout_rms_m:.3g} -> {better[best].holdout_rms_m:.3g} m"))
+                            f"BIC {tried[best].bic - current.bic:+.1f}, held-out RMS "
+                            f"{current.holdout_rms_m:.3g} -> {tried[best].holdout_rms_m:.3g} m, "
+                            f"{excess_explained(current, tried[best], sigma):.0%} of the excess over the noise"))
         current = tried[best]
+    rejected = None
+    if ambiguous is None and current.effects and not at_noise_level(current, sigma, n):
+        rejected, current = current, baseline
+        rounds.append(Round(baseline, rounds[0].evidence, [], {}, None,
+                            f"{'+'.join(rejected.effects)} leave the residual at {rejected.rms_m / sigma:.3f} sigma, "
+                            f"not the noise level: the catalogue does not explain the record, no effect accepted"))
+    unexplained = None
+    if adequacy.adequate and current.rms_m > (1.0 + UNEXPLAINED_EXCESS) * sigma:
+        m = model.modes(current.values)
+        zeta = current.values["alpha_per_s"] / (2.0 * m.omega_rad_s) + current.values.get("beta_s", 0.0) * m.omega_rad_s / 2.0
+        unexplained = sparse_term(exp.time_s, exp.displacement_m - current.prediction, current.prediction, m, zeta)
     return Calibration(experiment=exp, model=model, baseline=baseline, final=current, rounds=rounds,
-                       noise_std_m=sigma, adequacy=adequacy)
+                       noise_std_m=sigma, adequacy=adequacy, ambiguous=ambiguous, unexplained=unexplained,
+                       rejected=rejected)
 
 
 def summary(cal: Calibration):
@@ -203,13 +392,19 @@ def summary(cal: Calibration):
         ``effects_found`` (per effect added: parameters and standard errors as fitted in
         its round and in the final model, error after, why, residual evidence and the
         candidates' scores), ``selected_effect``, final NRMSE, max error [m] and
-        parameters, ``noise_floor_nrmse``, ``stop_reason``, ``final_evidence`` and
-        ``final_suggestions``.
+        parameters, ``calibrated`` (E_Pa and alpha_per_s of the final model, the inputs
+        ``ccedi calibrate --write-config`` writes), ``noise_floor_nrmse``, ``stop_reason``,
+        ``final_evidence``, ``final_suggestions``, ``ambiguous`` (None, or the two effects
+        with both fits, their BIC difference, correlation and the separating
+        measurement), ``rejected_effects`` (None, or the effects added that left the
+        residual above the noise, with their parameters, NRMSE and RMS over the noise
+        std), ``unexplained_residual`` (bool) and ``sparse_term`` (None, or the
+        best sparse force term on the residual, :meth:`ccedi.calibrate.sparse.SparseTerm.summary`).
     """
     found = []
     fin = cal.final
     for r in cal.rounds:
-        if r.added is None:
+        if r.added is None or cal.rejected is not None:
             continue
         f = r.candidates[r.added]
         new = [p for p in f.values if p not in r.start.values]
@@ -231,6 +426,23 @@ def summary(cal: Calibration):
             "effects_found": found,
             "selected_effect": found[0]["name"] if found else None,
             "final_nrmse": fin.nrmse, "final_max_error_m": fin.max_error_m, "final_params": fin.values,
+            "calibrated": {"E_Pa": cal.experiment.finger.E_Pa * fin.values["E_factor"],
+                           "alpha_per_s": fin.values["alpha_per_s"]},
             "noise_floor_nrmse": cal.noise_floor_nrmse,
             "stop_reason": last.reason, "final_evidence": last.evidence,
-            "final_suggestions": [{"effect": k, "reason": why} for k, why in last.suggested]}
+            "final_suggestions": [{"effect": k, "reason": why} for k, why in last.suggested],
+            "ambiguous": _ambiguous_summary(cal.ambiguous),
+            "rejected_effects": None if cal.rejected is None else {
+                "effects": list(cal.rejected.effects), "params": cal.rejected.values, "nrmse": cal.rejected.nrmse,
+                "rms_over_noise": cal.rejected.rms_m / cal.noise_std_m},
+            "unexplained_residual": cal.unexplained_residual,
+            "sparse_term": cal.unexplained.summary() if cal.unexplained is not None else None}
+
+
+def _ambiguous_summary(amb):
+    """The JSON-ready ambiguity record (its fits as parameters and scores)."""
+    if amb is None:
+        return None
+    fits = {k: {"params": f.values, "stderr": f.stderr, "bic": f.bic, "nrmse": f.nrmse,
+                "holdout_rms_m": f.holdout_rms_m} for k, f in amb["fits"].items()}
+    return {k: v for k, v in amb.items() if k != "fits"} | {"fits": fits}

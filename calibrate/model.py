@@ -1,9 +1,16 @@
-"""The calibration model: the declared finger's Rayleigh-damped modes (:mod:`ccedi.calibrate.beam`)
-plus any set of catalogued effects, each a physical extension with named SI parameters.
+"""The calibration model: the declared finger's FE-derived Rayleigh-damped modes
+(:mod:`ccedi.calibrate.finger_modes`, tip mass and root compliance as Ritz additions) plus
+any set of catalogued effects, each a physical extension with named SI parameters.
 
 Baseline parameters: ``alpha_per_s`` (mass-proportional damping, 1/s) and ``E_factor``
-(Young's modulus over the declared one, within the sidecar's tolerance). With modes omega_i,
-tip values b_i and weight participations p_i (see :mod:`ccedi.calibrate.beam`)::
+(Young's modulus over the declared one, within the sidecar's tolerance; the FE modes are
+built once at the declared E and their frequencies scale exactly as sqrt(E_factor)). The
+model keeps the y-bending modes the pulse rings: after a pulse F0 of length T, mode i
+vibrates freely with tip amplitude F0 b_i^2 |2 sin(omega_i T / 2)| / omega_i^2 <=
+F0 b_i^2 min(2, omega_i T) / omega_i^2; the modes whose bound is at least
+``MODE_AMPLITUDE`` of the first mode's are kept (at least ``MIN_MODES``). A 10 ms pulse
+on the 8-in finger keeps 6 modes (up to 306 Hz), a 1 ms pulse all 10. With modes omega_i, tip
+values b_i and weight participations p_i::
 
     zeta_i = alpha / (2 omega_i) + beta omega_i / 2
     w(t)   = tip displacement of the modal model under the pulse F0 on [t0, t0 + T), plus
@@ -12,24 +19,54 @@ tip values b_i and weight participations p_i (see :mod:`ccedi.calibrate.beam`)::
 
 The catalogue (:data:`ccedi.calibrate.effects.CATALOGUE`) lists each effect's parameters with units, bounds and
 a starting value scaled to the record (mass, stiffness, first frequency, amplitude).
-Linear effects keep the exact pulse response of :class:`ccedi.rom.modal.ModalROM`; viscoelastic
-and nonlinear tip forces use :func:`ccedi.calibrate.dynamics.integrate_tip`.
+Linear effects keep the exact pulse response of :class:`ccedi.rom.modal.ModalROM`, the
+viscoelastic finger alone the exact one of
+:func:`ccedi.calibrate.dynamics.viscoelastic_pulse_response`; distributed drag and the
+nonlinear tip forces use :func:`ccedi.calibrate.dynamics.integrate_tip`.
 """
 
 import numpy as np
 
 from ccedi.rom.modal import ModalROM
 
-from .beam import CantileverRitz
-from .dynamics import integrate_tip
+from .dynamics import integrate_tip, viscoelastic_pulse_response
 from .effects import CATALOGUE, Parameter, Scales
 from .experiment import Experiment
+from .finger_modes import finger_basis
 
-N_MODES = 6
-"""Modes kept in the calibration model."""
+MIN_MODES = 3
+"""Fewest y-bending modes kept, whatever the pulse."""
+MODE_AMPLITUDE = 1e-3
+"""Least bound of a mode's free-vibration tip amplitude after the pulse, relative to the
+first mode's, for the mode to be kept (module docstring) [-]."""
 
 
-NONLINEAR = {"prony_g", "drag_N_s2_m3", "friction_N", "cubic_N_m3"}
+def rung_modes(omega_rad_s, tip, duration_s):
+    """Number of modes the pulse rings (module docstring).
+
+    Parameters
+    ----------
+    omega_rad_s : numpy.ndarray
+        Angular frequencies omega_i, ascending [rad/s].
+    tip : numpy.ndarray
+        Tip values b_i [1/sqrt(kg)].
+    duration_s : float
+        Pulse length T [s].
+
+    Returns
+    -------
+    int
+        One more than the index of the last mode whose amplitude bound
+        b_i^2 min(2, omega_i T) / omega_i^2 is at least MODE_AMPLITUDE of the first
+        mode's, and at least min(MIN_MODES, number of modes).
+    """
+    bound = tip**2 * np.minimum(2.0, omega_rad_s * duration_s) / omega_rad_s**2
+    rung = np.flatnonzero(bound >= MODE_AMPLITUDE * bound[0])
+    return max(min(MIN_MODES, len(omega_rad_s)), int(rung[-1]) + 1)
+
+
+NONLINEAR = {"drag_N_s2_m3", "friction_N", "cubic_N_m3"}
+"""Parameters of the effects that make the model nonlinear (integrated numerically)."""
 
 
 def baseline_parameters(exp: Experiment, s: Scales):
@@ -82,8 +119,9 @@ def e_factor_bound(E_factor, tol):
 class FingerModel:
     """Predicts the sensor reading of an :class:`Experiment` for parameter values.
 
-    Builds the Ritz cantilever of the declared finger and the record scales
-    (:class:`ccedi.calibrate.effects.Scales`) once.
+    Takes the FE basis of the declared finger (:func:`ccedi.calibrate.finger_modes.finger_basis`,
+    cached per finger) and builds the record scales (:class:`ccedi.calibrate.effects.Scales`)
+    once.
 
     Parameters
     ----------
@@ -94,8 +132,10 @@ class FingerModel:
     ----------
     exp : Experiment
         The experiment.
-    ritz : CantileverRitz
-        The finger's Ritz model.
+    basis : ccedi.calibrate.finger_modes.FingerBasis
+        The finger's FE modes at the declared E.
+    n_modes : int
+        y-bending modes kept: those below the record's sampling rate, at least MIN_MODES.
     scales : Scales
         Scales of the record for bounds and starting values.
     """
@@ -103,11 +143,13 @@ class FingerModel:
     def __init__(self, exp: Experiment):
         f = exp.finger
         self.exp = exp
-        self.ritz = CantileverRitz(f.length_m, f.rho_kg_m3 * f.area_m2, f.second_moment_m4)
-        modes = self.ritz.modes(f.E_Pa, N_MODES)
+        self.basis = finger_basis(f.length_m, tuple(f.semi_axes_m), f.nu, f.rho_kg_m3, f.E_Pa)
+        full = self.basis.modes(1.0)
+        self.n_modes = rung_modes(full.omega_rad_s, full.tip, exp.duration_s)
+        modes = self.basis.modes(1.0, n_modes=self.n_modes)
         y = exp.displacement_m
         ei = f.E_Pa * f.second_moment_m4
-        self.scales = Scales(mass_kg=self.ritz.mass_kg, stiffness_N_m=3.0 * ei / f.length_m**3,
+        self.scales = Scales(mass_kg=self.basis.mass_kg, stiffness_N_m=1.0 / modes.static_flexibility_m_N,
                              ei_over_l=ei / f.length_m, omega1=float(modes.omega_rad_s[0]),
                              omega2=float(modes.omega_rad_s[1]),
                              amplitude_m=0.5 * float(np.ptp(y)), duration_s=float(exp.time_s[-1] - exp.time_s[0]),
@@ -143,10 +185,11 @@ class FingerModel:
         Returns
         -------
         Modes
-            The N_MODES lowest modes.
+            The ``n_modes`` lowest modes (one more with a compliant root).
         """
-        return self.ritz.modes(self.exp.finger.E_Pa * v["E_factor"], N_MODES, tip_mass_kg=v.get("tip_mass_kg", 0.0),
-                               root_stiffness=v.get("root_stiffness_N_m_rad"))
+        root = v.get("root_stiffness_N_m_rad")
+        return self.basis.modes(v["E_factor"], tip_mass_kg=v.get("tip_mass_kg", 0.0), root_stiffness=root,
+                                n_modes=self.n_modes + (root is not None))
 
     def predict(self, v, time_s=None):
         """Sensor reading predicted for parameter values ``v`` (module docstring).
@@ -177,6 +220,9 @@ class FingerModel:
                               cubic_N_m3=v.get("cubic_N_m3", 0.0))
             if delay:
                 u = np.interp(t - delay, t, u, left=0.0)
+        elif "prony_g" in v:
+            u = viscoelastic_pulse_response(t - exp.start_s - delay, m, zeta, exp.force_N, exp.duration_s,
+                                            v["prony_g"], v.get("prony_tau_s", 1.0))
         else:
             rom = ModalROM(omega_rad_s=w, gain=m.tip**2, zeta_fitted=zeta)
             u = rom.pulse_response(t - exp.start_s - delay, exp.force_N, exp.duration_s)

@@ -1,53 +1,70 @@
 """Synthetic "measured" impulse records of the 8-in finger with injected effects: the
 bundled test set under ``data/measured/``.
 
-This is deliberately NOT the calibration's code path. The calibration uses a 6-mode
-Rayleigh-Ritz model on analytic cantilever modes (:mod:`ccedi.calibrate.beam`) integrated
-exactly or by RK4 in modal coordinates (:mod:`ccedi.calibrate.dynamics`); this generator uses a
-finite-element Euler-Bernoulli beam (``N_ELEMENTS`` Hermite-cubic elements, consistent
-mass, all its 2 x N_ELEMENTS degrees of freedom) integrated in physical coordinates by the
-Newmark average-acceleration rule (step ``DT_S``), with the effects built in physically:
+This is deliberately NOT the calibration's model. The calibration uses the lowest
+y-bending modes of the clamped finger (those below the sampling rate), with a tip mass
+and a compliant root added as Ritz terms and the other effects as modal or tip forces
+(:mod:`ccedi.calibrate.finger_modes`, :mod:`ccedi.calibrate.model`), integrated exactly or by
+RK4 (:mod:`ccedi.calibrate.dynamics`). This generator builds the linear FE solid of the
+finger (SM-A hexahedra, the tangent stiffness K at the reference and the lumped mass M of
+:mod:`ccedi.fea`) with the effects built into its matrices and nodal forces, takes the lowest
+``N_GEN_MODES`` modes of that modified system (of every kind: both bending planes,
+torsion, stretching) and integrates them by the Newmark average-acceleration rule (step
+``DT_S``), nonlinear forces evaluated on the nodes:
 
   stiffness_damping       C = alpha M + beta K
-  viscoelastic            bending force K (u - g z), z' = (u - z) / tau (one-term Prony)
-  quadratic_damping       distributed drag -c |w'| w' per unit length, lumped on the nodes
-                          by the trapezoidal rule [N s^2/m^3]
-  coulomb_friction        tip force -F_c tanh(w_L' / 5e-4 m/s)
-  tip_mass                point mass at the tip node (also under gravity)
-  root_compliance         the root rotation is free, held by a rotational spring k_r
-  gravity                 distributed weight rho A g_t (and tip mass), from static sag
-  geometric_nonlinearity  equivalent large-amplitude stiffening: tip force -k_3 w_L^3
+  viscoelastic            elastic force K (u - g z), z' = (u - z) / tau (one-term Prony)
+  quadratic_damping       drag -c |v_y| v_y on every node, times its share of the length
+                          m_node L / m_finger [N s^2/m^3]
+  coulomb_friction        tip-face force -F_c tanh(w_L' / 5e-4 m/s), area-weighted
+  tip_mass                m_t spread over the tip-face nodes by area (all three directions)
+  root_compliance         the root face rotates rigidly about its x axis (the root nodes
+                          move as u_z = -(y - y_root) theta), held by a spring k_r on theta
+  gravity                 nodal weights g_t M e_y (and tip mass), from the static sag
+  geometric_nonlinearity  equivalent large-amplitude stiffening: tip-face force -k_3 w_L^3
   sensor_nonlinearity     measured y = w_L + s_2 w_L^2
   sensor_offset_drift     measured y = w_L + offset + drift t
   time_delay              measured y(t) = w_L(t - tau)
 
-Nonlinear forces and the viscoelastic internal variable are evaluated at the start of a
-step (explicit in them, implicit in the linear beam). Records are decimated to
-``SAMPLE_RATE_HZ`` and white noise of std ``NOISE_FRACTION`` x range is added. The true
-Young's modulus and alpha differ from the declared ones (seeded, within +-8 % and 3-5 1/s).
+and, outside the catalogue (records ``outside_*``, manifest ``in_catalogue: false``):
+
+  magnet_attraction       the tip magnet pulled towards the steel body of the displacement
+                          sensor at gap d: tip-face force F_m (d / (d - w_L))^2; the record
+                          starts at rest at the pulled equilibrium and the sensor is tared
+                          there (reads w_L - w_0)
+
+w_L is the area-weighted mean y displacement of the tip face. Nonlinear forces and the
+viscoelastic internal variable are evaluated at the start of a step (explicit in them,
+implicit in the linear part). Records are decimated to ``SAMPLE_RATE_HZ`` and white noise
+of std ``NOISE_FRACTION`` x range is added. The true Young's modulus and alpha differ from
+the declared ones (seeded, within +-8 % and 3-5 1/s).
 
 One more clean control comes from the full 3-D explicit FEA of the 4.5-in SM-A finger
 (:func:`ccedi.fea.studies.impulse_response`, hexahedral neo-Hookean solid, 1 s): the
-beam-against-solid model-form mismatch the calibration must absorb without adding an effect.
+nonlinear, lumped-mass explicit solid the calibration's linear modes must match without
+an effect. It is kept when present (regenerating it takes minutes; ``--solid`` forces it).
 
-Regenerate: ``.venv/bin/python -m ccedi.calibrate.synthetic [OUT_DIR]`` (deterministic).
+Regenerate: ``.venv/bin/python -m ccedi.calibrate.synthetic [OUT_DIR] [--solid]`` (deterministic).
 """
 import sys
 from dataclasses import dataclass, field
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from scipy.linalg import lu_factor, lu_solve
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
-from ccedi.fea.beam_theory import ellipse_section_properties
 from ccedi.fea.material import RUBBER
-from ccedi.fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR
+from ccedi.fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR, sm_a
+from ccedi.fea.model import cantilever_model, face_node_weights
 from ccedi.fea.outputs import write_csv, write_json
+from ccedi.fea.static import free_dofs, tangent_stiffness
 from ccedi.fea.studies import impulse_response
 from ccedi.fea.units import inch_to_m
 
-N_ELEMENTS = 40
+N_GEN_MODES = 40
 DT_S = 2.5e-5
 SAMPLE_RATE_HZ = 1000.0
 RECORD_S = 2.0
@@ -56,6 +73,8 @@ PULSE_S = 0.01
 FRICTION_SLIP_M_S = 5e-4
 LENGTH_IN = 8.0
 AMPLITUDES_N = {"low": 0.5, "high": 1.5}
+SHORT_PULSE = {"force_N": 10.0, "duration_s": 0.001}
+"""The clean short-pulse control: a 1 ms pulse that rings the second and third modes."""
 
 INJECTED = {
     "stiffness_damping": {"beta_s": 1.5e-3},
@@ -71,6 +90,8 @@ INJECTED = {
     "time_delay": {"delay_s": 2e-3},
 }
 """The effect sizes of the bundled set (generator parameters, SI units as named)."""
+OUTSIDE = {"magnet_attraction": {"magnet_force_N": 0.02, "gap_m": 0.06}}
+"""Effects outside the calibration's catalogue (generator parameters)."""
 
 
 @dataclass(frozen=True)
@@ -87,71 +108,114 @@ class Truth:
         Tip pulse force [N].
     effects : dict, optional
         Injected effects {name: {parameter: value}} (SI units as named). Default none.
+    duration_s : float, optional
+        Pulse duration [s]. Default PULSE_S.
     """
 
     E_factor: float
     alpha_per_s: float
     force_N: float
     effects: dict = field(default_factory=dict)
+    duration_s: float = PULSE_S
 
 
-def beam_matrices(length_m, n_el, EI, rho_a):
-    """Hermite-cubic Euler-Bernoulli matrices of a free uniform beam.
+@dataclass(frozen=True)
+class SolidSystem:
+    """The lowest modes of the linear FE solid with its built-in linear effects.
 
-    DOFs (w_0, theta_0, w_1, theta_1, ...) [m, rad], ``n_el`` equal elements.
+    Parameters
+    ----------
+    omega_rad_s : numpy.ndarray
+        Angular frequencies (n,) [rad/s].
+    tip : numpy.ndarray
+        Tip-face mean y displacement per mode (n,) [1/sqrt(kg)].
+    weight : numpy.ndarray
+        Participations in a unit transverse acceleration, phi^T M e_y (n,) [sqrt(kg)].
+    node_y : numpy.ndarray
+        y displacement of every node per mode (n_nodes, n) [1/sqrt(kg)].
+    drag_length_m : numpy.ndarray
+        Each node's share of the finger length, m_node L / m_finger (n_nodes,) [m].
+    """
+
+    omega_rad_s: np.ndarray
+    tip: np.ndarray
+    weight: np.ndarray
+    node_y: np.ndarray
+    drag_length_m: np.ndarray
+
+
+@lru_cache(maxsize=2)
+def _solid(length_m):
+    """(model, K full [N/m], lumped masses [kg], tip nodes, tip weights) of the SM-A finger at
+    the declared E."""
+    mesh = sm_a(length_m=length_m)
+    model = cantilever_model(mesh, RUBBER)
+    tip = mesh.node_sets["tip"]
+    return model, tangent_stiffness(model).tocsr(), model.mass, tip, face_node_weights(mesh, tip)
+
+
+@lru_cache(maxsize=16)
+def solid_system(length_m, E_factor, tip_mass_kg=0.0, root_stiffness=None):
+    """Modes of the FE solid at E x ``E_factor`` with a tip mass and a compliant root built in.
+
+    The tip mass is spread over the tip-face nodes by their area weights (all three
+    directions); a compliant root frees the root face to rotate rigidly about its x axis
+    (u_z = -(y - y_root) theta on the root nodes) against a spring k_r on theta.
 
     Parameters
     ----------
     length_m : float
-        Beam length [m].
-    n_el : int
-        Number of elements.
-    EI : float
-        Bending stiffness [N m^2].
-    rho_a : float
-        Mass per length [kg/m].
+        Finger length [m].
+    E_factor : float
+        Young's modulus over RUBBER.E [-].
+    tip_mass_kg : float, optional
+        Tip mass [kg]. Default 0.
+    root_stiffness : float or None, optional
+        Root rotational stiffness [N m/rad]; None: clamped. Default None.
 
     Returns
     -------
-    K : numpy.ndarray
-        Stiffness, (2 (n_el + 1),) squared [N/m, N, N m].
-    M : numpy.ndarray
-        Consistent mass, same shape [kg, kg m, kg m^2].
-    f : numpy.ndarray
-        Consistent load vector of a unit distributed load [N per N/m, N m per N/m].
+    SolidSystem
+        The lowest N_GEN_MODES modes, mass-normalised.
     """
-    h = length_m / n_el
-    k = EI / h**3 * np.array([[12, 6 * h, -12, 6 * h], [6 * h, 4 * h * h, -6 * h, 2 * h * h],
-                              [-12, -6 * h, 12, -6 * h], [6 * h, 2 * h * h, -6 * h, 4 * h * h]])
-    m = rho_a * h / 420.0 * np.array([[156, 22 * h, 54, -13 * h], [22 * h, 4 * h * h, 13 * h, -3 * h * h],
-                                      [54, 13 * h, 156, -22 * h], [-13 * h, -3 * h * h, -22 * h, 4 * h * h]])
-    q = np.array([h / 2, h * h / 12, h / 2, -h * h / 12])
-    n = 2 * (n_el + 1)
-    K, M, f = np.zeros((n, n)), np.zeros((n, n)), np.zeros(n)
-    for e in range(n_el):
-        s = slice(2 * e, 2 * e + 4)
-        K[s, s] += k
-        M[s, s] += m
-        f[s] += q
-    return K, M, f
+    model, K_full, mass, tip, w_tip = _solid(length_m)
+    n_nodes = len(mass)
+    m = mass.copy()
+    m[tip] += tip_mass_kg * w_tip
+    free = free_dofs(model)
+    T = sp.lil_matrix((3 * n_nodes, len(free) + (root_stiffness is not None)))
+    T[free, np.arange(len(free))] = 1.0
+    if root_stiffness is not None:
+        root = model.fixed_nodes
+        y = model.mesh.nodes[root, 1]
+        T[3 * root + 2, len(free)] = -(y - y.mean())[:, None]
+    T = T.tocsr()
+    K = (T.T @ (E_factor * K_full) @ T).tocsc()
+    if root_stiffness is not None:
+        K[-1, -1] += root_stiffness
+    M = (T.T @ sp.diags(np.repeat(m, 3)) @ T).tocsc()
+    w2, vec = spla.eigsh(K, k=N_GEN_MODES, M=M, sigma=0.0, which="LM")
+    order = np.argsort(w2)
+    phi = T @ vec[:, order]
+    node_y = phi[1::3]
+    length = float(np.ptp(model.mesh.nodes[:, 2]))
+    return SolidSystem(omega_rad_s=np.sqrt(w2[order]), tip=w_tip @ node_y[tip], weight=m @ node_y, node_y=node_y,
+                       drag_length_m=mass * length / mass.sum())
 
 
-def beam_response(truth: Truth, length_m, EI, rho_a, t_end_s=RECORD_S):
-    """Tip displacement of the FE beam with the truth's physical effects (module docstring).
+def solid_response(truth: Truth, length_m, t_end_s=RECORD_S):
+    """Tip displacement of the FE solid with the truth's physical effects (module docstring).
 
-    Newmark average acceleration with step DT_S from the (relaxed) static sag; sensor
+    Newmark average acceleration in the system's modal coordinates with step DT_S, from
+    rest at the (relaxed) static sag, or at the pulled equilibrium of a tip magnet; sensor
     effects are applied separately by :func:`sensor`.
 
     Parameters
     ----------
     truth : Truth
-        E factor, alpha, force and injected effects.
+        E factor, alpha, force, pulse duration and injected effects.
     length_m : float
         Finger length [m].
-    EI : float
-        Declared bending stiffness [N m^2] (multiplied by ``truth.E_factor``).
-    rho_a : float
-        Mass per length [kg/m].
     t_end_s : float, optional
         Record length [s]. Default RECORD_S (2 s).
 
@@ -160,55 +224,57 @@ def beam_response(truth: Truth, length_m, EI, rho_a, t_end_s=RECORD_S):
     t : numpy.ndarray
         Times k DT_S, 0 <= t <= t_end_s [s].
     w : numpy.ndarray
-        Tip displacement w_L [m].
+        Tip displacement w_L [m] (from the magnet's equilibrium, when there is one).
     """
     fx = truth.effects
-    K, M, f_unit = beam_matrices(length_m, N_ELEMENTS, EI * truth.E_factor, rho_a)
-    root = fx.get("root_compliance")
-    keep = np.arange(1 if root else 2, len(K))               # clamp w_0 (and theta_0)
-    Kb, M, f_unit = K[np.ix_(keep, keep)], M[np.ix_(keep, keep)], f_unit[keep]
-    K = Kb.copy()
-    if root:
-        K[0, 0] += root["root_stiffness_N_m_rad"]
-    tip = len(keep) - 2
+    root = fx.get("root_compliance", {}).get("root_stiffness_N_m_rad")
     m_tip = fx.get("tip_mass", {}).get("tip_mass_kg", 0.0)
-    M[tip, tip] += m_tip
+    s = solid_system(length_m, truth.E_factor, m_tip, root)
+    w2, b = s.omega_rad_s**2, s.tip
     beta = fx.get("stiffness_damping", {}).get("beta_s", 0.0)
-    C = truth.alpha_per_s * M + beta * K
+    c = truth.alpha_per_s + beta * w2
     g_ve = fx.get("viscoelastic", {}).get("prony_g", 0.0)
     decay = np.exp(-DT_S / fx.get("viscoelastic", {}).get("prony_tau_s", 1.0))
-    w_dofs = np.arange(len(keep))[(keep % 2) == 0]             # translational DOFs
-    drag = fx.get("quadratic_damping", {}).get("drag_N_s2_m3", 0.0) * length_m / N_ELEMENTS * np.ones(len(w_dofs))
-    drag[-1] *= 0.5                                            # tip node: half an element
+    drag = fx.get("quadratic_damping", {}).get("drag_N_s2_m3", 0.0) * s.drag_length_m
     friction = fx.get("coulomb_friction", {}).get("friction_N", 0.0)
     cubic = fx.get("geometric_nonlinearity", {}).get("cubic_N_m3", 0.0)
-    weight = fx.get("gravity", {}).get("gravity_m_s2", 0.0) * (rho_a * f_unit + m_tip * (np.arange(len(keep)) == tip))
-    u = np.linalg.solve(K - g_ve * Kb, weight)                 # relaxed static sag
-    z = u.copy()
-    v = np.zeros_like(u)
+    magnet = fx.get("magnet_attraction", {})
+    f_m, gap = magnet.get("magnet_force_N", 0.0), magnet.get("gap_m", 1.0)
+    weight = fx.get("gravity", {}).get("gravity_m_s2", 0.0) * s.weight
+    q = weight / (w2 * (1.0 - g_ve))                          # relaxed static sag
+    for _ in range(200 if f_m else 0):                         # pulled equilibrium of the magnet
+        q = (weight + b * f_m * (gap / (gap - b @ q)) ** 2) / w2
+    w0 = float(b @ q) if f_m else 0.0
+    z = q.copy()
+    v = np.zeros_like(q)
     n_steps = int(round(t_end_s / DT_S))
-    n_pulse = int(round(PULSE_S / DT_S))
+    n_pulse = int(round(truth.duration_s / DT_S))
 
-    def applied(k, u, v, z):
-        f = weight + g_ve * Kb @ z
-        f[tip] += truth.force_N * (0.5 if k in (0, n_pulse) else 1.0) * (k <= n_pulse)
-        f[tip] -= friction * np.tanh(v[tip] / FRICTION_SLIP_M_S) + cubic * u[tip] ** 3
-        f[w_dofs] -= drag * np.abs(v[w_dofs]) * v[w_dofs]
+    def applied(k, q, v, z):
+        u, du = float(b @ q), float(b @ v)
+        f_tip = truth.force_N * (0.5 if k in (0, n_pulse) else 1.0) * (k <= n_pulse)
+        f_tip -= friction * np.tanh(du / FRICTION_SLIP_M_S) + cubic * u**3
+        if f_m:
+            f_tip += f_m * (gap / (gap - u)) ** 2
+        f = weight + g_ve * w2 * z + b * f_tip
+        if drag.any():
+            vy = s.node_y @ v
+            f = f - s.node_y.T @ (drag * np.abs(vy) * vy)
         return f
 
-    a = np.linalg.solve(M, applied(0, u, v, z) - C @ v - K @ u)
-    lu = lu_factor(K + 2.0 / DT_S * C + 4.0 / DT_S**2 * M)
+    a = applied(0, q, v, z) - c * v - w2 * q
+    lhs = w2 + 2.0 / DT_S * c + 4.0 / DT_S**2
     y = np.empty(n_steps + 1)
-    y[0] = u[tip]
+    y[0] = b @ q
     for k in range(1, n_steps + 1):
-        f = applied(k, u, v, z)
-        u_new = lu_solve(lu, f + M @ (4.0 / DT_S**2 * u + 4.0 / DT_S * v + a) + C @ (2.0 / DT_S * u + v))
-        v_new = 2.0 / DT_S * (u_new - u) - v
-        a = 4.0 / DT_S**2 * (u_new - u) - 4.0 / DT_S * v - a
-        z = 0.5 * (u + u_new) + (z - 0.5 * (u + u_new)) * decay
-        u, v = u_new, v_new
-        y[k] = u[tip]
-    return np.arange(n_steps + 1) * DT_S, y
+        f = applied(k, q, v, z)
+        q_new = (f + 4.0 / DT_S**2 * q + 4.0 / DT_S * v + a + c * (2.0 / DT_S * q + v)) / lhs
+        v_new = 2.0 / DT_S * (q_new - q) - v
+        a = 4.0 / DT_S**2 * (q_new - q) - 4.0 / DT_S * v - a
+        z = 0.5 * (q + q_new) + (z - 0.5 * (q + q_new)) * decay
+        q, v = q_new, v_new
+        y[k] = b @ q
+    return np.arange(n_steps + 1) * DT_S, y - w0
 
 
 def sensor(t, w, effects):
@@ -252,7 +318,7 @@ def declared_finger():
 
 
 def record(truth: Truth, seed):
-    """One synthetic record of the declared finger: FE beam, sensor, decimation, noise.
+    """One synthetic record of the declared finger: FE solid, sensor, decimation, noise.
 
     Parameters
     ----------
@@ -268,17 +334,16 @@ def record(truth: Truth, seed):
     meta : dict
         The JSON sidecar (kind, declared finger, load, sensor noise std [m]).
     """
-    area, inertia = ellipse_section_properties(SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR)
-    t_fine, w = beam_response(truth, inch_to_m(LENGTH_IN), RUBBER.E * inertia, RUBBER.rho * area)
+    t_fine, w = solid_response(truth, inch_to_m(LENGTH_IN))
     y_fine = sensor(t_fine, w, truth.effects)
     every = int(round(1.0 / (SAMPLE_RATE_HZ * DT_S)))
     t, y = t_fine[::every], y_fine[::every]
     noise = NOISE_FRACTION * float(np.ptp(y))
     y = y + noise * np.random.default_rng(seed).standard_normal(len(t))
-    force = np.where(t < PULSE_S, truth.force_N, 0.0)
+    force = np.where(t < truth.duration_s, truth.force_N, 0.0)
     frame = pd.DataFrame({"time_s": np.round(t, 9), "tip_displacement_m": y, "force_N": force})
     meta = {"kind": "impulse", "finger": declared_finger(),
-            "load": {"force_N": truth.force_N, "duration_s": PULSE_S, "at": "tip"},
+            "load": {"force_N": truth.force_N, "duration_s": truth.duration_s, "at": "tip"},
             "sensor": {"noise_std_m": noise}}
     return frame, meta
 
@@ -287,7 +352,9 @@ def bundled_set():
     """The truths of the bundled set.
 
     Every catalogue effect at two amplitudes, two clean controls and one record with two
-    effects (tip mass and quadratic damping); E factors and alphas drawn with a fixed seed.
+    effects (tip mass and quadratic damping); then a clean control hit by a short pulse
+    (SHORT_PULSE, ringing modes 2 and 3) and the out-of-catalogue effects (OUTSIDE) at the
+    high amplitude. E factors and alphas drawn with a fixed seed.
 
     Returns
     -------
@@ -305,6 +372,12 @@ def bundled_set():
         amp = name.rsplit("_", 1)[1]
         out[name] = Truth(E_factor=float(rng.uniform(0.92, 1.08)), alpha_per_s=float(rng.uniform(3.0, 5.0)),
                           force_N=AMPLITUDES_N[amp], effects=effects)
+    out["control_short_pulse"] = Truth(E_factor=float(rng.uniform(0.92, 1.08)), alpha_per_s=float(rng.uniform(3.0, 5.0)),
+                                       force_N=SHORT_PULSE["force_N"], duration_s=SHORT_PULSE["duration_s"])
+    for name, params in OUTSIDE.items():
+        out[f"outside_{name}_high"] = Truth(E_factor=float(rng.uniform(0.92, 1.08)),
+                                            alpha_per_s=float(rng.uniform(3.0, 5.0)), force_N=AMPLITUDES_N["high"],
+                                            effects={name: params})
     return out
 
 
@@ -342,7 +415,7 @@ def solid_record(seed):
     return frame, meta
 
 
-def write_bundled_set(out_dir):
+def write_bundled_set(out_dir, solid=False):
     """Write every record as NAME.csv + NAME.json and the truths as manifest.json.
 
     Deterministic; prints one line per record.
@@ -351,24 +424,31 @@ def write_bundled_set(out_dir):
     ----------
     out_dir : str or pathlib.Path
         Output directory (created if missing).
+    solid : bool, optional
+        Recompute the full-FEA control even when ``control_fea_solid.csv`` exists. Default False.
     """
     out_dir = Path(out_dir)
-    frame, meta = solid_record(seed=999)
-    write_csv(out_dir / "control_fea_solid.csv", frame)
-    write_json(out_dir / "control_fea_solid.json", meta)
+    if solid or not (out_dir / "control_fea_solid.csv").is_file():
+        frame, meta = solid_record(seed=999)
+        write_csv(out_dir / "control_fea_solid.csv", frame)
+        write_json(out_dir / "control_fea_solid.json", meta)
     manifest = {"control_fea_solid": {"E_factor": 1.0, "alpha_per_s": SOLID["alpha_per_s"],
-                                      "force_N": SOLID["force_N"], "effects": {},
+                                      "force_N": SOLID["force_N"], "duration_s": PULSE_S, "effects": {},
+                                      "in_catalogue": True,
                                       "generator": "ccedi.fea.studies.impulse_response (3-D SM-A solid)"}}
     for i, (name, truth) in enumerate(bundled_set().items()):
         frame, meta = record(truth, seed=1000 + i)
         write_csv(out_dir / f"{name}.csv", frame)
         write_json(out_dir / f"{name}.json", meta)
         manifest[name] = {"E_factor": truth.E_factor, "alpha_per_s": truth.alpha_per_s,
-                          "force_N": truth.force_N, "effects": truth.effects}
+                          "force_N": truth.force_N, "duration_s": truth.duration_s, "effects": truth.effects,
+                          "in_catalogue": not set(truth.effects) & set(OUTSIDE)}
         print(f"{name}: E x {truth.E_factor:.3f}, alpha {truth.alpha_per_s:.2f} 1/s, {truth.effects}")
-    write_json(out_dir / "manifest.json", {"generator": "ccedi.calibrate.synthetic", "noise_fraction": NOISE_FRACTION,
-                                           "records": manifest})
+    write_json(out_dir / "manifest.json", {"generator": "ccedi.calibrate.synthetic (linear FE solid, SM-A, "
+                                                        f"{N_GEN_MODES} modes, Newmark)",
+                                           "noise_fraction": NOISE_FRACTION, "records": manifest})
 
 
 if __name__ == "__main__":
-    write_bundled_set(sys.argv[1] if len(sys.argv) > 1 else Path(__file__).parents[1] / "data" / "measured")
+    args = [a for a in sys.argv[1:] if a != "--solid"]
+    write_bundled_set(args[0] if args else Path(__file__).parents[1] / "data" / "measured", solid="--solid" in sys.argv)

@@ -63,6 +63,8 @@ SCHEMA = {
         "E_Pa": _key("E_Pa", RUBBER.E, "finger Young's modulus (paper Table 1: 6.1 MPa rubber)"),
         "nu": _key("nu", RUBBER.nu, "finger Poisson's ratio (neo-Hookean, compressible)"),
         "rho_kg_m3": _key("rho_kg_m3", RUBBER.rho, "finger density"),
+        "alpha_per_s": _key("alpha_per_s", None, "the finger's measured mass-proportional damping (ccedi calibrate "
+                            "--write-config); ccedi design reports the design at it beside the optimum"),
     },
     "finger": {
         "impulse_length_in": _key("length_in", 4.5, "finger length of the impulse studies (Figs. 6, 7)"),
@@ -335,10 +337,58 @@ def to_toml(cfg):
             unit = f" [{spec.unit}{rng}]" if spec.unit != "-" or rng else ""
             allowed = f" [{' or '.join(spec.choices)}]" if spec.choices else ""
             value = cfg[section][key]
+            example = '"my_finger.msh"' if key == "mesh" else "VALUE"
             line = (f"{key} = {_toml_value(value)}" if value is not None
-                    else f'# {key} = "my_finger.msh"   (not set; uncomment to use a mesh)')
+                    else f'# {key} = {example}   (not set; uncomment to set it)')
             lines += [f"# {spec.help}{unit}{allowed}", line]
     return "\n".join(lines) + "\n"
+
+
+def calibrated_config(result, record):
+    """The calibrated inputs of a ``ccedi calibrate`` result as a TOML fragment that every
+    ``--config`` command reads: ``[material]`` E_Pa (declared E x the final E factor), nu,
+    rho_kg_m3 (as declared) and alpha_per_s (the final alpha), ``[finger]``
+    section_semi_axes_m (as declared); the effects found, an ambiguity and an unexplained
+    residual as comments (they are not study inputs).
+
+    Parameters
+    ----------
+    result : dict
+        The calibration JSON (:func:`ccedi.calibrate.loop.summary`).
+    record : ccedi.calibrate.experiment.Experiment
+        The calibrated experiment (its declared finger).
+
+    Returns
+    -------
+    str
+        The TOML text, checked by :func:`validate` (so that it loads where it is written).
+
+    Raises
+    ------
+    InputError
+        A calibrated value outside the schema's range.
+    """
+    f = record.finger
+    cal = result["calibrated"]
+    lines = [f"# Calibrated by ccedi calibrate from {result['source']}: final NRMSE {result['final_nrmse']:.4%}, "
+             f"noise floor {result['noise_floor_nrmse']:.4%}.",
+             f"# Declared E {f.E_Pa:.6g} Pa; calibrated E factor {result['final_params']['E_factor']:.5f}."]
+    for e in result["effects_found"]:
+        lines.append(f"# effect found (not a study input): {e['name']} "
+                     + ", ".join(f"{k} = {v:.5g}" for k, v in e["params_final"].items()))
+    if result.get("ambiguous"):
+        a = result["ambiguous"]
+        lines.append(f"# ambiguous, not added: {' or '.join(a['effects'])}; separate them by "
+                     f"{a['separating_measurement']['measurement']}")
+    if result.get("unexplained_residual"):
+        lines.append(f"# unexplained residual: {result['sparse_term']['force']}")
+    cfg = {"material": {"E_Pa": cal["E_Pa"], "nu": f.nu, "rho_kg_m3": f.rho_kg_m3, "alpha_per_s": cal["alpha_per_s"]},
+           "finger": {"section_semi_axes_m": list(f.semi_axes_m)}}
+    for section, keys in cfg.items():
+        lines += ["", f"[{section}]"] + [f"{k} = {_toml_value(v)}" for k, v in keys.items()]
+    text = "\n".join(lines) + "\n"
+    validate(tomllib.loads(text), "calibrated config")
+    return text
 
 
 def example():

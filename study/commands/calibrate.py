@@ -1,6 +1,10 @@
 """``ccedi calibrate`` (:mod:`ccedi.calibrate`): close the loop on a measured record.
 
   calibrate DATA.csv [--meta DATA.json] --json OUT.json [--report DIR] [--effects NAME ...]
+            [--write-config OUT.toml]
+
+``--write-config`` writes the calibrated inputs (:func:`ccedi.study.config.calibrated_config`)
+as a TOML fragment that ``ccedi study --config`` and every other ``--config`` command read.
 
 Everything is loaded, validated and computed before the first file is written, and each
 file is written atomically, so bad data leaves no output behind. A declared finger that
@@ -28,6 +32,8 @@ def add_parsers(sub):
     c.add_argument("--meta", help="JSON sidecar describing the experiment (default: DATA.json beside DATA.csv)")
     add_output_argument(c, "--json", "file", required=True, help="write the result as JSON to this path")
     add_output_argument(c, "--report", "dir", help="directory for plots, residuals.csv and report.md")
+    add_output_argument(c, "--write-config", "file", help="write the calibrated inputs ([material] E_Pa, "
+                        "alpha_per_s, ...) as a TOML file for --config")
     c.add_argument("--effects", nargs="+", choices=sorted(CATALOGUE), metavar="EFFECT",
                    help=f"candidate effects (default: all of {', '.join(CATALOGUE)})")
     c.set_defaults(func=cmd_calibrate)
@@ -35,10 +41,11 @@ def add_parsers(sub):
 
 def cmd_calibrate(args):
     """``ccedi calibrate``: :func:`write_calibration` of the parsed arguments."""
-    write_calibration(args.csv, args.json, report_dir=args.report, meta=args.meta, effects=args.effects)
+    write_calibration(args.csv, args.json, report_dir=args.report, meta=args.meta, effects=args.effects,
+                      config_path=args.write_config)
 
 
-def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None):
+def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None, config_path=None):
     """Calibrate the declared finger on one measured impulse record and write the result.
 
     Parameters
@@ -53,6 +60,9 @@ def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None):
         JSON sidecar (default: beside the CSV).
     effects : sequence of str, optional
         Candidate effects (default: the whole :data:`ccedi.calibrate.effects.CATALOGUE`).
+    config_path : str or Path, optional
+        Where to write the calibrated inputs as TOML (:func:`ccedi.study.config.calibrated_config`);
+        not written when the declared model is inadequate.
 
     Returns
     -------
@@ -74,7 +84,8 @@ def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None):
     from ccedi.calibrate.experiment import load_experiment
     from ccedi.calibrate.loop import calibrate, summary
     from ccedi.calibrate.report import write_report
-    from ccedi.fea.outputs import write_json
+    from ccedi.fea.outputs import write_json, write_text
+    from ccedi.study.config import calibrated_config
 
     t0 = time.perf_counter()
     exp = load_experiment(csv, meta)
@@ -90,11 +101,26 @@ def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None):
         print(f"+ {e['name']} ({params}): NRMSE {e['nrmse_after']:.3%}")
     print(f"final NRMSE {result['final_nrmse']:.3%}, noise floor {result['noise_floor_nrmse']:.3%}; "
           f"{result['stop_reason']}")
+    if result["ambiguous"]:
+        a = result["ambiguous"]
+        print(f"ambiguous: {' or '.join(a['effects'])} (neither added); separate them by "
+              f"{a['separating_measurement']['measurement']}")
+    if result["rejected_effects"]:
+        r = result["rejected_effects"]
+        print(f"not accepted: {'+'.join(r['effects'])} leave the residual at {r['rms_over_noise']:.3f} sigma "
+              f"(the nearest catalogued stand-ins, not the missing physics)")
+    if result["unexplained_residual"]:
+        s = result["sparse_term"]
+        print(f"unexplained residual: best sparse term {s['force']} removes {s['error_reduction']:.0%} of it")
+    config_text = calibrated_config(result, exp) if config_path and result["model_adequate"] else None
     if report_dir:
         for path in write_report(report_dir, cal, result):
             print(f"wrote {path}")
     write_json(json_path, result)
     print(f"wrote {json_path}")
+    if config_text is not None:
+        write_text(config_path, config_text)
+        print(f"wrote {config_path}")
     if not result["model_adequate"]:
         raise ModelInadequate(f"{csv}: {result['adequacy']['message']} (no effect added; {json_path} has "
                               f"model_adequate: false and the evidence)")

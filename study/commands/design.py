@@ -122,10 +122,12 @@ def cmd_design(args):
         fea_check=not args.no_fea_check)
     from ccedi.study.config import drum_setup
 
-    write_design(drum_setup(load_config(args)), options, args.json, args.out, scheduler=args.scheduler)
+    cfg = load_config(args)
+    write_design(drum_setup(cfg), options, args.json, args.out, scheduler=args.scheduler,
+                 measured_alpha=cfg["material"]["alpha_per_s"])
 
 
-def write_design(setup, options, json_path, out, scheduler="local"):
+def write_design(setup, options, json_path, out, scheduler="local", measured_alpha=None):
     """Build the ROM surrogate, optimise alpha and length, draw the Pareto front and
     re-check the recommended designs with the full FEA; writes the JSON result, the ROM
     caches, ``pareto.csv`` and ``pareto.png``.
@@ -142,11 +144,17 @@ def write_design(setup, options, json_path, out, scheduler="local"):
         Directory for the ROM caches, CSV and plot.
     scheduler : str
         ``serial``, ``local`` or a Dask scheduler address (the FEA re-checks).
+    measured_alpha : float, optional
+        The finger's measured alpha [1/s] (``[material] alpha_per_s``, from ``ccedi
+        calibrate --write-config``): the result's ``measured_finger`` is the surrogate at
+        it and the set-up's finger length, beside the optimum (None when not given or
+        outside the design space).
 
     Returns
     -------
     dict
-        The result written to ``json_path``.
+        The result written to ``json_path``; ``finger_material`` holds the E_Pa, nu and
+        rho_kg_m3 the designs were computed with.
 
     Raises
     ------
@@ -154,10 +162,11 @@ def write_design(setup, options, json_path, out, scheduler="local"):
         An option is out of range, the problem is infeasible, or the finger is a given mesh
         (the surrogate varies the length on the contact ROM, which needs the generated finger).
     """
+    import numpy as np
     import pandas as pd
 
     from ccedi.design.fea_check import fea_check
-    from ccedi.design.optimise import DesignProblem, brute_force, normalised_weights, solve
+    from ccedi.design.optimise import Design, DesignProblem, brute_force, normalised_weights, solve
     from ccedi.design.pareto import pareto_front, plot_front, recommended
     from ccedi.design.surrogate import (
         Surrogate,
@@ -205,8 +214,17 @@ def write_design(setup, options, json_path, out, scheduler="local"):
     write_figure(out / "pareto.png", plot_front(problem, front, optimum, picks))
     write_csv(out / "pareto.csv", pd.DataFrame([d.as_dict(problem) for d in front]))
     keys = problem.objective_outputs
+    measured = None
+    if measured_alpha is not None and all(v.lo <= x <= v.hi for v, x in zip(space, (measured_alpha,
+                                                                                 setup.finger_length_m))):
+        X = np.array([[measured_alpha, setup.finger_length_m]])
+        outputs = {k: float(v[0]) for k, v in surrogate.evaluate(X).items()}
+        measured = Design(measured_alpha, setup.finger_length_m, outputs, float(problem.J(outputs))).as_dict(problem)
+    m = setup.finger_material
     result = {
         "optimum": optimum.as_dict(problem),
+        "measured_finger": measured,
+        "finger_material": {"E_Pa": m.E, "nu": m.nu, "rho_kg_m3": m.rho},
         "pareto": [d.as_dict(problem) for d in front],
         "fea_check": checks,
         "solver": {**info, "pareto_wall_time_s": pareto_s, "pareto_points": len(front)},
