@@ -42,12 +42,9 @@ def _kernel_call(model):
     v = np.zeros_like(x)
     f = np.zeros_like(x)
     kind = model.mesh.element_type
-    if kind == "hex8":
-        g = model.geometry
-        args = (x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa, model.hex_length_factor,
-                *model.solid_constants, f)
-        return lambda: internal_forces_numba(*args)
     material = SolidMaterial(*model.solid_constants)
+    if kind == "hex8":
+        return lambda: internal_forces_numba(x, v, model.hexahedra, material, f)
     kernel, group = (tet4.internal_forces_numba, model.tet4) if kind == "tet4" else \
         (tet10.internal_forces_numba, model.tet10)
     return lambda: kernel(x, v, group, material, f)

@@ -103,8 +103,14 @@ def _interrupt_ignored():
         signal.signal(signal.SIGINT, previous)
 
 
-def _in_worker():
-    """True inside a task running on a Dask worker."""
+def in_worker():
+    """Whether the caller runs inside a task on a Dask worker.
+
+    Returns
+    -------
+    bool
+        True inside a task running on a Dask worker (False also without Dask).
+    """
     try:
         from distributed import get_worker
         get_worker()
@@ -190,7 +196,7 @@ def map_runs(function, items, scheduler=SERIAL, n_workers=LOCAL_WORKERS, label="
         else:
             from dask.distributed import as_completed, worker_client
 
-            dask = stack.enter_context(worker_client()) if _in_worker() else client(stack, scheduler, n_workers)
+            dask = stack.enter_context(worker_client()) if in_worker() else client(stack, scheduler, n_workers)
             futures = dask.map(run, items, pure=False, priority=RUN_PRIORITY)
             for _ in as_completed(futures):
                 bar.update()

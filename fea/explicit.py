@@ -39,6 +39,7 @@ from ccedi.errors import InputError, SolverError, require_finite_positive
 from ccedi.progress import progress_bar
 
 from .contact import PLANE, STEP_SHRINK, contact_forces, penalty_stiffness
+from .distributed import in_worker
 from .fastmath import FASTMATH
 from .friction import coulomb_friction
 from .hex8 import deformation_gradient, internal_forces_numpy
@@ -98,27 +99,6 @@ free : (n_nodes,) ndarray
 v_pres : (n_nodes, 3) ndarray
     Prescribed velocities of the constrained nodes [m/s] (zero for fixed nodes,
     updated every step for nodes carried by the rotating frame).
-"""
-HexGroup = namedtuple("HexGroup", "hexes b volume gamma kappa length_factor")
-HexGroup.__doc__ = """One-point hexahedra (structure of arrays), as
-:func:`ccedi.fea.kernels.internal_forces_numba` takes them.
-
-Attributes
-----------
-hexes : (n_elem, 8) int ndarray
-    Element connectivity.
-b : (n_elem, 8, 3) ndarray
-    Uniform gradients (reference-volume integrals of the shape-function gradients) [m^2].
-volume : (n_elem,) ndarray
-    Reference element volumes [m^3].
-gamma : (n_elem, 4, 8) ndarray
-    Hourglass shape vectors [-].
-kappa : (n_elem, 12, 12) ndarray
-    Hourglass stiffness K_hg per element, index mode*3 + direction [N/m]
-    (:func:`ccedi.fea.hex8.hourglass_stiffness`).
-length_factor : float
-    Scale on the characteristic length V / A_max of paper Eq. (6) [-]
-    (:attr:`ccedi.fea.model.Model.hex_length_factor`).
 """
 SolidMaterial = namedtuple("SolidMaterial", "mu lam rho c")
 SolidMaterial.__doc__ = """The solid elements' neo-Hookean constants.
@@ -317,9 +297,7 @@ def _advance(forces, tet4_forces, tet10_forces, rod_forces, contact_kernel, t, t
     steps = 0
     dt_seen = np.inf
     while t < t_stop:
-        dte, w_int, w_hg, p_bulk, bad = forces(x, v, hexes.hexes, hexes.b, hexes.volume, hexes.gamma, hexes.kappa,
-                                               hexes.length_factor, material.mu, material.lam, material.rho,
-                                               material.c, f_int)
+        dte, w_int, w_hg, p_bulk, bad = forces(x, v, hexes, material, f_int)
         if bad >= 0:
             return t, dt_prev, steps, _INVERTED, bad, dt_seen
         dt4, w4, _, bad4 = tet4_forces(x, v, tets4, material, f_int)
@@ -391,7 +369,7 @@ class RunResult:
         contact, and the output hook's columns).
     summary : dict
         Run statistics: ``nodes``, ``elements``, ``dt_initial_s``, ``dt_min_s``,
-        ``steps``, ``t_end_s``, ``t_final_s``, ``wall_time_s``, ``backend``,
+        ``steps``, ``t_end_s``, ``t_final_s``, ``wall_time_s``, ``backend``, ``threads``,
         ``alpha_per_s``, ``beta_s``, ``ns_per_element_cycle``, and the validity checks
         of :func:`ccedi.fea.validity.run_checks`: ``energy_balance_error``,
         ``hourglass_energy_fraction``, ``max_log_strain`` and ``warnings`` (list of str,
@@ -447,11 +425,13 @@ def _stress_and_strain(model, x):
     return sigma, strain
 
 
-def _hex_forces_numpy(x, v, hexes, b, volume, gamma, kappa, length_factor, mu, lam, rho, c, f):
-    """:func:`ccedi.fea.hex8.internal_forces_numpy`, also for no hexahedra (then f = 0 and
-    (inf, 0, 0, 0, -1), as the compiled kernel returns)."""
-    if len(hexes):
-        return internal_forces_numpy(x, v, hexes, b, volume, gamma, kappa, length_factor, mu, lam, rho, c, f)
+def _hex_forces_numpy(x, v, group, material, f):
+    """:func:`ccedi.fea.hex8.internal_forces_numpy` with the arguments of the compiled
+    kernel (a :class:`ccedi.fea.kernels.HexGroup` and a :data:`SolidMaterial`), also for no
+    hexahedra (then f = 0 and (inf, 0, 0, 0, -1), as the compiled kernel returns)."""
+    if len(group.hexes):
+        return internal_forces_numpy(x, v, group.hexes, group.b, group.volume, group.gamma, group.kappa,
+                                     group.length_factor, *material, f)
     f[:] = 0.0
     return np.inf, 0.0, 0.0, 0.0, -1
 
@@ -526,13 +506,11 @@ def critical_time_step(model, x=None, v=None):
     """
     x = model.mesh.nodes if x is None else x
     v = np.zeros_like(x) if v is None else v
-    g = model.geometry
     f = np.zeros_like(x)
-    dt, *_ , bad = internal_forces_numba(x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa,
-                                        model.hex_length_factor, *model.solid_constants, f)
+    material = SolidMaterial(*model.solid_constants)
+    dt, *_ , bad = internal_forces_numba(x, v, model.hexahedra, material, f)
     if bad >= 0:
         raise SolverError(f"{element_name(model.mesh, bad)} is inverted (J <= 0)")
-    material = SolidMaterial(*model.solid_constants)
     for offset, kernel, group in ((len(model.mesh.hexes), tet4_forces_numba, model.tet4),
                                   (len(model.mesh.hexes) + len(model.tet4.tets), tet10_forces_numba, model.tet10)):
         dt_group, *_, bad = kernel(x, v, group, material, f)
@@ -558,11 +536,9 @@ def _initial_energy(model, x, v, forces, tet4_forces, tet10_forces, rod_forces):
     ``forces``, ``tet4_forces``, ``tet10_forces`` and ``rod_forces`` (compiled or numpy
     reference); 0 for the stored part when an element is inverted at x (the step loop
     then stops at step 0)."""
-    g = model.geometry
     f = np.zeros_like(x)
-    _, w_s, w_hg, _, bad = forces(x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa,
-                                  model.hex_length_factor, *model.solid_constants, f)
     material = SolidMaterial(*model.solid_constants)
+    _, w_s, w_hg, _, bad = forces(x, v, model.hexahedra, material, f)
     for kernel, group in ((tet4_forces, model.tet4), (tet10_forces, model.tet10)):
         _, w_group, _, bad_group = kernel(x, v, group, material, f)
         w_s += w_group
@@ -610,7 +586,7 @@ def _step_data(model, x, v, dt_user, tssfac, dt_cfl):
         contact), as
         :func:`_advance` takes them after its kernels and clock.
     """
-    mesh, g = model.mesh, model.geometry
+    mesh = model.mesh
     X = mesh.nodes
     free = np.ones(mesh.n_nodes)
     free[model.fixed_nodes] = 0.0
@@ -625,7 +601,7 @@ def _step_data(model, x, v, dt_user, tssfac, dt_cfl):
     nodes = Nodes(X, model.mass, free, np.zeros_like(X))
     ra = model.rod_arrays
     return (StepControl(dt_user, tssfac), Damping(model.alpha, model.beta, model.damping == "relative"), state,
-            nodes, HexGroup(mesh.hexes, g.b, g.volume, g.gamma, model.kappa, model.hex_length_factor), model.tet4, model.tet10,
+            nodes, model.hexahedra, model.tet4, model.tet10,
             SolidMaterial(*model.solid_constants),
             RodGroup(ra.segments, ra.rest_length, ra.axial_stiffness, ra.hinges, ra.bending_stiffness,
                      rod_time_step(model)),
@@ -640,8 +616,36 @@ stored penalty energy [J], deepest penetration [m], nodes in contact, force-weig
 contact point [m], work of the normal and friction contact forces on the body [J]."""
 
 
+def thread_count(threads=None):
+    """Number of threads the compiled force kernels of a run use.
+
+    Parameters
+    ----------
+    threads : int, optional
+        Requested count, 1 .. ``numba.config.NUMBA_NUM_THREADS`` (the cores, unless the
+        environment variable NUMBA_NUM_THREADS sets fewer). Default None: 1 inside a Dask
+        worker (a sweep runs one run per worker and core), else all of them.
+
+    Returns
+    -------
+    int
+        The thread count. Results do not depend on it (bit for bit).
+
+    Raises
+    ------
+    InputError
+        If ``threads`` is not an integer in that range.
+    """
+    top = nb.config.NUMBA_NUM_THREADS
+    if threads is None:
+        return 1 if in_worker() else top
+    if isinstance(threads, bool) or int(threads) != threads or not 1 <= threads <= top:
+        raise InputError(f"threads = {threads!r}: must be an integer in 1..{top}")
+    return int(threads)
+
+
 def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_set="tip",
-        reaction_set="root", snapshot_every=0, x0=None, v0=None, progress=False, output_hook=None):
+        reaction_set="root", snapshot_every=0, x0=None, v0=None, progress=False, output_hook=None, threads=None):
     """Integrate ``model`` with central differences from rest (or x0, v0) to ``t_end_s``.
 
     Solves ``M a + (alpha M + beta K) v + f_int(x) = f_ext`` with the update of the
@@ -687,6 +691,9 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
         ``hook(t_out, x_out, f_ext) -> dict`` called at every output with the
         interpolated positions [m] and the external nodal forces of the last step
         (pulses and contact) [N]; its dict values become extra history columns.
+    threads : int, optional
+        Threads of the compiled hexahedron kernel (:func:`thread_count`; default all cores,
+        1 inside a Dask worker). The results are the same bits for any count.
 
     Returns
     -------
@@ -698,8 +705,8 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     InputError
         If ``model`` is not a :class:`ccedi.fea.model.Model`, ``t_end_s`` or ``dt_s`` is
         not finite and positive, ``n_outputs`` is not an integer >= 1, ``backend`` is
-        unknown, ``dt_s`` exceeds the CFL limit, or ``x0``/``v0`` are not finite arrays
-        of the mesh's node shape.
+        unknown, ``dt_s`` exceeds the CFL limit, ``x0``/``v0`` are not finite arrays
+        of the mesh's node shape, or ``threads`` is out of range.
     SolverError
         If an element inverts, a rod hinge folds back on itself, the solution diverges
         or the mesh deforms so that a fixed ``dt_s`` exceeds the stable step.
@@ -711,6 +718,7 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
         raise InputError(f"n_outputs must be an integer >= 1, got {n_outputs!r}")
     if backend not in ("numba", "numpy"):
         raise InputError(f"backend must be 'numba' or 'numpy', got {backend!r}")
+    n_threads = thread_count(threads)
     mesh = model.mesh
     dt_user = 0.0 if dt_s is None else require_finite_positive("dt_s (time step, s)", dt_s)
     dt_cfl = critical_time_step(model)
@@ -742,6 +750,8 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     times = np.linspace(0.0, t_end_s, n_outputs + 1)[1:]
     if progress:
         times = progress_bar(times, desc=f"t_end {t_end_s:g} s", unit="output")
+    threads_before = nb.get_num_threads()
+    nb.set_num_threads(n_threads)
     try:
         for i_out, t_out in enumerate(times):
             t, dt_prev, n, status, info, dt_seen = advance(*kernels, t, t_out, dt_prev, *groups, energy)
@@ -773,6 +783,7 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
             if snapshot_every and (i_out + 1) % snapshot_every == 0:
                 snapshots.append((t_out, x_out))
     finally:
+        nb.set_num_threads(threads_before)
         if progress:
             times.close()       # before an error message is printed, so it starts a line of its own
     wall = _time.perf_counter() - wall0
@@ -787,7 +798,8 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     n_elements = mesh.n_elements + len(model.rod_arrays.segments)
     summary = {"nodes": mesh.n_nodes, "elements": n_elements, "dt_initial_s": dt_first,
                "dt_min_s": float(dt_min), "steps": int(steps), "t_end_s": t_end_s, "t_final_s": t,
-               "wall_time_s": wall, "backend": backend, "alpha_per_s": model.alpha, "beta_s": model.beta,
+               "wall_time_s": wall, "backend": backend, "threads": n_threads, "alpha_per_s": model.alpha,
+               "beta_s": model.beta,
                "ns_per_element_cycle": 1e9 * wall / max(1, steps * n_elements)}
     summary.update(run_checks(history, energy_0))
     issue(summary["warnings"], run_label(model.alpha, model.damping))

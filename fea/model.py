@@ -12,6 +12,7 @@ import numpy as np
 from ccedi.errors import InputError, require_finite_positive
 
 from .hex8 import FACES, ElementGeometry, characteristic_length, element_geometry, hourglass_stiffness
+from .kernels import HexGroup, hex_group
 from .material import NeoHookean
 from .mesh import Mesh
 from .rod import Rod, RodArrays, rod_arrays, rod_lumped_mass
@@ -254,6 +255,12 @@ class Model:
             return 1.0
         Le = characteristic_length(self.mesh.nodes[self.mesh.hexes], self.geometry.volume)
         return float((2.0 / omega) / (Le.min() / self.material.wave_speed))
+
+    @cached_property
+    def hexahedra(self) -> HexGroup:
+        """The hexahedra as the compiled kernel takes them (:func:`ccedi.fea.kernels.hex_group`:
+        reference arrays, element blocks, node-to-element slots)."""
+        return hex_group(self.mesh.nodes, self.mesh.hexes, self.geometry, self.kappa, self.hex_length_factor)
 
     @property
     def solid_constants(self):

@@ -53,11 +53,17 @@ def converged_box_hex():
 
 def hex_forces(model, x, v=None, kernel=internal_forces_numpy):
     """Nodal forces of the model's hexahedra at x (v: velocities, default zero) and the
-    kernel's returned tuple (dt, strain energy, hourglass energy, bulk power, status)."""
-    g, mat = model.geometry, model.material
+    kernel's returned tuple (dt, strain energy, hourglass energy, bulk power, status);
+    ``kernel`` is the numpy reference or the compiled kernel (which takes the blocked group)."""
+    from ccedi.fea.explicit import SolidMaterial
+
+    g, mat = model.geometry, SolidMaterial(*model.solid_constants)
     f = np.zeros_like(x)
-    out = kernel(x, np.zeros_like(x) if v is None else v, model.mesh.hexes, g.b, g.volume, g.gamma,
-                 model.kappa, model.hex_length_factor, mat.mu, mat.lam, mat.rho, mat.wave_speed, f)
+    v = np.zeros_like(x) if v is None else v
+    if kernel is internal_forces_numpy:
+        out = kernel(x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa, model.hex_length_factor, *mat, f)
+    else:
+        out = kernel(x, v, model.hexahedra, mat, f)
     return f, out
 
 

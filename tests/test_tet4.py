@@ -183,8 +183,7 @@ def _diverges(model, factor, steps=3000):
     x, f = X.copy(), np.zeros_like(X)
     g, material = model.geometry, SolidMaterial(*model.solid_constants)
     for _ in range(steps):
-        hex_forces(x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa, model.hex_length_factor,
-                   *model.solid_constants, f)
+        hex_forces(x, v, model.hexahedra, material, f)
         tet4.internal_forces_numba(x, v, model.tet4, material, f)
         tet10.internal_forces_numba(x, v, model.tet10, material, f)
         v -= dt * f / model.mass[:, None] * free[:, None]
