@@ -39,7 +39,6 @@ from ccedi.errors import InputError, SolverError, require_finite_positive
 from ccedi.progress import progress_bar
 
 from .contact import PLANE, STEP_SHRINK, contact_forces, penalty_stiffness
-from .distributed import in_worker
 from .fastmath import FASTMATH
 from .friction import coulomb_friction
 from .hex8 import deformation_gradient, internal_forces_numpy
@@ -623,8 +622,10 @@ def thread_count(threads=None):
     ----------
     threads : int, optional
         Requested count, 1 .. ``numba.config.NUMBA_NUM_THREADS`` (the cores, unless the
-        environment variable NUMBA_NUM_THREADS sets fewer). Default None: 1 inside a Dask
-        worker (a sweep runs one run per worker and core), else all of them.
+        environment variable NUMBA_NUM_THREADS sets fewer). Default None: 1. Ask for more
+        only on cores nothing else uses: every step waits at a barrier for all its threads,
+        and with the cores shared (a Dask sweep, pytest-xdist, other jobs) a descheduled
+        thread stalls it (measured: 2 threads 18 x slower than 1 at load 20 on 2 cores).
 
     Returns
     -------
@@ -638,7 +639,7 @@ def thread_count(threads=None):
     """
     top = nb.config.NUMBA_NUM_THREADS
     if threads is None:
-        return 1 if in_worker() else top
+        return 1
     if isinstance(threads, bool) or int(threads) != threads or not 1 <= threads <= top:
         raise InputError(f"threads = {threads!r}: must be an integer in 1..{top}")
     return int(threads)
@@ -692,8 +693,8 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
         interpolated positions [m] and the external nodal forces of the last step
         (pulses and contact) [N]; its dict values become extra history columns.
     threads : int, optional
-        Threads of the compiled hexahedron kernel (:func:`thread_count`; default all cores,
-        1 inside a Dask worker). The results are the same bits for any count.
+        Threads of the compiled hexahedron kernel (:func:`thread_count`; default 1). The
+        results are the same bits for any count.
 
     Returns
     -------

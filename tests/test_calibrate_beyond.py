@@ -35,8 +35,9 @@ def test_impulse_response_is_the_pulse_response_of_a_short_pulse(modes):
 @pytest.mark.parametrize("term, coef", [("u^2", 40.0), ("sign(v)", 0.004)])
 def test_sparse_term_recovers_a_known_missing_force(modes, term, coef):
     """A residual made as the response to coef x term is explained by that term alone."""
-    from ccedi.calibrate.sparse import LIBRARY
     from scipy.signal import fftconvolve
+
+    from ccedi.calibrate.sparse import LIBRARY
     t = np.arange(2001) * 1e-3
     zeta = 4.0 / (2.0 * modes.omega_rad_s)
     u = ModalROM(modes.omega_rad_s, modes.tip**2, zeta_fitted=zeta).pulse_response(t, 1.5, 0.01)

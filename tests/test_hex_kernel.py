@@ -51,6 +51,8 @@ def test_thread_count_out_of_range_is_refused(bad):
         thread_count(bad)
 
 
-def test_thread_count_default_is_all_cores_outside_dask():
-    assert thread_count() == nb.config.NUMBA_NUM_THREADS
+def test_thread_count_default_is_one():
+    """One thread unless asked: a run sharing its cores stalls at every step's barrier."""
+    assert thread_count() == 1
+    assert thread_count(nb.config.NUMBA_NUM_THREADS) == nb.config.NUMBA_NUM_THREADS
     assert thread_count(1) == 1

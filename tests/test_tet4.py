@@ -181,7 +181,7 @@ def _diverges(model, factor, steps=3000):
     free[model.fixed_nodes] = 0.0
     v = 1e-3 * np.random.default_rng(0).standard_normal(X.shape) * free[:, None]
     x, f = X.copy(), np.zeros_like(X)
-    g, material = model.geometry, SolidMaterial(*model.solid_constants)
+    material = SolidMaterial(*model.solid_constants)
     for _ in range(steps):
         hex_forces(x, v, model.hexahedra, material, f)
         tet4.internal_forces_numba(x, v, model.tet4, material, f)
