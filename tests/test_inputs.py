@@ -73,7 +73,7 @@ def test_every_finger_step_of_the_study_gets_the_resolved_inputs(tmp_path, monke
     for module, name in ((fea, "write_table1"), (fea, "write_impulse"), (rom, "write_damping_fits"),
                          (fea, "write_contact_sweep"), (design, "write_design")):
         monkeypatch.setattr(module, name, lambda *a, _name=name, **k: calls.setdefault(_name, (a, k)))
-    monkeypatch.setattr(study_run.paper_steps, "mesh_comparison", lambda *a: mesh_args.append(a))
+    monkeypatch.setattr(study_run.paper_steps, "mesh_comparison", lambda *a, **k: mesh_args.append(a))
     out = tmp_path / "out"
     for name in ("table1", "impulse", "mesh", "damping_fits", "contact", "design"):
         study_run._run_step(name, cfg, out, "serial")
