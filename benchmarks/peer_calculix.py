@@ -98,6 +98,7 @@ def main():
         "ccedi_tip_peak_mm": round(1e3 * peak, 4), "calculix_tip_peak_mm": round(1e3 * np.abs(u_ccx).max(), 4),
         "tip_peak_difference_percent": round(100 * (np.abs(u_ccx).max() / peak - 1), 3),
         "tip_rms_difference_percent_of_peak": round(100 * np.sqrt(np.mean((u_ccx - u_on_ccx) ** 2)) / peak, 3),
+        "load_average_1min_at_end": round(os.getloadavg()[0], 2),
         "python": sys.version.split()[0], "machine": platform.machine(),
     }
     report(figures, OUT)
