@@ -590,16 +590,20 @@ def parse_tip_history(dat_text, ids, weights, direction=1):
     SolverError
         If the file holds no displacement block.
     """
-    blocks = re.findall(r"displacements \(vx,vy,vz\) for set \S+ and time\s+(\S+)\s*\n\s*\n(.*?)(?:\n\s*\n|\Z)",
-                        dat_text, re.S)
+    blocks = _displacement_blocks(dat_text)
     if not blocks:
         raise SolverError("CalculiX .dat holds no displacement output (the dynamic step did not run)")
-    time_s, u_m = [], []
-    for t, body in blocks:
-        u = {int(r[0]) - 1: float(r[1 + direction]) for r in (line.split() for line in body.strip().splitlines())}
-        time_s.append(float(t))
-        u_m.append(sum(w * u[i] for i, w in zip(ids, weights)))
-    return np.array(time_s), np.array(u_m)
+    time_s = np.array([t for t, _ in blocks])
+    u_m = np.array([sum(w * u[i][direction] for i, w in zip(ids, weights)) for _, u in blocks])
+    return time_s, u_m
+
+
+def _displacement_blocks(dat_text):
+    """Every *NODE PRINT block of U in a ``.dat`` file: [(time [s], {0-based node id: u (3,) [m]})]."""
+    blocks = re.findall(r"displacements \(vx,vy,vz\) for set \S+ and time\s+(\S+)\s*\n\s*\n(.*?)(?:\n\s*\n|\Z)",
+                        dat_text, re.S)
+    return [(float(t), {int(r[0]) - 1: np.array([float(v) for v in r[1:4]])
+                        for r in (line.split() for line in body.strip().splitlines())}) for t, body in blocks]
 
 
 def parse_tip_displacements(dat_text):
@@ -620,12 +624,10 @@ def parse_tip_displacements(dat_text):
     SolverError
         If the file holds no displacement block.
     """
-    match = re.search(r"displacements \(vx,vy,vz\) for set \S+ and time\s+\S+\s*\n\s*\n(.*?)(?:\n\s*\n|\Z)",
-                      dat_text, re.S)
-    if match is None:
+    blocks = _displacement_blocks(dat_text)
+    if not blocks:
         raise SolverError("CalculiX .dat holds no displacement output (the static step did not finish)")
-    rows = [line.split() for line in match.group(1).strip().splitlines()]
-    return {int(r[0]) - 1: np.array([float(v) for v in r[1:4]]) for r in rows}
+    return blocks[0][1]
 
 
 def parse_frequencies(dat_text):
