@@ -84,7 +84,7 @@ f_ext : (n_nodes, 3) ndarray
 reaction : (n_nodes, 3) ndarray
     Support reactions of the constrained nodes [N] (zero on free nodes).
 """
-Nodes = namedtuple("Nodes", "X mass free v_pres")
+Nodes = namedtuple("Nodes", "X mass mass3 inv_mass free constrained v_pres")
 Nodes.__doc__ = """Per-node constants of the step loop and the prescribed velocities.
 
 Attributes
@@ -93,8 +93,14 @@ X : (n_nodes, 3) ndarray
     Reference positions [m].
 mass : (n_nodes,) ndarray
     Lumped nodal masses [kg].
+mass3 : (n_nodes, 3) ndarray
+    The masses repeated for each direction [kg].
+inv_mass : (n_nodes, 3) ndarray
+    Their inverses [1/kg].
 free : (n_nodes,) ndarray
     1.0 for a free node, 0.0 for a constrained (fixed or rotating) one.
+constrained : (c,) int ndarray
+    Indices of the constrained nodes.
 v_pres : (n_nodes, 3) ndarray
     Prescribed velocities of the constrained nodes [m/s] (zero for fixed nodes,
     updated every step for nodes carried by the rotating frame).
@@ -194,30 +200,52 @@ def _trial_velocities(state, nodes, damping, frame, Dt, beta_rate):
     """v^{n+1/2} of every node without friction, into v_new; support reactions.
 
     Mass damping acts on v - v_ref, with v_ref = 0 (``global``, absolute velocity) or the
-    velocity of the rotating frame at the node, omega axis x (x - c) (``relative``)."""
+    velocity of the rotating frame at the node, omega axis x (x - c) (``relative``). Every
+    node first gets the free update (one loop over the flat arrays, which LLVM compiles
+    to SIMD instructions); the frame's term is then added to the free nodes, and the
+    constrained nodes get their prescribed velocity and reaction."""
+    v, v_new, f_ext, f_int, f_int_prev = (state.v.reshape(-1), state.v_new.reshape(-1), state.f_ext.reshape(-1),
+                                          state.f_int.reshape(-1), state.f_int_prev.reshape(-1))
+    inv_mass = nodes.inv_mass.reshape(-1)
+    a = 0.5 * damping.alpha * Dt
+    inv_den = 1.0 / (1.0 + a)
+    if beta_rate > 0.0:
+        for j in range(v.shape[0]):
+            fb = beta_rate * (f_int[j] - f_int_prev[j])
+            v_new[j] = ((1.0 - a) * v[j] + Dt * (f_ext[j] - f_int[j] - fb) * inv_mass[j]) * inv_den
+    else:
+        for j in range(v.shape[0]):
+            v_new[j] = ((1.0 - a) * v[j] + Dt * (f_ext[j] - f_int[j]) * inv_mass[j]) * inv_den
+    if damping.relative:
+        x, free = state.x, nodes.free
+        for n in range(x.shape[0]):
+            if free[n] > 0.0:
+                vr0, vr1, vr2 = frame_velocity(x, n, frame.center, frame.axis, frame.omega)
+                v_new[3 * n] += 2.0 * a * vr0 * inv_den
+                v_new[3 * n + 1] += 2.0 * a * vr1 * inv_den
+                v_new[3 * n + 2] += 2.0 * a * vr2 * inv_den
+    _constrained_velocities(state, nodes, damping, frame, Dt, beta_rate)
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _constrained_velocities(state, nodes, damping, frame, Dt, beta_rate):
+    """Prescribed v^{n+1/2} of the constrained nodes, and the reaction the support supplies:
+    ``r = m (v_pres - v) / Dt + alpha m (vb - v_ref) + f_int + f_beta - f_ext``."""
     v, v_new, x, f_ext, f_int, f_int_prev, reaction = (state.v, state.v_new, state.x, state.f_ext, state.f_int,
                                                        state.f_int_prev, state.reaction)
-    mass, free, v_pres = nodes.mass, nodes.free, nodes.v_pres
+    mass, v_pres = nodes.mass, nodes.v_pres
     alpha, relative = damping.alpha, damping.relative
-    rot_center, rot_axis, rot_omega = frame.center, frame.axis, frame.omega
-    a = 0.5 * alpha * Dt
-    inv_den = 1.0 / (1.0 + a)
-    for n in range(x.shape[0]):
+    for c in range(nodes.constrained.shape[0]):
+        n = nodes.constrained[c]
         m = mass[n]
-        vr0, vr1, vr2 = frame_velocity(x, n, rot_center, rot_axis, rot_omega) if relative else (0.0, 0.0, 0.0)
+        vr0, vr1, vr2 = frame_velocity(x, n, frame.center, frame.axis, frame.omega) if relative else (0.0, 0.0, 0.0)
         for i in range(3):
             vref = vr0 if i == 0 else (vr1 if i == 1 else vr2)
             fb = beta_rate * (f_int[n, i] - f_int_prev[n, i])
-            if free[n] > 0.0:
-                v_new[n, i] = ((1.0 - a) * v[n, i] + 2.0 * a * vref
-                               + Dt * (f_ext[n, i] - f_int[n, i] - fb) / m) * inv_den
-                reaction[n, i] = 0.0
-            else:
-                # constrained: prescribed velocity; the support supplies what is missing
-                vn = v_pres[n, i]
-                v_new[n, i] = vn
-                reaction[n, i] = (m * (vn - v[n, i]) / Dt + alpha * m * (0.5 * (vn + v[n, i]) - vref)
-                                  + f_int[n, i] + fb - f_ext[n, i])
+            vn = v_pres[n, i]
+            v_new[n, i] = vn
+            reaction[n, i] = (m * (vn - v[n, i]) / Dt + alpha * m * (0.5 * (vn + v[n, i]) - vref)
+                              + f_int[n, i] + fb - f_ext[n, i])
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
@@ -228,31 +256,71 @@ def _commit(state, nodes, damping, frame, Dt, dt, beta_rate):
     ``m v^{n-1/2} . v^{n+1/2}``: the kinetic part of the energy central differences
     conserve (exactly for a linear undamped system; ``m vb^2`` differs from it by
     ``(dt a)^2 m / 4``, up to 80 % of a mode's energy near the stability limit), and
-    ``sum m vb^2`` [J] (inf or NaN once the motion diverges)."""
-    v, v_new, x, f_ext, f_int, f_int_prev, reaction = (state.v, state.v_new, state.x, state.f_ext, state.f_int,
-                                                       state.f_int_prev, state.reaction)
-    mass = nodes.mass
-    alpha, relative = damping.alpha, damping.relative
-    rot_center, rot_axis, rot_omega = frame.center, frame.axis, frame.omega
-    w_ext = 0.0
-    w_damp = 0.0
-    ke = 0.0
-    mvb2 = 0.0
-    for n in range(x.shape[0]):
-        m = mass[n]
-        vr0, vr1, vr2 = frame_velocity(x, n, rot_center, rot_axis, rot_omega) if relative else (0.0, 0.0, 0.0)
-        for i in range(3):
-            vref = vr0 if i == 0 else (vr1 if i == 1 else vr2)
-            fb = beta_rate * (f_int[n, i] - f_int_prev[n, i])
-            vb = 0.5 * (v[n, i] + v_new[n, i])
-            w_ext += (f_ext[n, i] + reaction[n, i]) * vb
-            w_damp += (alpha * m * (vb - vref) + fb) * vb
-            ke += m * v[n, i] * v_new[n, i]
-            mvb2 += m * vb * vb
-            v[n, i] = v_new[n, i]
-            x[n, i] += dt * v_new[n, i]
-            f_int_prev[n, i] = f_int[n, i]
-    return Dt * w_ext, Dt * w_damp, ke, mvb2
+    ``sum m vb^2`` [J] (inf or NaN once the motion diverges).
+
+    The sums run over the flat arrays in four interleaved partial sums (a fixed order,
+    so the same bits every run, that LLVM compiles to SIMD instructions); the frame's
+    share of the damping work (relative damping) and the stiffness-damping work are
+    added after."""
+    v, v_new, x, f_ext, reaction = (state.v.reshape(-1), state.v_new.reshape(-1), state.x.reshape(-1),
+                                    state.f_ext.reshape(-1), state.reaction.reshape(-1))
+    mass = nodes.mass3.reshape(-1)
+    n3 = v.shape[0]
+    we0 = we1 = we2 = we3 = 0.0                  # external work
+    mv0 = mv1 = mv2 = mv3 = 0.0                  # m vb^2
+    ke0 = ke1 = ke2 = ke3 = 0.0                  # m v^{n-1/2} v^{n+1/2}
+    for j in range(0, n3 - 3, 4):
+        b0 = 0.5 * (v[j] + v_new[j])
+        b1 = 0.5 * (v[j + 1] + v_new[j + 1])
+        b2 = 0.5 * (v[j + 2] + v_new[j + 2])
+        b3 = 0.5 * (v[j + 3] + v_new[j + 3])
+        we0 += (f_ext[j] + reaction[j]) * b0
+        we1 += (f_ext[j + 1] + reaction[j + 1]) * b1
+        we2 += (f_ext[j + 2] + reaction[j + 2]) * b2
+        we3 += (f_ext[j + 3] + reaction[j + 3]) * b3
+        mv0 += mass[j] * b0 * b0
+        mv1 += mass[j + 1] * b1 * b1
+        mv2 += mass[j + 2] * b2 * b2
+        mv3 += mass[j + 3] * b3 * b3
+        ke0 += mass[j] * v[j] * v_new[j]
+        ke1 += mass[j + 1] * v[j + 1] * v_new[j + 1]
+        ke2 += mass[j + 2] * v[j + 2] * v_new[j + 2]
+        ke3 += mass[j + 3] * v[j + 3] * v_new[j + 3]
+    for j in range(n3 - n3 % 4, n3):
+        b0 = 0.5 * (v[j] + v_new[j])
+        we0 += (f_ext[j] + reaction[j]) * b0
+        mv0 += mass[j] * b0 * b0
+        ke0 += mass[j] * v[j] * v_new[j]
+    w_ext = (we0 + we1) + (we2 + we3)
+    mvb2 = (mv0 + mv1) + (mv2 + mv3)
+    w_damp = damping.alpha * mvb2 + _extra_damping_power(state, nodes, damping, frame, beta_rate)
+    for j in range(n3):
+        v[j] = v_new[j]
+        x[j] += dt * v_new[j]
+    if damping.beta > 0.0:
+        state.f_int_prev[:] = state.f_int
+    return Dt * w_ext, Dt * w_damp, (ke0 + ke1) + (ke2 + ke3), mvb2
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _extra_damping_power(state, nodes, damping, frame, beta_rate):
+    """Power [W] of the damping forces beyond ``alpha m vb``, on the mid-step velocity vb:
+    ``-alpha m v_ref . vb`` of relative damping (v_ref the rotating frame's velocity) and
+    the stiffness damping ``f_beta . vb``. Called before v is overwritten."""
+    p = 0.0
+    v, v_new = state.v, state.v_new
+    if damping.relative:
+        mass = nodes.mass
+        for n in range(v.shape[0]):
+            vr0, vr1, vr2 = frame_velocity(state.x, n, frame.center, frame.axis, frame.omega)
+            p -= damping.alpha * mass[n] * (vr0 * 0.5 * (v[n, 0] + v_new[n, 0]) + vr1 * 0.5 * (v[n, 1] + v_new[n, 1])
+                                            + vr2 * 0.5 * (v[n, 2] + v_new[n, 2]))
+    if beta_rate > 0.0:
+        f_int, f_int_prev = state.f_int, state.f_int_prev
+        for n in range(v.shape[0]):
+            for i in range(3):
+                p += beta_rate * (f_int[n, i] - f_int_prev[n, i]) * 0.5 * (v[n, i] + v_new[n, i])
+    return p
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
@@ -336,7 +404,8 @@ def _advance(forces, tet4_forces, tet10_forces, rod_forces, contact_kernel, t, t
             energy[_W_NORMAL] += w_n
             energy[_W_FRICTION] += w_f
             energy[_E_PENALTY] = contact.out[3]
-        p_bulk += _bulk_work(tets4, tets10, v, state.v_new)
+        if tets4.tets.shape[0] + tets10.tets.shape[0] > 0:
+            p_bulk += _bulk_work(tets4, tets10, v, state.v_new)
         w_ext, w_damp, ke, mvb2 = _commit(state, nodes, damping, frame, Dt, dt, beta_rate)
         _record_energy(energy, w_ext, w_damp, Dt * p_bulk, ke, w_int, w_hg)
         if not (mvb2 < np.inf):              # also catches NaN
@@ -597,7 +666,8 @@ def _step_data(model, x, v, dt_user, tssfac, dt_cfl):
         frame = RotatingFrame(np.zeros(0, np.int64), np.zeros(3), np.array([0.0, 0.0, 1.0]), 0.0)
     v *= free[:, None]
     state = State(x, v, *(np.zeros_like(X) for _ in range(5)))
-    nodes = Nodes(X, model.mass, free, np.zeros_like(X))
+    mass3 = np.repeat(model.mass[:, None], 3, axis=1)
+    nodes = Nodes(X, model.mass, mass3, 1.0 / mass3, free, np.flatnonzero(free == 0.0), np.zeros_like(X))
     ra = model.rod_arrays
     return (StepControl(dt_user, tssfac), Damping(model.alpha, model.beta, model.damping == "relative"), state,
             nodes, model.hexahedra, model.tet4, model.tet10,

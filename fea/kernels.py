@@ -19,9 +19,10 @@ instructions (the stages write to arrays allocated in the block, which LLVM know
 nothing else; the logarithm, which has no SIMD form without Intel's SVML, has its own
 loop). Each element's nodal forces go to a per-element array, and each node then sums the
 forces of its elements in ascending element order: the same sum, bit for bit, as a
-scatter element by element, and conflict-free. Blocks and nodes are spread over numba's
-threads (``prange``) and the element values are reduced in element order afterwards, so
-the results do not depend on the number of threads (``numba.set_num_threads``).
+scatter element by element, and conflict-free. Blocks (dealt into :data:`CHUNKS` chunks,
+each with one set of work arrays) and nodes are spread over numba's threads (``prange``)
+and the element values are reduced in element order afterwards, so the results do not
+depend on the number of threads (``numba.set_num_threads``).
 """
 from collections import namedtuple
 
@@ -34,6 +35,11 @@ from .hex8 import BULK_VISCOSITY_C0, BULK_VISCOSITY_C1, FACES, HOURGLASS_BASE
 BLOCK = 32
 """Elements per block: the block's work arrays (about 150 numbers per element) stay in
 the 32 KiB first-level cache."""
+
+CHUNKS = 8
+"""Blocks are dealt round-robin into this many chunks, the unit of work of a thread (a
+constant, so that the kernel can be cached: numba's thread count is a run-time value):
+up to 8 threads share a mesh's blocks evenly."""
 
 _FACES = FACES.astype(np.int64)
 _H = HOURGLASS_BASE.copy()
@@ -132,25 +138,19 @@ def hex_group(nodes, hexes, geometry, kappa, length_factor):
                     element_out)
 
 
-@nb.njit(cache=True, fastmath=FASTMATH, error_model="numpy")
-def _element_block(i, x, v, group, mu, lam, rho, c):
-    """Nodal forces and element values of block i into ``group.element_out[i]``."""
+@nb.njit(cache=True, fastmath=FASTMATH, error_model="numpy", inline="always")
+def _element_block(i, x, v, group, mu, lam, rho, c, xv, w, lnj, dv, hq, out):
+    """Nodal forces and element values of block i into ``group.element_out[i]``; xv ... out
+    are the work arrays of :func:`_block_chunk`."""
     conn, bb, cen, kk, vol = (group.block_nodes[i], group.block_b[i], group.block_centre[i],
                               group.block_stiffness[i], group.block_volume[i])
     lf = group.length_factor
-    n = conn.shape[1]
-    xv = np.empty((48, BLOCK))           # gathered positions (row 3k + i) and velocities (24 + 3k + i)
-    w = np.empty((48, BLOCK))            # F^-1 (9), F (9), J, e_v, q, r_a (12), qt_a (12), dt
-    lnj = np.empty(BLOCK)
-    dv = np.empty((9, BLOCK))            # sum_k v_k b_k^T
-    hq = np.empty((12, BLOCK))           # Qt = K_hg qt
-    out = np.empty((29, BLOCK))
     for k in range(8):
-        for ll in range(n):
+        for ll in range(BLOCK):
             nd = conn[k, ll]
             xv[3 * k, ll] = x[nd, 0]; xv[3 * k + 1, ll] = x[nd, 1]; xv[3 * k + 2, ll] = x[nd, 2]
             xv[24 + 3 * k, ll] = v[nd, 0]; xv[25 + 3 * k, ll] = v[nd, 1]; xv[26 + 3 * k, ll] = v[nd, 2]
-    for ll in range(n):
+    for ll in range(BLOCK):
         iV = 1.0 / vol[ll]
         f00 = f01 = f02 = f10 = f11 = f12 = f20 = f21 = f22 = 0.0
         for k in range(8):
@@ -162,7 +162,7 @@ def _element_block(i, x, v, group, mu, lam, rho, c):
         w[9, ll] = f00 * iV; w[10, ll] = f01 * iV; w[11, ll] = f02 * iV
         w[12, ll] = f10 * iV; w[13, ll] = f11 * iV; w[14, ll] = f12 * iV
         w[15, ll] = f20 * iV; w[16, ll] = f21 * iV; w[17, ll] = f22 * iV
-    for ll in range(n):
+    for ll in range(BLOCK):
         d00 = d01 = d02 = d10 = d11 = d12 = d20 = d21 = d22 = 0.0
         for k in range(8):
             v0 = xv[24 + 3 * k, ll]; v1 = xv[25 + 3 * k, ll]; v2 = xv[26 + 3 * k, ll]
@@ -173,7 +173,7 @@ def _element_block(i, x, v, group, mu, lam, rho, c):
         dv[0, ll] = d00; dv[1, ll] = d01; dv[2, ll] = d02
         dv[3, ll] = d10; dv[4, ll] = d11; dv[5, ll] = d12
         dv[6, ll] = d20; dv[7, ll] = d21; dv[8, ll] = d22
-    for ll in range(n):
+    for ll in range(BLOCK):
         amax2 = 0.0
         for fc in range(6):
             a0 = _FACES[fc, 0]; a1 = _FACES[fc, 1]; a2 = _FACES[fc, 2]; a3 = _FACES[fc, 3]
@@ -186,7 +186,7 @@ def _element_block(i, x, v, group, mu, lam, rho, c):
             cx = p1 * r2 - p2 * r1; cy = p2 * r0 - p0 * r2; cz = p0 * r1 - p1 * r0
             amax2 = max(amax2, cx * cx + cy * cy + cz * cz)
         lnj[ll] = amax2
-    for ll in range(n):
+    for ll in range(BLOCK):
         V0 = vol[ll]
         iV = 1.0 / V0
         f00 = w[9, ll]; f01 = w[10, ll]; f02 = w[11, ll]
@@ -216,7 +216,7 @@ def _element_block(i, x, v, group, mu, lam, rho, c):
         w[6, ll] = g20; w[7, ll] = g21; w[8, ll] = g22
         w[18, ll] = J; w[19, ll] = e_v; w[20, ll] = qb
     for a in range(4):
-        for ll in range(n):
+        for ll in range(BLOCK):
             s0 = 0.0; s1 = 0.0; s2 = 0.0
             for k in range(8):
                 h = _H[a, k]
@@ -228,15 +228,15 @@ def _element_block(i, x, v, group, mu, lam, rho, c):
             w[33 + 3 * a, ll] = r0 - cen[3 * a, ll]
             w[34 + 3 * a, ll] = r1 - cen[3 * a + 1, ll]
             w[35 + 3 * a, ll] = r2 - cen[3 * a + 2, ll]
-    for ll in range(n):
+    for ll in range(BLOCK):
         lnj[ll] = np.log(w[18, ll])
     for r in range(12):
-        for ll in range(n):
+        for ll in range(BLOCK):
             acc = 0.0
             for cc in range(12):
                 acc += kk[_UPPER[r, cc], ll] * w[33 + cc, ll]
             hq[r, ll] = acc
-    for ll in range(n):
+    for ll in range(BLOCK):
         g00 = w[0, ll]; g01 = w[1, ll]; g02 = w[2, ll]
         g10 = w[3, ll]; g11 = w[4, ll]; g12 = w[5, ll]
         g20 = w[6, ll]; g21 = w[7, ll]; g22 = w[8, ll]
@@ -290,8 +290,25 @@ def _element_block(i, x, v, group, mu, lam, rho, c):
         out[_PB, ll] = -qb * e_v * J * V0
     dest = group.element_out[i]
     for r in range(29):
-        for ll in range(n):
+        for ll in range(BLOCK):
             dest[r, ll] = out[r, ll]
+
+
+@nb.njit(cache=True, fastmath=FASTMATH, error_model="numpy", inline="always")
+def _block_chunk(ch, chunks, x, v, group, mu, lam, rho, c):
+    """Blocks ch, ch + chunks, ch + 2 chunks ... with one set of work arrays.
+
+    The work arrays are allocated here, in the function that uses them (inlined with
+    :func:`_element_block`), so that LLVM knows they alias nothing else and compiles the
+    stages to SIMD loops; once per chunk rather than once per block."""
+    xv = np.empty((48, BLOCK))           # gathered positions (row 3k + i) and velocities (24 + 3k + i)
+    w = np.empty((48, BLOCK))            # F^-1 (9), F (9), J, e_v, q, r_a (12), qt_a (12), dt
+    lnj = np.empty(BLOCK)
+    dv = np.empty((9, BLOCK))            # sum_k v_k b_k^T
+    hq = np.empty((12, BLOCK))           # Qt = K_hg qt
+    out = np.empty((29, BLOCK))
+    for i in range(ch, group.block_nodes.shape[0], chunks):
+        _element_block(i, x, v, group, mu, lam, rho, c, xv, w, lnj, dv, hq, out)
 
 
 @nb.njit(cache=True, fastmath=FASTMATH, parallel=True)
@@ -347,9 +364,9 @@ def internal_forces_numba(x, v, group, material, f):
         (J <= 0), in which case the other values are 0 and ``f`` is untouched.
     """
     mu, lam, rho, c = material[0], material[1], material[2], material[3]
-    n_blocks = group.block_nodes.shape[0]
-    for i in nb.prange(n_blocks):
-        _element_block(i, x, v, group, mu, lam, rho, c)
+    chunks = min(CHUNKS, group.block_nodes.shape[0])
+    for ch in nb.prange(chunks):
+        _block_chunk(ch, chunks, x, v, group, mu, lam, rho, c)
     out = group.element_out
     dt_min = np.inf; w_s = 0.0; w_hg = 0.0; p_b = 0.0
     for e in range(group.hexes.shape[0]):
