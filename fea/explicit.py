@@ -27,6 +27,8 @@ The step loop is written once (``_advance``); it is compiled by numba with the n
 force kernel, and run as plain Python with the numpy reference kernel
 (``backend="numpy"``), which the tests compare.
 """
+import os
+import sys
 import time as _time
 from collections import namedtuple
 from dataclasses import dataclass, field
@@ -34,6 +36,7 @@ from dataclasses import dataclass, field
 import numba as nb
 import numpy as np
 import pandas as pd
+import psutil
 
 from ccedi.errors import InputError, SolverError, require_finite_positive
 from ccedi.progress import progress_bar
@@ -685,6 +688,35 @@ stored penalty energy [J], deepest penetration [m], nodes in contact, force-weig
 contact point [m], work of the normal and friction contact forces on the body [J]."""
 
 
+THREADS_ENV = "CCEDI_THREADS"
+"""Environment variable that sets the default thread count of :func:`run` (an integer in
+1 .. the cores), e.g. 1 in a test suite whose workers share the cores."""
+
+IDLE_CPU_PERCENT = 50.0
+"""A core counts as free for a run when it was busy less than this share [%] of a short
+sampling window (:func:`free_cores`)."""
+
+
+def free_cores(window_s=0.05):
+    """Cores nothing else is using: those busy less than :data:`IDLE_CPU_PERCENT` of
+    ``window_s`` [s] (psutil's per-CPU times; at least 1)."""
+    busy = psutil.cpu_percent(interval=window_s, percpu=True)
+    return max(1, sum(1 for p in busy if p < IDLE_CPU_PERCENT))
+
+
+def _in_dask_worker():
+    """True when called from a Dask worker (whose sweep already spreads runs over the cores)."""
+    if "distributed" not in sys.modules:
+        return False
+    from distributed import get_worker
+
+    try:
+        get_worker()
+    except ValueError:
+        return False
+    return True
+
+
 def thread_count(threads=None):
     """Number of threads the compiled force kernels of a run use.
 
@@ -692,10 +724,12 @@ def thread_count(threads=None):
     ----------
     threads : int, optional
         Requested count, 1 .. ``numba.config.NUMBA_NUM_THREADS`` (the cores, unless the
-        environment variable NUMBA_NUM_THREADS sets fewer). Default None: 1. Ask for more
-        only on cores nothing else uses: every step waits at a barrier for all its threads,
-        and with the cores shared (a Dask sweep, pytest-xdist, other jobs) a descheduled
-        thread stalls it (measured: 2 threads 18 x slower than 1 at load 20 on 2 cores).
+        environment variable NUMBA_NUM_THREADS sets fewer). Default None: the variable
+        :data:`THREADS_ENV` if set; 1 in a Dask worker (a sweep runs one model per
+        worker); else every free core (:func:`free_cores`). Every step waits at a barrier
+        for all its threads, so a thread on a core that another job also uses stalls it
+        (measured: 2 threads 18 x slower than 1 at load 20 on 2 cores): hence only the
+        free cores.
 
     Returns
     -------
@@ -705,11 +739,22 @@ def thread_count(threads=None):
     Raises
     ------
     InputError
-        If ``threads`` is not an integer in that range.
+        If ``threads`` or :data:`THREADS_ENV` is not an integer in that range.
     """
     top = nb.config.NUMBA_NUM_THREADS
     if threads is None:
-        return 1
+        env = os.environ.get(THREADS_ENV)
+        if env is not None:
+            try:
+                threads = int(env)
+            except ValueError:
+                raise InputError(f"{THREADS_ENV} = {env!r}: must be an integer in 1..{top}") from None
+            if not 1 <= threads <= top:
+                raise InputError(f"{THREADS_ENV} = {env!r}: must be an integer in 1..{top}")
+            return threads
+        if _in_dask_worker():
+            return 1
+        return min(top, free_cores())
     if isinstance(threads, bool) or int(threads) != threads or not 1 <= threads <= top:
         raise InputError(f"threads = {threads!r}: must be an integer in 1..{top}")
     return int(threads)
@@ -763,8 +808,8 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
         interpolated positions [m] and the external nodal forces of the last step
         (pulses and contact) [N]; its dict values become extra history columns.
     threads : int, optional
-        Threads of the compiled hexahedron kernel (:func:`thread_count`; default 1). The
-        results are the same bits for any count.
+        Threads of the compiled hexahedron kernel (:func:`thread_count`; default: the
+        free cores). The results are the same bits for any count.
 
     Returns
     -------

@@ -1,4 +1,6 @@
 """Shared fixtures: the paper's 4.5-in SM-A finger and its analytic beam values."""
+import os
+
 import numpy as np
 import pytest
 
@@ -9,6 +11,10 @@ from ccedi.fea.mesh import sm_a
 from ccedi.fea.units import inch_to_m
 
 LENGTH_M = inch_to_m(4.5)
+
+# The suite runs in two pytest-xdist workers on two cores: one thread per run (tests of
+# threading ask for more explicitly).
+os.environ.setdefault("CCEDI_THREADS", "1")
 
 
 @pytest.fixture(scope="session")

@@ -1,5 +1,7 @@
 """The blocked, threaded hexahedron kernel in a run: the same tip history as the numpy
 reference path, and the same bits for one and two threads."""
+import os
+
 import numba as nb
 import numpy as np
 import pytest
@@ -51,8 +53,26 @@ def test_thread_count_out_of_range_is_refused(bad):
         thread_count(bad)
 
 
-def test_thread_count_default_is_one():
-    """One thread unless asked: a run sharing its cores stalls at every step's barrier."""
+def test_thread_count_default_takes_the_free_cores(monkeypatch):
+    """Without a request: the environment variable, else the free cores (never more than
+    numba has), and a bad variable is refused with its name."""
+    from ccedi.fea import explicit
+
+    top = nb.config.NUMBA_NUM_THREADS
+    monkeypatch.delenv(explicit.THREADS_ENV, raising=False)
+    for free in (1, top, top + 5):
+        monkeypatch.setattr(explicit, "free_cores", lambda free=free: free)
+        assert thread_count() == min(free, top)
+    monkeypatch.setenv(explicit.THREADS_ENV, "1")
     assert thread_count() == 1
-    assert thread_count(nb.config.NUMBA_NUM_THREADS) == nb.config.NUMBA_NUM_THREADS
-    assert thread_count(1) == 1
+    for bad in ("0", "two", str(top + 1)):
+        monkeypatch.setenv(explicit.THREADS_ENV, bad)
+        with pytest.raises(InputError, match=explicit.THREADS_ENV):
+            thread_count()
+    assert thread_count(top) == top
+
+
+def test_free_cores_counts_at_least_one_and_at_most_the_cpus():
+    from ccedi.fea.explicit import free_cores
+
+    assert 1 <= free_cores(0.01) <= os.cpu_count()
