@@ -413,7 +413,7 @@ class ObjectStress:
 
 
 def contact_run(setup: DrumSetup, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False,
-                snapshot_every=0, object_stress=True):
+                snapshot_every=0, object_stress=True, threads=None):
     """Run the finger over the object (the solver-level form of :class:`FullContactModel`).
 
     Parameters
@@ -433,6 +433,9 @@ def contact_run(setup: DrumSetup, alpha, damping="global", t_end_s=1.5, n_output
         Store nodal positions every this many outputs (0: none).
     object_stress : bool, optional
         Solve the object's stress at every output.
+    threads : int, optional
+        Threads of the run (:func:`ccedi.fea.explicit.thread_count`; default: the free
+        cores).
 
     Returns
     -------
@@ -456,7 +459,7 @@ def contact_run(setup: DrumSetup, alpha, damping="global", t_end_s=1.5, n_output
         return out
 
     result = run(model, t_end_s, n_outputs=n_outputs, v0=v0, progress=progress, snapshot_every=snapshot_every,
-                 output_hook=hook)
+                 output_hook=hook, threads=threads)
     h = result.history
     h.insert(h.columns.get_loc("contact_force_z_N") + 1, "reaction_force_N",
              np.sqrt(h.contact_force_x_N**2 + h.contact_force_y_N**2 + h.contact_force_z_N**2))
