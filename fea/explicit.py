@@ -99,7 +99,7 @@ mass : (n_nodes,) ndarray
 mass3 : (n_nodes, 3) ndarray
     The masses repeated for each direction [kg].
 inv_mass : (n_nodes, 3) ndarray
-    Their inverses [1/kg].
+    Their inverses [1/kg] (0 for a massless node, which must be constrained).
 free : (n_nodes,) ndarray
     1.0 for a free node, 0.0 for a constrained (fixed or rotating) one.
 constrained : (c,) int ndarray
@@ -670,7 +670,8 @@ def _step_data(model, x, v, dt_user, tssfac, dt_cfl):
     v *= free[:, None]
     state = State(x, v, *(np.zeros_like(X) for _ in range(5)))
     mass3 = np.repeat(model.mass[:, None], 3, axis=1)
-    nodes = Nodes(X, model.mass, mass3, 1.0 / mass3, free, np.flatnonzero(free == 0.0), np.zeros_like(X))
+    inv_mass = np.divide(1.0, mass3, out=np.zeros_like(mass3), where=mass3 > 0.0)     # massless: constrained
+    nodes = Nodes(X, model.mass, mass3, inv_mass, free, np.flatnonzero(free == 0.0), np.zeros_like(X))
     ra = model.rod_arrays
     return (StepControl(dt_user, tssfac), Damping(model.alpha, model.beta, model.damping == "relative"), state,
             nodes, model.hexahedra, model.tet4, model.tet10,
@@ -704,16 +705,18 @@ def free_cores(window_s=0.05):
     return max(1, sum(1 for p in busy if p < IDLE_CPU_PERCENT))
 
 
-def _in_dask_worker():
-    """True when called from a Dask worker (whose sweep already spreads runs over the cores)."""
+def _shares_cores_with_dask():
+    """True in a Dask worker, and in a process with a Dask client: its workers run beside
+    it, so the cores that look free between their tasks are not."""
     if "distributed" not in sys.modules:
         return False
     from distributed import get_worker
+    from distributed.client import _get_global_client
 
     try:
         get_worker()
     except ValueError:
-        return False
+        return _get_global_client() is not None
     return True
 
 
@@ -726,7 +729,8 @@ def thread_count(threads=None):
         Requested count, 1 .. ``numba.config.NUMBA_NUM_THREADS`` (the cores, unless the
         environment variable NUMBA_NUM_THREADS sets fewer). Default None: the variable
         :data:`THREADS_ENV` if set; 1 in a Dask worker (a sweep runs one model per
-        worker); else every free core (:func:`free_cores`). Every step waits at a barrier
+        worker) and in a process with a Dask client (its workers share the cores); else
+        every free core (:func:`free_cores`). Every step waits at a barrier
         for all its threads, so a thread on a core that another job also uses stalls it
         (measured: 2 threads 18 x slower than 1 at load 20 on 2 cores): hence only the
         free cores.
@@ -752,7 +756,7 @@ def thread_count(threads=None):
             if not 1 <= threads <= top:
                 raise InputError(f"{THREADS_ENV} = {env!r}: must be an integer in 1..{top}")
             return threads
-        if _in_dask_worker():
+        if _shares_cores_with_dask():
             return 1
         return min(top, free_cores())
     if isinstance(threads, bool) or int(threads) != threads or not 1 <= threads <= top:

@@ -76,3 +76,21 @@ def test_free_cores_counts_at_least_one_and_at_most_the_cpus():
     from ccedi.fea.explicit import free_cores
 
     assert 1 <= free_cores(0.01) <= os.cpu_count()
+
+
+def test_a_process_driving_dask_runs_on_one_thread(monkeypatch):
+    """With a Dask client its workers share the cores, which may look free between their
+    tasks: the default is then one thread, in the client's process and in the workers."""
+    from distributed import Client, LocalCluster
+
+    from ccedi.fea import explicit
+
+    monkeypatch.delenv(explicit.THREADS_ENV, raising=False)
+    monkeypatch.setattr(explicit, "free_cores", lambda: 2)
+    top = min(2, nb.config.NUMBA_NUM_THREADS)
+    assert thread_count() == top
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
+            Client(cluster) as client:
+        assert thread_count() == 1
+        assert client.submit(explicit._shares_cores_with_dask).result()
+    assert thread_count() == top
