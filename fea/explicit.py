@@ -699,8 +699,18 @@ sampling window (:func:`free_cores`)."""
 
 
 def free_cores(window_s=0.05):
-    """Cores nothing else is using: those busy less than :data:`IDLE_CPU_PERCENT` of
-    ``window_s`` [s] (psutil's per-CPU times; at least 1)."""
+    """Cores nothing else is using (psutil's per-CPU times).
+
+    Parameters
+    ----------
+    window_s : float, optional
+        Sampling window [s]. Default 0.05.
+
+    Returns
+    -------
+    int
+        The cores busy less than :data:`IDLE_CPU_PERCENT` of the window, at least 1.
+    """
     busy = psutil.cpu_percent(interval=window_s, percpu=True)
     return max(1, sum(1 for p in busy if p < IDLE_CPU_PERCENT))
 
