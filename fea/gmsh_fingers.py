@@ -478,9 +478,9 @@ def detailed_model(element_size_m=DM_ELEMENT_LENGTH, cone_radius_m=DM_CONE_RADIU
     -------
     Mesh
         ``tets10`` (or ``tets4``), node sets ``root`` (the circular end, z = 0) and ``tip``
-        (the last rib's face, z = L). At the defaults (measured, ``benchmarks/dm_fit.json``):
-        26963 nodes, 15230 elements, mesh volume 29.78 cm^3, stable step 0.438 us
-        (paper: 36782, 23147, 30 cm^3, 0.22 us).
+        (the last rib's face, z = L). At the defaults (measured): 28512 nodes, 16389
+        elements, mesh volume 29.78 cm^3 (paper: 36782, 23147, 30 cm^3); stable step 0.438
+        us on the Delaunay mesh used before HXT (``benchmarks/dm_fit.json``; paper 0.22 us).
 
     Raises
     ------
