@@ -77,7 +77,7 @@ value recommended for tetrahedra (module docstring)."""
 
 Tet4Group = namedtuple("Tet4Group", "tets grad volume node_volume length_factor nodal_shear "
                                     "node_now node_pressure node_F node_stress bulk_force")
-Tet4Group.__doc__ = """Average nodal pressure tetrahedra (structure of arrays), as
+Tet4Group.__doc__ = """Node-smoothed 4-node tetrahedra (structure of arrays), as
 :func:`internal_forces_numba` takes them.
 
 Attributes
@@ -100,7 +100,7 @@ node_now : (n_nodes,) ndarray
 node_pressure : (n_nodes,) ndarray
     Work array: nodal pressures lam ln(Jbar_a) / Jbar_a [Pa].
 node_F : (n_nodes, 3, 3) ndarray
-    Work array: V0_a Fbar_a, then Fbar_a [-].
+    Work array: sum_e V0_e F_e / 4 over the elements at each node, V0_a Fbar_a [m^3].
 node_stress : (n_nodes, 3, 3) ndarray
     Work array: nodal shear stresses alpha mu (Fbar_a - Fbar_a^-T) [Pa].
 bulk_force : (n_nodes, 3) ndarray
