@@ -14,11 +14,13 @@ The tapered finger with a transverse hole of :func:`ccedi.fea.gmsh_fingers.taper
   alpha = 180 1/s) and alpha_cr by the CCEDI bisection on the full FE model beside the
   same search on its 6-mode modal ROM.
 
-Prints and writes benchmarks/any_finger.json.
+Prints and writes benchmarks/any_finger.json, row by row as each size finishes (the
+figures of sizes not run this time are kept from the file).
 
-Run: ``.venv/bin/python benchmarks/any_finger.py [--full-fe]``.
+Run: ``.venv/bin/python benchmarks/any_finger.py [--sizes-mm 6 4 3 2] [--full-fe]``.
 """
 import argparse
+import json
 import platform
 import sys
 import tempfile
@@ -87,23 +89,31 @@ def full_fe(mesh):
     return {**impulse, **out}
 
 
-def main(with_full_fe=False):
-    figures = {"finger": "tapered_finger (Gmsh, 10-node tetrahedra), imported from .msh",
-               "ccx_version": ccx_version()}
+def main(sizes_m=SIZES_M, with_full_fe=False):
+    figures = json.loads(OUT.read_text()) if OUT.exists() else {}
+    figures.update({"finger": "tapered_finger (Gmsh, 10-node tetrahedra), imported from .msh",
+                    "ccx_version": ccx_version(), "python": sys.version.split()[0],
+                    "machine": platform.machine()})
     with tempfile.TemporaryDirectory() as tmp:
         meshes = []
-        for size in SIZES_M:
+        for size in sizes_m:
+            t0 = time.perf_counter()
             row, mesh = measure(size, tmp)
             meshes.append(mesh)
+            row["row_wall_s"] = round(time.perf_counter() - t0, 1)
             figures.update({f"{row['size_mm']:g}mm_{k}": v for k, v in row.items() if k != "size_mm"})
+            report(figures, OUT)
         if with_full_fe:
-            figures.update({f"{1e3 * SIZES_M[0]:g}mm_{k}": v
+            figures.update({f"{1e3 * sizes_m[0]:g}mm_{k}": v
                             for k, v in full_fe(meshes[0]).items()})
-    figures.update({"python": sys.version.split()[0], "machine": platform.machine()})
-    report(figures, OUT)
+            report(figures, OUT)
 
 
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--full-fe", action="store_true", help="also the explicit impulse and alpha_cr runs")
-    main(parser.parse_args().full_fe)
+    parser.add_argument("--sizes-mm", type=float, nargs="+", default=[1e3 * s for s in SIZES_M],
+                        help="element sizes to (re-)measure [mm]; the other sizes' figures stay in the JSON")
+    parser.add_argument("--full-fe", action="store_true",
+                        help="also the explicit impulse and alpha_cr runs, on the first size given")
+    args = parser.parse_args()
+    main(tuple(1e-3 * s for s in args.sizes_mm), args.full_fe)

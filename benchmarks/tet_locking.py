@@ -3,16 +3,18 @@
 The test suite's BOX cantilever (60 mm along z, 12 mm along x, 8 mm along y, root
 clamped, 0.01 N along y spread over the tip face, linear static tip stiffness F / delta)
 at nu = 0.499 (E = 6.1 MPa): hexahedra at 2 and 1 mm (their Richardson limit is the
-converged reference), the 4-node averaged-nodal-pressure tetrahedron (hexahedra split
-into 6, :func:`ccedi.fea.tet_mesh.split_hexes`) at 4, 2 and 1 mm, and the 10-node
-tetrahedron at 4 and 2 mm. The linear tetrahedron is stiff in bending at any nu (its
-error falls as h^2); a locking one would converge to a stiffer value, or not at all.
+converged reference), the 4-node tetrahedron (hexahedra split into 6,
+:func:`ccedi.fea.tet_mesh.split_hexes`) at 4, 2 and 1 mm, as ccedi builds it (``tet4``:
+nodal pressure and alpha-FEM shear, alpha = 0.7) and with the element shear alone
+(``tet4_alpha0``: Bonet & Burton's average nodal pressure element, LS-DYNA solid 13), and
+the 10-node tetrahedron at 4 and 2 mm. The constant-strain shear is stiff in bending at
+any nu (its error falls as h^2); a locking element would converge to a stiffer value, or
+not at all.
 
 Prints and writes benchmarks/tet_locking.json (stiffness [N/m], error against the
 converged hexahedral value [%], nodes, wall time of the solve [s]).
 
-Run: ``.venv/bin/python benchmarks/tet_locking.py`` (about a minute; a 2/3 mm tet-4 mesh,
-67 000 DOFs, did not finish its sparse direct solve in 25 min here).
+Run: ``.venv/bin/python benchmarks/tet_locking.py`` (some minutes).
 """
 import platform
 import sys
@@ -24,6 +26,7 @@ from _output import report  # (benchmarks/ is on sys.path when run as a script)
 from ccedi.fea.material import NeoHookean
 from ccedi.fea.model import cantilever_model
 from ccedi.fea.static import tip_deflection
+from ccedi.fea.tet4 import tet4_group
 from ccedi.fea.tet_mesh import box_cantilever, quadratic_tets, split_hexes
 
 OUT = Path(__file__).with_suffix(".json")
@@ -39,20 +42,24 @@ def _mesh(kind, divisions):
     if kind == "hex8":
         return hexes
     tets = split_hexes(hexes)
-    return tets if kind == "tet4" else quadratic_tets(tets)
+    return quadratic_tets(tets) if kind == "tet10" else tets
 
 
 def stiffness(kind, divisions):
     """Linear tip stiffness [N/m], node count and solve time [s] of one mesh."""
     mesh = _mesh(kind, divisions)
     t0 = time.perf_counter()
-    k = FORCE_N / tip_deflection(cantilever_model(mesh, RUBBER_499), FORCE_N, linear=True)
+    model = cantilever_model(mesh, RUBBER_499)
+    if kind == "tet4_alpha0":
+        model.tet4 = tet4_group(mesh.nodes, mesh.tets4, RUBBER_499, nodal_shear=0.0)
+    k = FORCE_N / tip_deflection(model, FORCE_N, linear=True)
     return k, len(mesh.nodes), time.perf_counter() - t0
 
 
 def main():
     figures = {"case": "BOX cantilever 60 x 12 x 8 mm, nu = 0.499, E = 6.1 MPa, linear tip stiffness"}
     runs = {("hex8", 2): None, ("hex8", 4): None, ("tet4", 1): None, ("tet4", 2): None, ("tet4", 4): None,
+            ("tet4_alpha0", 1): None, ("tet4_alpha0", 2): None, ("tet4_alpha0", 4): None,
             ("tet10", 1): None, ("tet10", 2): None}
     for kind, divisions in runs:
         k, nodes, seconds = stiffness(kind, divisions)

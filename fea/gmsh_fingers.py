@@ -22,8 +22,9 @@ regular: on the paper's finger their average length is 1.18 s (measured at s = 3
 so the target given to Gmsh is :data:`GMSH_SIZE_RATIO` times the average length asked for.
 
 Determinism: Gmsh runs with one thread, a fixed random seed and fixed algorithms
-(Frontal-Delaunay surfaces, Delaunay volumes, high-order elements optimised until their
-Jacobians are positive), so a call gives the same mesh every time. Gmsh is a process-wide
+(Frontal-Delaunay surfaces, Delaunay volumes -- HXT for the DM, :data:`DM_ALGORITHM_3D` --,
+high-order elements optimised until their Jacobians are positive), so a call gives the
+same mesh every time. Gmsh is a process-wide
 library that is not thread-safe and must be initialised once: each call takes a lock,
 initialises Gmsh if nobody has (without the signal handler, so it also runs in a Dask
 worker's thread), builds its own model, and finalises only what it initialised. The mesh
@@ -87,10 +88,11 @@ def _element_order(order):
 
 
 def _mesh_and_write(gmsh, volume, length_m, element_size_m, order, path, msh_version=4, binary=False,
-                    straight=False):
+                    straight=False, algorithm_3d=1):
     """Name the root face ``clamp``, the tip face ``tip`` and ``volume`` ``finger``, mesh
-    at the average element length ``element_size_m`` and write ``path`` (``straight``:
-    10-node tetrahedra with straight edges, mid-edge nodes at the edges' midpoints)."""
+    at the average element length ``element_size_m`` with Gmsh's 3D algorithm
+    ``algorithm_3d`` (1 Delaunay, 10 HXT) and write ``path`` (``straight``: 10-node
+    tetrahedra with straight edges, mid-edge nodes at the edges' midpoints)."""
     gmsh.model.occ.synchronize()
     faces = gmsh.model.getBoundary([(3, volume)], oriented=False)
     z = {tag: gmsh.model.occ.getCenterOfMass(dim, tag)[2] for dim, tag in faces}
@@ -101,6 +103,7 @@ def _mesh_and_write(gmsh, volume, length_m, element_size_m, order, path, msh_ver
     gmsh.option.setNumber("Mesh.MeshSizeMax", size)
     gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
     gmsh.option.setNumber("Mesh.ElementOrder", order)
+    gmsh.option.setNumber("Mesh.Algorithm3D", algorithm_3d)
     gmsh.option.setNumber("Mesh.MshFileVersion", MSH_VERSIONS[msh_version])
     gmsh.option.setNumber("Mesh.Binary", int(bool(binary)))
     if straight:
@@ -110,13 +113,14 @@ def _mesh_and_write(gmsh, volume, length_m, element_size_m, order, path, msh_ver
     gmsh.write(str(path))
 
 
-def _generated(build, length_m, element_size_m, order, name, straight=False):
+def _generated(build, length_m, element_size_m, order, name, straight=False, algorithm_3d=1):
     """Build the geometry with ``build(occ) -> volume tag``, mesh it, read it back as a
     :class:`ccedi.fea.mesh.Mesh` (node sets ``root`` and ``tip``)."""
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / f"{name}.msh"
         with _gmsh_model(name) as gmsh:
-            _mesh_and_write(gmsh, build(gmsh.model.occ), length_m, element_size_m, order, path, straight=straight)
+            _mesh_and_write(gmsh, build(gmsh.model.occ), length_m, element_size_m, order, path, straight=straight,
+                            algorithm_3d=algorithm_3d)
         return read_finger_mesh(path, clamp="clamp", tip="tip")
 
 
@@ -336,6 +340,16 @@ DM_RIBS = 8
 the last one is flush with the tip."""
 DM_CONE_RADIUS_RANGE = (8.0e-3, 12.5e-3)
 """Root radii [m] of the cone :func:`detailed_model` accepts."""
+DM_ALGORITHM_3D = 10
+"""Gmsh's 3D algorithm for the DM: HXT (10), not Delaunay (1). Where a rib (0.81 mm thick,
+one element across) meets the plate and the cone, four boundary nodes lie on a plane (two
+on the rib's rim, two on the plate-cone edge, one pair on each rib face); Delaunay
+tetrahedralised such planar quadrilaterals into slivers that its optimiser cannot move
+(boundary nodes): at 10 mm, 6 elements with a minimum altitude below 1 % of their
+longest edge (0.04 mm against 5.9 mm), one of which inverted in an explicit impulse run
+at 2.19 ms. HXT's optimiser removes them by edge and face swaps (measured minimum
+altitude / longest edge: Delaunay 0.0066 / 0.0081 / 0.0105, HXT 0.032 / 0.043 / 0.055 at
+10 / 8 / 6 mm; the element spans the rib, so about 0.1 is the best there is)."""
 
 
 def _ruled_box(occ, z0, z1, half0, half1):
@@ -439,7 +453,9 @@ def detailed_model(element_size_m=DM_ELEMENT_LENGTH, cone_radius_m=DM_CONE_RADIU
     0.2 s, step ratio, node and element counts, omega_1, the damping behaviour of Fig. 6
     and the stresses.
 
-    The 10-node tetrahedra have straight edges (mid-edge nodes at the midpoints): Gmsh's
+    Gmsh's HXT volume mesher (:data:`DM_ALGORITHM_3D`: Delaunay's left slivers where the
+    ribs meet the plate and the cone). The 10-node tetrahedra have straight edges
+    (mid-edge nodes at the midpoints): Gmsh's
     curved ones need its high-order optimisation on this geometry's thin parts (at 10, 8
     and 6 mm, 59, 46 and 7 elements have a negative Jacobian without it), which was seen
     to give different meshes from run to run on a loaded machine and once to abort the
@@ -462,9 +478,9 @@ def detailed_model(element_size_m=DM_ELEMENT_LENGTH, cone_radius_m=DM_CONE_RADIU
     -------
     Mesh
         ``tets10`` (or ``tets4``), node sets ``root`` (the circular end, z = 0) and ``tip``
-        (the last rib's face, z = L). At the defaults (measured, ``benchmarks/dm_fit.json``):
-        26963 nodes, 15230 elements, mesh volume 29.78 cm^3, stable step 0.438 us
-        (paper: 36782, 23147, 30 cm^3, 0.22 us).
+        (the last rib's face, z = L). At the defaults (measured): 28512 nodes, 16389
+        elements, mesh volume 29.78 cm^3 (paper: 36782, 23147, 30 cm^3); stable step 0.438
+        us on the Delaunay mesh used before HXT (``benchmarks/dm_fit.json``; paper 0.22 us).
 
     Raises
     ------
@@ -473,7 +489,7 @@ def detailed_model(element_size_m=DM_ELEMENT_LENGTH, cone_radius_m=DM_CONE_RADIU
     """
     length_m, cone, rib = _dm_inputs(cone_radius_m, rib_thickness_m)
     return _generated(_dm_geometry(length_m, cone, rib), length_m, _element_size(element_size_m),
-                      _element_order(order), "detailed_model", straight=True)
+                      _element_order(order), "detailed_model", straight=True, algorithm_3d=DM_ALGORITHM_3D)
 
 
 def detailed_model_volume(cone_radius_m=DM_CONE_RADIUS, rib_thickness_m=DM_RIB_THICKNESS):

@@ -22,7 +22,9 @@ Cards written (SI units: m, kg, s, N, Pa):
   (:data:`ELFORM`): hexahedra ELFORM 1 (one-point, as ccedi's) with *HOURGLASS
   (:data:`HOURGLASS_IHQ`, QM = ccedi's hourglass coefficient, Q1/Q2 = ccedi's bulk
   viscosity) linked by the part's HGID; 4-node tetrahedra ELFORM 13 (the one-point nodal
-  pressure tetrahedron, ccedi's averaged nodal pressure element), written in the 8-node
+  pressure tetrahedron: ccedi's element averages the pressure the same way, and also
+  takes 0.7 of its shear on node-smoothed strains, :mod:`ccedi.fea.tet4`, which ELFORM 13
+  does not: LS-DYNA's will be stiffer in bending), written in the 8-node
   format with N4 repeated (N1 N2 N3 N4 N4 N4 N4 N4); 10-node tetrahedra ELFORM 16 (the
   4-point 10-node tetrahedron, ccedi's integration), in the two-card format of
   *ELEMENT_SOLID (Card 1: EID PID; Card 2: N1 ... N10, corners then the mid-edge nodes of

@@ -538,7 +538,7 @@ def largest_frequency(K, m):
     return float(np.sqrt(theta[0] + np.linalg.norm(A @ y[:, 0] - theta[0] * y[:, 0])))
 
 
-def time_step_length_factors(nodes, conn, grad, weight, average, element_mass, mu, lam, c):
+def time_step_length_factors(nodes, conn, grad, weight, average, element_mass, mu, lam, c, tangent=None):
     """Per-element factors kappa_e of the characteristic length ``Le = kappa_e h_e``
     (h the current minimum altitude of the corner tetrahedron) of paper Eq. (6).
 
@@ -576,6 +576,10 @@ def time_step_length_factors(nodes, conn, grad, weight, average, element_mass, m
         First Lame constant [Pa].
     c : float
         Dilatational wave speed [m/s].
+    tangent : scipy.sparse.spmatrix, optional
+        The assembled reference tangent, shape (3 n, 3 n) [N/m], when it is not
+        :func:`averaged_tangent` (an element that also smooths its shear; that tangent
+        must be bounded by the sum of the K_e). Default: :func:`averaged_tangent`.
 
     Returns
     -------
@@ -589,6 +593,8 @@ def time_step_length_factors(nodes, conn, grad, weight, average, element_mass, m
     omega_e = np.sqrt(np.linalg.eigvalsh(s[:, :, None] * Ke * s[:, None, :])[:, -1])
     m = np.zeros(len(nodes))
     np.add.at(m, conn, element_mass)
-    omega_max = largest_frequency(averaged_tangent(nodes, conn, grad, weight, average, mu, lam), m)
+    if tangent is None:
+        tangent = averaged_tangent(nodes, conn, grad, weight, average, mu, lam)
+    omega_max = largest_frequency(tangent, m)
     scale = max(1.0, omega_e.max() / omega_max) if omega_max > 0.0 else 1.0
     return scale * c * (2.0 / omega_e) / min_altitude(nodes[conn[:, :4]])

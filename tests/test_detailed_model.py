@@ -50,6 +50,18 @@ def test_coarse_dm_is_its_cad_solid(coarse_dm):
     assert m.nodes[:, 2].min() >= -1e-9 and m.nodes[:, 2].max() <= inch_to_m(4.5) + 1e-9
 
 
+def test_coarse_dm_has_no_sliver(coarse_dm):
+    """Every tetrahedron's minimum altitude is at least 2 % of its longest edge. An element
+    spanning a 0.81-mm rib at 8 mm cannot do much better than about 0.1; a sliver (four
+    nearly coplanar corners) has almost none: Delaunay left such slivers where the ribs
+    meet the plate and the cone (0.0081 at 8 mm, 0.0066 at 10 mm, 0.04 mm against 5.9 mm),
+    and one of them inverted in the explicit impulse run (test below)."""
+    from ccedi.fea.tetra import min_altitude
+    x = coarse_dm.nodes[coarse_dm.tets10[:, :4]]
+    longest = np.linalg.norm(x[:, :, None] - x[:, None, :], axis=-1).max(axis=(1, 2))
+    assert np.min(min_altitude(x) / longest) > 0.02
+
+
 def test_fitted_dimensions_give_table1_volume():
     """The fitted rib thickness gives Table 1's 30 cm^3 within 3 %, and the affine volume
     solve reproduces it at the fitted cone radius."""
@@ -79,11 +91,11 @@ def test_table1_dm_row(monkeypatch, coarse_dm):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, raises=Exception, reason="the 10 mm DM's explicit run inverts tet10 element "
-                   "1105 at t = 2.19 ms (straight-edged tets on 0.81 mm ribs)")
 def test_dm_modal_rom_follows_explicit_run():
     """The 6-mode ROM of the coarse DM (10 mm) against the explicit solver under the
-    paper's pulse at alpha = 180 1/s for its first 3 ms (7000 steps, some 30 s): NRMSE < 2 %."""
+    paper's pulse at alpha = 180 1/s for its first 3 ms (6146 steps, some 30 s idle): NRMSE
+    < 2 % (measured 0.92 %; on the Delaunay mesh, before HXT, a sliver inverted at 2.19 ms).
+    The 0.05 s comparison is benchmarks/dm_fig6.py's."""
     mesh = detailed_model(10e-3)
     full = finger_impulse_model(mesh=mesh, material=RUBBER)
     rom = reduce_impulse_model(full, n_modes=6, alpha=180.0)
