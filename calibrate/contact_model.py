@@ -7,8 +7,8 @@ Baseline parameters: ``alpha_per_s`` (mass-proportional damping, 1/s) and ``E_fa
 (Young's modulus over the declared one, within the sidecar's tolerance; the chain is
 built once at the declared E and scaled exactly, :meth:`ReducedContactModel.reaction_force`).
 The effects of :data:`ccedi.calibrate.effects.CONTACT_CATALOGUE` change the set-up the
-chain runs on (``friction_mu``, ``omega_rad_s``, ``theta0_offset_rad``, ``object_dx_m``,
-``object_dy_m``) or the transducer (``sensor_hz``, ``sensor_damping_ratio``, ``offset_N``,
+chain runs on (``friction_mu``, ``omega_rad_s``, ``theta0_offset_rad``,
+``object_radial_offset_m``) or the transducer (``sensor_hz``, ``sensor_damping_ratio``, ``offset_N``,
 ``drift_N_s``). With F(t) the magnitude of the chain's in-plane force on the object::
 
     y(t) = T[F](t) + F_0 + F_1 t        T: the transducer's second-order low-pass
@@ -44,7 +44,7 @@ QUIET_LEVEL = 0.02
 """Fraction of the peak below which the model reading counts as out of contact."""
 SIGNIFICANT_T = 5.0
 SIGNIFICANT_CORRELATION = 0.3
-PHYSICAL = ("friction_mu", "omega_rad_s", "theta0_offset_rad", "object_dx_m", "object_dy_m")
+PHYSICAL = ("friction_mu", "omega_rad_s", "theta0_offset_rad", "object_radial_offset_m")
 """Parameters that change the chain's set-up (the others act on the transducer)."""
 
 
@@ -68,6 +68,26 @@ def declared_setup(exp: Experiment):
                      friction=d["friction"], theta0_rad=d["theta0_rad"],
                      finger_material=NeoHookean(E=f.E_Pa, nu=f.nu, rho=f.rho_kg_m3),
                      finger_semi_axes_m=tuple(f.semi_axes_m))
+
+
+def radially_offset(center_m, offset_m):
+    """An object centre moved along the line from the drum axis through it.
+
+    Parameters
+    ----------
+    center_m : tuple of float
+        Centre (x, y) [m], not on the axis.
+    offset_m : float
+        Displacement away from the axis [m] (negative: towards it).
+
+    Returns
+    -------
+    tuple of float
+        The moved centre (x, y) [m].
+    """
+    c = np.asarray(center_m, dtype=float)
+    moved = c * (1.0 + offset_m / np.hypot(*c))
+    return float(moved[0]), float(moved[1])
 
 
 @lru_cache(maxsize=4)
@@ -292,13 +312,12 @@ class DrumContactModel:
         -------
         ccedi.fea.drum.DrumSetup
             The declared set-up with friction, drum speed, initial angle and object
-            centre replaced where ``v`` has them.
+            centre (:func:`radially_offset`) replaced where ``v`` has them.
         """
         s = self.setup
-        c = s.object_center_m
         return replace(s, friction=v.get("friction_mu", s.friction), omega_rad_s=v.get("omega_rad_s", s.omega_rad_s),
                        theta0_rad=s.theta0_rad + v.get("theta0_offset_rad", 0.0),
-                       object_center_m=(c[0] + v.get("object_dx_m", 0.0), c[1] + v.get("object_dy_m", 0.0)))
+                       object_center_m=radially_offset(s.object_center_m, v.get("object_radial_offset_m", 0.0)))
 
     def force(self, v):
         """Magnitude of the chain's in-plane force on the object at the record's times [N]

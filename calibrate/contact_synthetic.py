@@ -10,8 +10,10 @@ effect built into the set-up:
 
   friction             Coulomb coefficient mu other than the declared 0.6
   drum_speed           drum speed omega other than the declared 2.095 rad/s
-  timing_offset        initial drum angle theta0 off by d_theta
-  object_offset        object centre displaced by (dx, dy)
+  timing_offset        initial drum angle theta0 off by d_theta (``theta0_offset_rad``), or
+                       the record triggered late by ``trigger_delay_s`` (a control's FE run
+                       read at t + delay)
+  object_offset        object centre displaced by d_r along the line from the drum axis
 
 The FE reaction force (magnitude of the in-plane force on the object, 0.5 ms outputs,
 which resolve the finger's friction chatter) is then read through the transducer
@@ -43,6 +45,8 @@ from ccedi.fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR
 from ccedi.fea.outputs import write_csv, write_json
 from ccedi.fea.units import m_to_inch
 from ccedi.rom.sensor import Transducer
+
+from .contact_model import radially_offset
 
 RECORD_S = 1.5
 """Record length [s] (the paper's Fig. 10 span)."""
@@ -103,18 +107,22 @@ def true_setup(truth: ContactTruth):
     """
     s = declared_setup()
     e = truth.effects
-    c = s.object_center_m
-    off = e.get("object_offset", {})
     return replace(s, finger_material=NeoHookean(E=RUBBER.E * truth.E_factor, nu=RUBBER.nu, rho=RUBBER.rho),
                    friction=e.get("friction", {}).get("friction_mu", s.friction),
                    omega_rad_s=e.get("drum_speed", {}).get("omega_rad_s", s.omega_rad_s),
                    theta0_rad=s.theta0_rad + e.get("timing_offset", {}).get("theta0_offset_rad", 0.0),
-                   object_center_m=(c[0] + off.get("object_dx_m", 0.0), c[1] + off.get("object_dy_m", 0.0)))
+                   object_center_m=radially_offset(s.object_center_m,
+                                                   e.get("object_offset", {}).get("object_radial_offset_m", 0.0)))
 
 
 def bundled_set():
     """The truths of the bundled contact set: three clean controls (alpha 80, 180, 600
-    1/s), two records of each effect, E factors drawn within +-5 % (fixed seed).
+    1/s), two records of each effect, E factors drawn within +-5 % (fixed seed). In the
+    order of generation: each control, then the records that reuse its FE run (the
+    transducer effects, and the timing offset as a trigger delay: the record read
+    ``trigger_delay_s`` late, F(t + delay), the same as a drum angle further round by
+    omega x delay once the finger has settled), then one FE run per physical effect, then
+    the second of each.
 
     Returns
     -------
@@ -122,23 +130,26 @@ def bundled_set():
         {record name: ContactTruth}.
     """
     rng = np.random.default_rng(2026)
-    cases = {"control_80": (80.0, {}, None), "control_180": (180.0, {}, None), "control_600": (600.0, {}, None),
-             "friction_low": (120.0, {"friction": {"friction_mu": 0.35}}, None),
-             "friction_high": (300.0, {"friction": {"friction_mu": 0.9}}, None),
-             "drum_speed_slow": (250.0, {"drum_speed": {"omega_rad_s": 1.95}}, None),
-             "drum_speed_fast": (100.0, {"drum_speed": {"omega_rad_s": 2.25}}, None),
-             "timing_offset_early": (150.0, {"timing_offset": {"theta0_offset_rad": 0.03}}, None),
-             "timing_offset_late": (400.0, {"timing_offset": {"theta0_offset_rad": -0.04}}, None),
-             "object_offset_x": (200.0, {"object_offset": {"object_dx_m": 0.002, "object_dy_m": 0.0}}, None),
-             "object_offset_y": (90.0, {"object_offset": {"object_dx_m": 0.0, "object_dy_m": -0.002}}, None),
-             "sensor_bandwidth_low": (None, {"sensor_bandwidth": {"sensor_hz": 20.0, "sensor_damping_ratio": 0.7}},
-                                      "control_180"),
-             "sensor_bandwidth_ringing": (None, {"sensor_bandwidth": {"sensor_hz": 40.0,
-                                                                      "sensor_damping_ratio": 0.25}}, "control_600"),
+    cases = {"control_80": (80.0, {}, None),
              "sensor_offset_drift_up": (None, {"sensor_offset_drift": {"offset_N": 0.4, "drift_N_s": 0.3}},
                                         "control_80"),
+             "timing_offset_trigger_late": (None, {"timing_offset": {"trigger_delay_s": 0.012}}, "control_80"),
+             "control_180": (180.0, {}, None),
+             "sensor_bandwidth_low": (None, {"sensor_bandwidth": {"sensor_hz": 20.0, "sensor_damping_ratio": 0.7}},
+                                      "control_180"),
+             "timing_offset_trigger_early": (None, {"timing_offset": {"trigger_delay_s": -0.015}}, "control_180"),
+             "control_600": (600.0, {}, None),
+             "sensor_bandwidth_ringing": (None, {"sensor_bandwidth": {"sensor_hz": 40.0,
+                                                                      "sensor_damping_ratio": 0.25}}, "control_600"),
              "sensor_offset_drift_down": (None, {"sensor_offset_drift": {"offset_N": -0.3, "drift_N_s": -0.5}},
-                                          "control_600")}
+                                          "control_600"),
+             "friction_low": (120.0, {"friction": {"friction_mu": 0.35}}, None),
+             "drum_speed_slow": (250.0, {"drum_speed": {"omega_rad_s": 1.95}}, None),
+             "object_offset_out": (200.0, {"object_offset": {"object_radial_offset_m": 0.002}}, None),
+             "friction_high": (300.0, {"friction": {"friction_mu": 0.9}}, None),
+             "drum_speed_fast": (100.0, {"drum_speed": {"omega_rad_s": 2.25}}, None),
+             "object_offset_in": (90.0, {"object_offset": {"object_radial_offset_m": -0.0015}}, None),
+             "timing_offset_angle": (400.0, {"timing_offset": {"theta0_offset_rad": -0.04}}, None)}
     out = {}
     for name, (alpha, effects, fe_run) in cases.items():
         E = float(rng.uniform(0.95, 1.05))
@@ -220,7 +231,8 @@ def record(truth: ContactTruth, fe: pd.DataFrame, seed):
                         bw.get("sensor_damping_ratio", Transducer().damping_ratio))
     y_fe = sensor.measured(t_fe, f_fe)
     t = np.arange(1, int(round(RECORD_S * SAMPLE_RATE_HZ)) + 1) / SAMPLE_RATE_HZ
-    y = np.interp(t, t_fe, y_fe)
+    delay = truth.effects.get("timing_offset", {}).get("trigger_delay_s", 0.0)
+    y = np.interp(t + delay, t_fe, y_fe, left=y_fe[0], right=y_fe[-1])
     drift = truth.effects.get("sensor_offset_drift", {})
     y = y + drift.get("offset_N", 0.0) + drift.get("drift_N_s", 0.0) * t
     noise = NOISE_FRACTION * float(np.max(y))
@@ -230,7 +242,8 @@ def record(truth: ContactTruth, fe: pd.DataFrame, seed):
 
 def write_bundled_set(out_dir):
     """Write every record as NAME.csv + NAME.json, the FE runs as fe/NAME.csv (reused when
-    present) and the truths as manifest.json. Deterministic; prints one line per record.
+    present) and the truths as manifest.json (rewritten after every record).
+    Deterministic; prints one line per record.
 
     Parameters
     ----------
@@ -255,6 +268,11 @@ def write_bundled_set(out_dir):
         manifest[name] = {"E_factor": truth.E_factor, "alpha_per_s": truth.alpha_per_s, "effects": truth.effects,
                           "fe_run": run, "noise_std_N": meta["sensor"]["noise_std_N"]}
         print(f"{name}: E x {truth.E_factor:.3f}, alpha {truth.alpha_per_s:g} 1/s, {truth.effects}", flush=True)
+        _write_manifest(out_dir, manifest)
+
+
+def _write_manifest(out_dir, manifest):
+    """The truths written so far (after every record: a long generation can be stopped)."""
     write_json(out_dir / "manifest.json", {
         "generator": "ccedi.calibrate.contact_synthetic (full explicit FEA, ccedi.fea.drum.FullContactModel, "
                      "8-in SM-A finger, 0.5 ms outputs; transducer ccedi.rom.sensor.Transducer)",

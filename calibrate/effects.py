@@ -232,11 +232,11 @@ def _contact_catalogue():
                "d_theta / omega",
                "whole record shifted in time: residual correlates with -F', start and end errors equal",
                lambda s: [(P("theta0_offset_rad", -0.2, 0.2, log=False, scale=0.001, step=2.0), 0.0)]),
-        Effect("object_offset", "object centre displaced by (dx, dy) in the plane: the interference of "
-               "finger and object changes",
-               "contact start, end and force level change together (the sweep meets the object elsewhere)",
-               lambda s: [(P("object_dx_m", -0.01, 0.01, log=False, scale=1e-4, step=3.0), 0.0),
-                          (P("object_dy_m", -0.01, 0.01, log=False, scale=1e-4, step=3.0), 0.0)]),
+        Effect("object_offset", "object centre displaced by d_r along the line from the drum axis through "
+               "it: the finger's interference with the object changes (a displacement across that line is, "
+               "to first order, met d / (R omega) earlier or later: a timing offset)",
+               "force level and contact duration change together, contact starts earlier (closer) or later",
+               lambda s: [(P("object_radial_offset_m", -0.01, 0.01, log=False, scale=1e-4, step=3.0), 0.0)]),
         Effect("sensor_bandwidth", "transducer low-pass y'' + 2 zeta w_n y' + w_n^2 y = w_n^2 F with "
                "w_n, zeta other than declared",
                "rises and falls of the record lag and round off against the model; residual "
