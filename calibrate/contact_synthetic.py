@@ -27,8 +27,12 @@ Not generated: ``contact_damping`` (a viscous term on the normal penetration rat
 FE contact (:mod:`ccedi.fea.contact`, called from the step loop of :mod:`ccedi.fea.explicit`)
 has no penetration rate to act on, and the step loop is not changed here.
 
-Each FE run takes ~2-4 minutes here; the runs are cached as ``fe/NAME.csv`` (time_s,
-reaction_force_N at 0.5 ms) in the output directory and reused. Regenerate:
+Each FE run takes ~3 minutes of CPU here; the runs are cached as ``fe/NAME.csv`` (time_s,
+reaction_force_N at 0.5 ms) in the output directory and reused (``--cached-only`` writes
+just the records whose run is cached). The controls at alpha 180
+and 600 1/s are at the declared E (:data:`AT_DECLARED_E`): their cached runs are the full
+FE runs of ``ccedi rom-check`` (benchmarks/rom_check_sensor.json), the same model and
+outputs. Regenerate:
 ``.venv/bin/python -m ccedi.calibrate.contact_synthetic [OUT_DIR]`` (deterministic).
 """
 import sys
@@ -57,6 +61,9 @@ SAMPLE_RATE_HZ = 1000.0
 NOISE_FRACTION = 0.02
 """Transducer noise std over the record's peak reading."""
 DAMPING = "global"
+AT_DECLARED_E = ("control_180", "control_600")
+"""Controls at the declared E: their FE runs are those of ``ccedi rom-check`` (alpha 180 and
+600 1/s, 3000 outputs over 1.5 s, the default set-up), brought in as ``fe/NAME.csv``."""
 
 
 @dataclass(frozen=True)
@@ -153,6 +160,8 @@ def bundled_set():
     out = {}
     for name, (alpha, effects, fe_run) in cases.items():
         E = float(rng.uniform(0.95, 1.05))
+        if name in AT_DECLARED_E:
+            E = 1.0
         if fe_run is not None:
             base = out[fe_run]
             out[name] = ContactTruth(E_factor=base.E_factor, alpha_per_s=base.alpha_per_s, effects=effects,
@@ -240,7 +249,7 @@ def record(truth: ContactTruth, fe: pd.DataFrame, seed):
     return pd.DataFrame({"time_s": np.round(t, 9), "reaction_force_N": y}), declared_sidecar(noise)
 
 
-def write_bundled_set(out_dir):
+def write_bundled_set(out_dir, cached_only=False):
     """Write every record as NAME.csv + NAME.json, the FE runs as fe/NAME.csv (reused when
     present) and the truths as manifest.json (rewritten after every record).
     Deterministic; prints one line per record.
@@ -249,12 +258,16 @@ def write_bundled_set(out_dir):
     ----------
     out_dir : str or pathlib.Path
         Output directory (created if missing).
+    cached_only : bool, optional
+        Write only the records whose FE run is cached (no FE run). Default False.
     """
     out_dir = Path(out_dir)
     manifest = {}
     for i, (name, truth) in enumerate(bundled_set().items()):
         run = truth.fe_run or name
         cache = out_dir / "fe" / f"{run}.csv"
+        if cached_only and not cache.is_file():
+            continue
         if cache.is_file():
             fe = pd.read_csv(cache)
         else:
@@ -281,4 +294,6 @@ def _write_manifest(out_dir, manifest):
 
 
 if __name__ == "__main__":
-    write_bundled_set(sys.argv[1] if len(sys.argv) > 1 else Path(__file__).parents[1] / "data" / "contact")
+    args = [a for a in sys.argv[1:] if a != "--cached-only"]
+    write_bundled_set(args[0] if args else Path(__file__).parents[1] / "data" / "contact",
+                      cached_only="--cached-only" in sys.argv)

@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from ccedi.calibrate.contact_model import DrumContactModel, declared_setup
+from ccedi.calibrate.contact_model import DrumContactModel, declared_setup, radially_offset
 from ccedi.calibrate.contact_synthetic import declared_sidecar
 from ccedi.calibrate.experiment import experiment_from, load_experiment
 from ccedi.errors import InputError
@@ -88,6 +88,13 @@ def test_a_drum_angle_offset_is_a_time_shift(model):
     err_unshifted = np.sqrt(np.mean((model.force(v) - reference) ** 2))
     assert err_shifted < 0.01 * reference.max()
     assert err_shifted < 0.25 * err_unshifted                       # the 9.5 ms shift is resolved
+
+
+def test_radial_object_offset_keeps_the_direction_from_the_drum_axis():
+    c = (0.1016, 0.18415)
+    moved = radially_offset(c, 0.002)
+    assert np.hypot(*moved) == pytest.approx(np.hypot(*c) + 0.002, rel=1e-12)
+    assert np.cross(c, moved) == pytest.approx(0.0, abs=1e-15)
 
 
 def test_the_reading_is_the_transducer_of_the_force_plus_offset_and_drift(model):
