@@ -18,7 +18,10 @@ models' common methods (``parameters``, ``predict``, ``baseline_starts``, ``asse
 3. Every catalogued effect not yet in the model is refitted together with it, from the
    current values and the model's starting values for it (``candidate_starts``: e.g. a
    contact record's timing offset from its contact start and end errors).
-4. Selection: a candidate qualifies if it lowers the training BIC by more than
+4. Selection (sigma below: the noise std and the base model's own error,
+   ``model.model_error``, in quadrature; the latter is zero for the impulse model, and the
+   contact chain's discrepancy from the full FEA for a contact record): a candidate
+   qualifies if it lowers the training BIC by more than
    ``BIC_MARGIN``, lowers the held-out RMS error and explains at least
    ``EXPLAINED_FRACTION`` of the excess of the residual's mean square over the noise
    variance (RMS^2 - sigma^2): an effect that leaves most of the misfit is not what is
@@ -119,7 +122,10 @@ class Calibration:
     rounds : list of Round
         The selection rounds, the last one the stop.
     noise_std_m : float
-        Noise standard deviation used by the stopping test [m] ([N] for a contact record).
+        Standard deviation the stopping test compares the residual with [m] ([N] for a
+        contact record): the noise's and the model's own error (``model.model_error``:
+        0 for an impulse record, the chain's discrepancy from the FEA for a contact
+        record) in quadrature.
     adequacy : Adequacy or ccedi.calibrate.contact_model.ContactAdequacy
         Whether the declared finger can explain the record, with the evidence; when it
         cannot, ``final`` is the baseline.
@@ -153,8 +159,9 @@ class Calibration:
 
     @property
     def noise_floor_nrmse(self):
-        """Noise std over the record's range: the NRMSE a perfect model would reach [-]."""
-        return self.noise_std_m / float(np.ptp(self.experiment.signal))
+        """Noise std (the sensor's alone) over the record's range: the NRMSE a perfect
+        model would reach [-]."""
+        return noise_std(self.experiment) / float(np.ptp(self.experiment.signal))
 
 
 def at_noise_level(f: Fit, sigma, n):
@@ -337,7 +344,7 @@ def calibrate(exp: Experiment, candidates=None, progress=None):
     if unknown:
         raise InputError(f"effect(s) {', '.join(unknown)} not in the {exp.kind} catalogue "
                          f"({', '.join(model.catalogue)})")
-    sigma = noise_std(exp)
+    sigma = float(np.hypot(noise_std(exp), model.model_error))
     n = len(exp.time_s)
     current = baseline = fit_baseline(model)
     adequacy = model.assess(baseline, sigma)
@@ -421,7 +428,9 @@ def summary(cal: Calibration):
         candidates' scores), ``selected_effect``, final NRMSE, max error [m] and
         parameters, ``kind`` (of the record), ``calibrated`` (E_Pa and alpha_per_s of the
         final model and, for a contact record, ``drum``: the corrected [drum] keys; the
-        inputs ``ccedi calibrate --write-config`` writes), ``noise_floor_nrmse``, ``stop_reason``,
+        inputs ``ccedi calibrate --write-config`` writes), ``model_error_std`` (the
+        base model's own error std the stopping test allows besides the noise, record
+        units), ``noise_floor_nrmse``, ``stop_reason``,
         ``final_evidence``, ``final_suggestions``, ``ambiguous`` (None, or the two effects
         with both fits, their BIC difference, correlation and the separating
         measurement), ``rejected_effects`` (None, or the effects added that left the
@@ -456,7 +465,7 @@ def summary(cal: Calibration):
             "final_nrmse": fin.nrmse, "final_max_error_m": fin.max_error_m, "final_params": fin.values,
             "kind": cal.experiment.kind,
             "calibrated": cal.model.calibrated(fin.values),
-            "noise_floor_nrmse": cal.noise_floor_nrmse,
+            "noise_floor_nrmse": cal.noise_floor_nrmse, "model_error_std": cal.model.model_error,
             "stop_reason": last.reason, "final_evidence": last.evidence,
             "final_suggestions": [{"effect": k, "reason": why} for k, why in last.suggested],
             "ambiguous": _ambiguous_summary(cal.ambiguous),

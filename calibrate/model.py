@@ -149,6 +149,9 @@ class FingerModel:
     """
 
     catalogue = CATALOGUE
+    model_error = 0.0
+    """Standard deviation of the model's own error against the finger [m]: none beyond
+    the noise (the FE modes are the finger's)."""
 
     def __init__(self, exp: Experiment):
         f = exp.finger
