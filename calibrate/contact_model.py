@@ -51,6 +51,10 @@ E and alpha (the chain carries the FE force to 0.76 % of the peak RMS at alpha =
 with it and the noise in quadrature."""
 QUIET_LEVEL = 0.02
 """Fraction of the peak below which the model reading counts as out of contact."""
+BANDWIDTH_STARTS = tuple({"sensor_hz": f, "sensor_damping_ratio": z} for f in (20.0, 50.0) for z in (0.3, 1.0))
+"""Further starts of the transducer's fit (its misfit has local minima in (f_n, zeta)): a
+2 x 2 grid below the declared 100 Hz, under- and over-damped. They rerun no chain unless
+alpha or E moves (the chain's force is cached)."""
 SIGNIFICANT_T = 5.0
 SIGNIFICANT_CORRELATION = 0.3
 PHYSICAL = ("friction_mu", "omega_rad_s", "theta0_offset_rad", "object_radial_offset_m")
@@ -285,7 +289,8 @@ class DrumContactModel:
         timing offset d_theta = -omega (start error + end error) / 2 (a record that
         touches early started further round), a drum speed omega t_mid / (t_mid + e_mid)
         (contact at the same drum angles, reached sooner or later), e_mid the mean of the
-        start and end errors and t_mid the model's mid-contact time; none for the others.
+        start and end errors and t_mid the model's mid-contact time; for the transducer's
+        bandwidth the further starts :data:`BANDWIDTH_STARTS`; none for the others.
 
         Parameters
         ----------
@@ -301,8 +306,10 @@ class DrumContactModel:
         start : dict
             Values overriding the catalogue's start.
         extra : tuple of dict
-            Further starts tried (none).
+            Further starts tried.
         """
+        if name == "sensor_bandwidth":
+            return {}, BANDWIDTH_STARTS
         s, e = evidence["start_error_s"], evidence["end_error_s"]
         if not (np.isfinite(s) and np.isfinite(e)):
             return {}, ()
