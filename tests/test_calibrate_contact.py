@@ -118,12 +118,11 @@ def test_timing_start_from_the_residual_is_near_the_truth(model):
     assert start["theta0_offset_rad"] == pytest.approx(0.03, rel=0.25)
 
 
-@pytest.mark.slow
 def test_contact_write_config_holds_the_calibrated_drum(tmp_path):
     """ccedi calibrate on a bundled contact record (the offset effect only, to be quick)
     writes [drum] with the calibrated set-up; the study loader reads it back."""
     out, toml = tmp_path / "c.json", tmp_path / "calibrated.toml"
-    assert main(["calibrate", str(DATA / "sensor_offset_drift_up.csv"), "--json", str(out), "--effects",
+    assert main(["calibrate", str(DATA / "sensor_offset_drift_down.csv"), "--json", str(out), "--effects",
                  "sensor_offset_drift", "--write-config", str(toml)]) == 0
     result = json.loads(out.read_text())
     cfg = load(toml)
