@@ -337,6 +337,11 @@ def calibrate(exp: Experiment, candidates=None, progress=None):
         ambiguity when two effects could not be told apart, the effects not accepted
         because they left the residual above the noise (step 6), and the sparse term when
         the residual is left unexplained.
+
+    Raises
+    ------
+    InputError
+        A candidate that is not in the catalogue of the record's kind.
     """
     model = calibration_model(exp)
     names = list(model.catalogue) if candidates is None else list(candidates)
