@@ -1,7 +1,9 @@
-"""The catalogue of physical effects the calibration can add to the declared finger:
+"""The catalogues of physical effects the calibration can add to the declared finger:
 each effect's physics, the residual signature that suggests it, and its parameters with
-units, bounds and a starting value scaled to the record. Light (numpy only), so the
-command line can list the effects without building a model."""
+units, bounds and a starting value scaled to the record. :data:`CATALOGUE` holds the
+effects of an impulse record (the finger's modal model), :data:`CONTACT_CATALOGUE` those
+of a contact record (the finger on the drum, read by the force transducer). Light (numpy
+only), so the command line can list the effects without building a model."""
 from dataclasses import dataclass
 
 import numpy as np
@@ -25,6 +27,10 @@ class Parameter:
         Work in log10 (bounds must then be > 0). Default True.
     scale : float, optional
         Linear scale when not ``log``. Default 1.
+    step : float or None, optional
+        Finite-difference step of the Jacobian in the optimiser's variable z (absolute),
+        for a model whose output is smooth only on that scale (the contact chain); None:
+        the fit's relative default. Default None.
     """
 
     name: str
@@ -32,6 +38,7 @@ class Parameter:
     upper: float
     log: bool = True
     scale: float = 1.0
+    step: float | None = None
 
     def to_z(self, x):
         """The optimiser's variable of a parameter value.
@@ -178,3 +185,72 @@ def _catalogue():
 
 CATALOGUE = _catalogue()
 """Candidate effects by name (the catalogue the calibration searches)."""
+
+
+@dataclass(frozen=True)
+class ContactScales:
+    """Scales of a contact record and its declared set-up, for parameter bounds and
+    starting values.
+
+    Parameters
+    ----------
+    peak_force_N : float
+        Largest reading of the record [N].
+    duration_s : float
+        Record length [s].
+    omega_rad_s : float
+        Declared drum speed [rad/s].
+    friction : float
+        Declared friction coefficient [-].
+    sensor_hz : float
+        Natural frequency of the declared transducer [Hz].
+    sensor_damping_ratio : float
+        Damping ratio of the declared transducer [-].
+    """
+
+    peak_force_N: float
+    duration_s: float
+    omega_rad_s: float
+    friction: float
+    sensor_hz: float
+    sensor_damping_ratio: float
+
+
+def _contact_catalogue():
+    P = Parameter
+    return {e.name: e for e in [
+        Effect("friction", "Coulomb friction finger-object f_t <= mu f_n with mu other than declared",
+               "force level and shape change while the contact (start, end) keeps its timing; "
+               "residual correlates with the force",
+               lambda s: [(P("friction_mu", 0.0, 2.0, log=False, scale=0.01, step=2.0), s.friction)]),
+        Effect("drum_speed", "drum turns at omega other than declared: contact window scales as 1 / omega",
+               "contact starts and ends early (or late) by amounts growing with time; residual "
+               "correlates with t F'",
+               lambda s: [(P("omega_rad_s", 0.7 * s.omega_rad_s, 1.3 * s.omega_rad_s, log=False,
+                             scale=0.002 * s.omega_rad_s, step=2.0), s.omega_rad_s)]),
+        Effect("timing_offset", "initial drum angle (or trigger) off by d_theta: the record shifted by "
+               "d_theta / omega",
+               "whole record shifted in time: residual correlates with -F', start and end errors equal",
+               lambda s: [(P("theta0_offset_rad", -0.2, 0.2, log=False, scale=0.001, step=2.0), 0.0)]),
+        Effect("object_offset", "object centre displaced by d_r along the line from the drum axis through "
+               "it: the finger's interference with the object changes (a displacement across that line is, "
+               "to first order, met d / (R omega) earlier or later: a timing offset)",
+               "force level and contact duration change together, contact starts earlier (closer) or later",
+               lambda s: [(P("object_radial_offset_m", -0.01, 0.01, log=False, scale=1e-4, step=3.0), 0.0)]),
+        Effect("sensor_bandwidth", "transducer low-pass y'' + 2 zeta w_n y' + w_n^2 y = w_n^2 F with "
+               "w_n, zeta other than declared",
+               "rises and falls of the record lag and round off against the model; residual "
+               "correlates with -F' and F''",
+               lambda s: [(P("sensor_hz", 1.0, 2000.0, step=0.01), s.sensor_hz),
+                          (P("sensor_damping_ratio", 0.05, 5.0, step=0.01), s.sensor_damping_ratio)]),
+        Effect("sensor_offset_drift", "transducer reads F + F_0 + F_1 t (zero offset and its drift)",
+               "non-zero reading out of contact: constant offset plus a slow linear drift of the residual",
+               lambda s: [(P("offset_N", -0.2 * s.peak_force_N, 0.2 * s.peak_force_N, log=False,
+                             scale=0.001 * s.peak_force_N, step=1.0), 0.0),
+                          (P("drift_N_s", -0.2 * s.peak_force_N / s.duration_s, 0.2 * s.peak_force_N / s.duration_s,
+                             log=False, scale=0.001 * s.peak_force_N / s.duration_s, step=1.0), 0.0)]),
+    ]}
+
+
+CONTACT_CATALOGUE = _contact_catalogue()
+"""Candidate effects of a contact record by name."""

@@ -7,9 +7,17 @@ Sidecar (``DATA.json`` beside ``DATA.csv``; format in data/README.md)::
     finger        length_in or length_m; section_semi_axes_m [a, b] (b along the bending
                   direction); E_Pa; nu; rho_kg_m3
     load          impulse: force_N, duration_s, at ("tip"), start_s (optional, default 0)
+    drum          contact: drum_radius_m, omega_rad_s, theta0_rad, object_center_m [x, y],
+                  object_semi_axes_m [a, b], friction (the keys of the study TOML's [drum])
+    damping       (optional, contact) "global" (default) or "relative"
     alpha_per_s   (optional) mass-proportional damping, the fit's starting value [1/s]
-    sensor        (optional) noise_std_m [m]
+    sensor        (optional) impulse: noise_std_m [m]; contact: noise_std_N [N]
     tolerances    (optional) E_Pa: relative tolerance of E (default 0.2)
+
+A contact record's CSV holds ``time_s`` and ``reaction_force_N`` (the magnitude of the
+in-plane force on the object as the transducer reads it), optionally
+``contact_force_x_N``, ``contact_force_y_N`` (lab frame); an impulse record's
+``time_s`` and ``tip_displacement_m`` (:mod:`ccedi.rom.measurement`).
 
 Every number is checked against its entry of :data:`ccedi.quantities.QUANTITIES` (the
 ranges of the study TOML and the command line), with the one message format
@@ -32,9 +40,10 @@ from ccedi.errors import InputError, brief_repr, one_line
 from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties
 from ccedi.fea.units import inch_to_m
 from ccedi.quantities import QUANTITIES
-from ccedi.rom.measurement import MeasuredResponse, check_sampling, load_response
+from ccedi.rom.measurement import CONTACT_COLUMNS, REQUIRED_COLUMNS, MeasuredResponse, check_sampling, load_response
 
 KINDS = ("impulse", "contact")
+DAMPINGS = ("global", "relative")
 DEFAULT_E_TOLERANCE = 0.2
 MAX_DISPLACEMENT_FRACTION = 0.5
 FORCE_PEAK_TOLERANCE = 0.2
@@ -115,6 +124,12 @@ class Experiment:
         Relative tolerance of the declared E [-]: E lies in E_Pa (1 +- E_tolerance).
     record : MeasuredResponse
         The CSV record (:class:`ccedi.rom.measurement.MeasuredResponse`).
+    drum : dict or None, optional
+        Contact: the declared drum set-up (the sidecar's ``drum`` keys, validated).
+    damping : str, optional
+        Contact: "global" or "relative" mass damping. Default "global".
+    noise_std_N : float or None, optional
+        Contact: declared transducer noise standard deviation [N], or None.
     """
 
     kind: str
@@ -126,6 +141,9 @@ class Experiment:
     noise_std_m: float | None
     E_tolerance: float
     record: MeasuredResponse
+    drum: dict | None = None
+    damping: str = "global"
+    noise_std_N: float | None = None
 
     @property
     def time_s(self):
@@ -137,10 +155,23 @@ class Experiment:
         """Measured tip displacement of the record [m]."""
         return self.record.tip_displacement_m
 
+    @property
+    def signal(self):
+        """The measured signal the calibration fits: the tip displacement [m] of an
+        impulse record, the reaction force [N] of a contact record."""
+        return self.record.reaction_force_N if self.kind == "contact" else self.record.tip_displacement_m
 
-FIELDS = {"": ("kind", "finger", "load", "alpha_per_s", "sensor", "tolerances"),
+    @property
+    def declared_noise(self):
+        """Declared noise std of :attr:`signal` (its unit), or None."""
+        return self.noise_std_N if self.kind == "contact" else self.noise_std_m
+
+
+FIELDS = {"": ("kind", "finger", "load", "drum", "damping", "alpha_per_s", "sensor", "tolerances"),
           "finger": ("length_in", "length_m", "section_semi_axes_m", "E_Pa", "nu", "rho_kg_m3"),
-          "load": ("force_N", "duration_s", "start_s", "at"), "sensor": ("noise_std_m",), "tolerances": ("E_Pa",)}
+          "load": ("force_N", "duration_s", "start_s", "at"), "sensor": ("noise_std_m", "noise_std_N"),
+          "tolerances": ("E_Pa",),
+          "drum": ("drum_radius_m", "omega_rad_s", "theta0_rad", "object_center_m", "object_semi_axes_m", "friction")}
 """The sidecar's fields, by object ("" the top level). Any other is refused: a misspelt
 optional field (``tolerances.E``) would otherwise be ignored and its default used."""
 
@@ -254,7 +285,49 @@ def load_experiment(csv_path, meta_path=None):
         raise InputError(f"{meta_path}: not valid JSON ({one_line(err)})") from None
     if not isinstance(sidecar, dict):
         raise InputError(f"{meta_path}: the sidecar must be a JSON object")
-    return experiment_from(load_response(csv_path), sidecar, source=str(meta_path))
+    required = CONTACT_COLUMNS if sidecar.get("kind") == "contact" else REQUIRED_COLUMNS
+    return experiment_from(load_response(csv_path, required=required), sidecar, source=str(meta_path))
+
+
+DRUM_QUANTITIES = {"drum_radius_m": "drum_radius_m", "omega_rad_s": "omega_rad_s", "theta0_rad": "angle_rad",
+                   "object_center_m": "object_position_m", "object_semi_axes_m": "object_semi_axis_m",
+                   "friction": "friction"}
+"""The contact sidecar's ``drum`` keys and their :data:`ccedi.quantities.QUANTITIES` entries."""
+
+
+def parse_drum(drum, source):
+    """The sidecar's ``drum`` object, every key required and checked.
+
+    Parameters
+    ----------
+    drum : dict
+        ``drum_radius_m`` [m], ``omega_rad_s`` [rad/s], ``theta0_rad`` [rad],
+        ``object_center_m`` [x, y] [m], ``object_semi_axes_m`` [a, b] [m], ``friction`` [-].
+    source : str
+        Name of the sidecar in error messages.
+
+    Returns
+    -------
+    dict
+        The validated values (pairs as tuples).
+
+    Raises
+    ------
+    InputError
+        Naming the missing or out-of-range field.
+    """
+    out = {}
+    for key, quantity in DRUM_QUANTITIES.items():
+        name = f"drum.{key}"
+        if key in ("object_center_m", "object_semi_axes_m"):
+            pair = drum.get(key)
+            if not isinstance(pair, (list, tuple)) or len(pair) != 2:
+                raise InputError(f"{source}: sidecar field '{name}' must be a list of two numbers in metres, "
+                                 f"got {brief_repr(pair)}")
+            out[key] = tuple(QUANTITIES[quantity].check(x, f"{source}: sidecar field '{name}'") for x in pair)
+        else:
+            out[key] = _quantity(drum, name, quantity, source)
+    return out
 
 
 def experiment_from(record: MeasuredResponse, sidecar, source="<sidecar>"):
@@ -287,6 +360,17 @@ def experiment_from(record: MeasuredResponse, sidecar, source="<sidecar>"):
     _known_fields(sidecar, "", source)
     finger = parse_finger(_section(sidecar, "finger", source), source)
     load = _section(sidecar, "load", source, optional=kind != "impulse")
+    drum, damping, noise_N = None, "global", None
+    if kind == "contact":
+        drum = parse_drum(_section(sidecar, "drum", source), source)
+        damping = sidecar.get("damping", "global")
+        if damping not in DAMPINGS:
+            raise InputError(f"{source}: sidecar field 'damping' must be one of {', '.join(DAMPINGS)}, "
+                             f"got {brief_repr(damping)}")
+        noise_N = _quantity(_section(sidecar, "sensor", source, optional=True), "sensor.noise_std_N", "noise_std_N",
+                            source, required=False)
+    elif "drum" in sidecar or "damping" in sidecar:
+        raise InputError(f"{source}: sidecar fields 'drum' and 'damping' belong to a contact record, not kind {kind!r}")
     force = duration = start = 0.0
     if kind == "impulse":
         if load.get("at") != "tip":
@@ -301,7 +385,7 @@ def experiment_from(record: MeasuredResponse, sidecar, source="<sidecar>"):
     tol = _quantity(_section(sidecar, "tolerances", source, optional=True), "tolerances.E_Pa", "E_tolerance", source,
                     required=False, default=DEFAULT_E_TOLERANCE)
     exp = Experiment(kind=kind, finger=finger, force_N=force, duration_s=duration, start_s=start, alpha_per_s=alpha,
-                     noise_std_m=noise, E_tolerance=tol, record=record)
+                     noise_std_m=noise, E_tolerance=tol, record=record, drum=drum, damping=damping, noise_std_N=noise_N)
     check_plausible(exp)
     return exp
 
@@ -312,7 +396,7 @@ def check_plausible(exp: Experiment):
     Checks: |tip displacement| below half the finger length; the largest sample interval
     below a quarter of the first period at E x (1 + tolerance); for an impulse, the pulse
     ends before the last sample and a ``force_N`` column peaks within 20 % of the
-    sidecar's ``load.force_N``.
+    sidecar's ``load.force_N``. A contact record: :func:`_check_contact`.
 
     Parameters
     ----------
@@ -325,6 +409,9 @@ def check_plausible(exp: Experiment):
         Naming the failed check, the values found and the limit.
     """
     src = exp.record.source
+    if exp.kind == "contact":
+        _check_contact(exp)
+        return
     y = exp.displacement_m
     limit = MAX_DISPLACEMENT_FRACTION * exp.finger.length_m
     if np.max(np.abs(y)) > limit:
@@ -341,3 +428,23 @@ def check_plausible(exp: Experiment):
         if abs(peak - exp.force_N) > FORCE_PEAK_TOLERANCE * exp.force_N:
             raise InputError(f"{src}: force_N column peaks at {peak:.4g} N but sidecar field 'load.force_N' is "
                              f"{exp.force_N:.4g} N (allowed: within {FORCE_PEAK_TOLERANCE:.0%})")
+
+
+CONTACT_FORCE_LIMIT_N = 1e4
+"""Largest plausible reaction force of a finger on the object [N]."""
+
+
+def _check_contact(exp: Experiment):
+    """Contact-record plausibility: the sampling resolves the declared finger's first mode,
+    the reaction force stays below :data:`CONTACT_FORCE_LIMIT_N` and shows a contact (its
+    peak above the declared noise, when given, by 10 sigma)."""
+    src = exp.record.source
+    check_sampling(exp.time_s, exp.finger.omega1_rad_s(1.0 + exp.E_tolerance), src)
+    f = exp.signal
+    peak = float(np.max(np.abs(f)))
+    if peak > CONTACT_FORCE_LIMIT_N:
+        raise InputError(f"{src}: reaction_force_N reaches {peak:.4g} N, more than {CONTACT_FORCE_LIMIT_N:g} N: "
+                         f"not newtons, or not this finger")
+    if exp.noise_std_N is not None and peak < 10.0 * exp.noise_std_N:
+        raise InputError(f"{src}: reaction_force_N peaks at {peak:.4g} N, below 10 x the declared noise "
+                         f"(sensor.noise_std_N = {exp.noise_std_N:.4g} N): the record shows no contact")

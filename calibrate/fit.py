@@ -3,7 +3,7 @@ uses: BIC on the training samples and the RMS error on held-out blocks.
 
 The record is cut into ``N_BLOCKS`` equal blocks; every fourth one (from the third) is held
 out, so the held-out quarter spans the whole decay. With n training samples, k parameters
-and residual sum of squares RSS [m^2]::
+and residual sum of squares RSS [m^2, or N^2 for a contact record]::
 
     BIC = n ln(RSS / n) + k ln(n)
 
@@ -15,7 +15,6 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from .model import FingerModel
 
 N_BLOCKS = 20
 DIVERGED = 10.0
@@ -53,7 +52,8 @@ class Fit:
     stderr : dict
         Standard errors by name, from the Gauss-Newton covariance (module docstring).
     prediction : numpy.ndarray
-        Predicted sensor reading at the record's samples [m].
+        Predicted sensor reading at the record's samples [m] (a contact record's
+        transducer reading [N]; the ``_m`` fields below are then in N).
     bic : float
         BIC on the training samples [-].
     holdout_rms_m : float
@@ -86,19 +86,22 @@ class Fit:
         return len(self.values)
 
 
-def fit(model: FingerModel, effects, start=None, extra_starts=()):
+def fit(model, effects, start=None, extra_starts=()):
     """Fit the baseline plus ``effects`` to the training part of the record.
 
     Bounded least squares in the parameters' optimiser variables (log or scaled,
     :class:`ccedi.calibrate.effects.Parameter`); a diverging prediction is given a
-    large constant residual so the optimiser backs off.
+    large constant residual so the optimiser backs off. The Jacobian is by forward
+    differences, with each parameter's absolute ``step`` when every parameter has one
+    (the contact chain), else with scipy's relative step 1e-4. The optimiser stops on a
+    relative change of the cost or of z below the model's ``fit_tolerance`` (default 1e-8).
 
     Parameters
     ----------
-    model : FingerModel
+    model : ccedi.calibrate.model.FingerModel or ccedi.calibrate.contact_model.DrumContactModel
         The calibration model of the experiment.
     effects : iterable of str
-        Effect names from the catalogue, added to the baseline (E_factor, alpha).
+        Effect names from the model's catalogue, added to the baseline (E_factor, alpha).
     start : dict, optional
         Starting values by parameter name overriding the catalogue's (e.g. the
         previous round's fit). Default None.
@@ -111,7 +114,7 @@ def fit(model: FingerModel, effects, start=None, extra_starts=()):
     Fit
         Values, standard errors, prediction and scores.
     """
-    y = model.exp.displacement_m
+    y = model.exp.signal
     train = ~holdout_mask(len(y))
     spec = model.parameters(effects)
     params = [p for p, _ in spec]
@@ -124,18 +127,49 @@ def fit(model: FingerModel, effects, start=None, extra_starts=()):
         r = (model.predict(values(z)) - y)[train]
         return r if np.all(np.isfinite(r)) else np.full_like(r, DIVERGED * float(np.ptp(y)))
 
+    tol = getattr(model, "fit_tolerance", 1e-8)
+    jac, fun = "2-point", residual
+    if all(p.step is not None for p in params):
+        jac, fun = _absolute_step_jacobian(residual, np.array([p.step for p in params]), lo, hi)
     best = None
     base = {p.name: x0 for p, x0 in spec} | (start or {})
     for guess in [base] + [base | s for s in extra_starts]:
         z0 = np.clip([p.to_z(guess[p.name]) for p in params], lo + 1e-9 * (hi - lo), hi - 1e-9 * (hi - lo))
-        res = least_squares(residual, z0, bounds=(lo, hi), x_scale=1.0, diff_step=1e-4, max_nfev=60 * len(params))
+        res = least_squares(fun, z0, jac=jac, bounds=(lo, hi), x_scale=1.0, diff_step=1e-4,
+                            max_nfev=60 * len(params), ftol=tol, xtol=tol)
         if best is None or res.cost < best.cost:
             best = res
     return _scored(model, effects, params, best, train)
 
 
+def _absolute_step_jacobian(residual, steps, lo, hi):
+    """Forward-difference Jacobian of ``residual`` with absolute steps in z (stepping
+    backwards at an upper bound); the residual at z is remembered from the last call."""
+    last = {}
+
+    def jac(z):
+        key = z.tobytes()
+        if last.get("z") != key:
+            last.update(z=key, r=residual(z))
+        r0 = last["r"]
+        J = np.empty((len(r0), len(z)))
+        for k, h in enumerate(steps):
+            h = h if z[k] + h <= hi[k] else -h
+            zk = z.copy()
+            zk[k] += h
+            J[:, k] = (residual(zk) - r0) / h
+        return J
+
+    def fun(z):
+        r = residual(z)
+        last.update(z=z.tobytes(), r=r)
+        return r
+
+    return jac, fun
+
+
 def _scored(model, effects, params, res, train):
-    y = model.exp.displacement_m
+    y = model.exp.signal
     v = {p.name: float(p.from_z(z)) for p, z in zip(params, res.x)}
     pred = model.predict(v)
     err = pred - y
@@ -156,35 +190,28 @@ def _scored(model, effects, params, res, train):
                nrmse=rms / float(np.ptp(y)), max_error_m=float(np.max(np.abs(err))), correlation=pairs)
 
 
-def fit_baseline(model: FingerModel, n_E=17, zetas=(0.01, 0.03, 0.1, 0.3, 1.0, 2.0)):
+def fit_baseline(model):
     """The declared model fitted: E_factor and alpha.
 
-    Starts from the best point of a grid (``n_E`` values of E across its tolerance times
-    the damping ratios ``zetas`` of mode 1, alpha = 2 zeta omega_1 sqrt(E_factor)),
-    refined by least squares.
+    Starts from the best of the model's starting points (``model.baseline_starts()``:
+    for an impulse record a grid of E across its tolerance times first-mode damping
+    ratios, :meth:`ccedi.calibrate.model.FingerModel.baseline_starts`), refined by least
+    squares.
 
     Parameters
     ----------
-    model : FingerModel
+    model : ccedi.calibrate.model.FingerModel or ccedi.calibrate.contact_model.DrumContactModel
         The calibration model of the experiment.
-    n_E : int, optional
-        Grid points of E_factor across [1 - tol, 1 + tol]. Default 17.
-    zetas : sequence of float, optional
-        Grid of first-mode damping ratios [-]. Default (0.01, 0.03, 0.1, 0.3, 1, 2).
 
     Returns
     -------
     Fit
         The baseline fit (no effects).
     """
-    s = model.scales
-    tol = model.exp.E_tolerance
-    y = model.exp.displacement_m
+    y = model.exp.signal
     best, best_err = None, np.inf
-    for e in np.linspace(1.0 - tol, 1.0 + tol, n_E):
-        for z in zetas:
-            v = {"E_factor": float(e), "alpha_per_s": 2.0 * z * s.omega1 * np.sqrt(e)}
-            err = float(np.sum((model.predict(v) - y) ** 2))
-            if err < best_err:
-                best, best_err = v, err
+    for v in model.baseline_starts():
+        err = float(np.sum((model.predict(v) - y) ** 2))
+        if err < best_err:
+            best, best_err = v, err
     return fit(model, (), start=best)

@@ -1,13 +1,27 @@
 """Closing the loop: fit the declared model, read its residual, add the missing effects.
 
+The model is the declared finger's modal model for an impulse record
+(:class:`ccedi.calibrate.model.FingerModel`, catalogue :data:`ccedi.calibrate.effects.CATALOGUE`)
+and the declared finger on the declared drum, read through the force transducer, for a
+contact record (:class:`ccedi.calibrate.contact_model.DrumContactModel`, catalogue
+:data:`ccedi.calibrate.effects.CONTACT_CATALOGUE`); the loop is the same, through the
+models' common methods (``parameters``, ``predict``, ``baseline_starts``, ``assess``,
+``analyse``, ``suggest``, ``observables``, ``measurements``, ``unexplained_term``,
+``calibrated``).
+
 1. Baseline: alpha and E (within tolerance) fitted (:func:`ccedi.calibrate.fit.fit_baseline`).
    Adequacy (:mod:`ccedi.calibrate.adequacy`): the record's own first frequency against the
    declared finger's, E_factor against its bounds, the record's length against the declared
    first period. If the declared finger cannot explain the record, the loop stops here:
    no effect is added to cover a wrong declaration.
 2. Residual analysis (:mod:`ccedi.calibrate.residual`): signatures and suggested effects.
-3. Every catalogued effect not yet in the model is refitted together with it.
-4. Selection: a candidate qualifies if it lowers the training BIC by more than
+3. Every catalogued effect not yet in the model is refitted together with it, from the
+   current values and the model's starting values for it (``candidate_starts``: e.g. a
+   contact record's timing offset from its contact start and end errors).
+4. Selection (sigma below: the noise std and the base model's own error,
+   ``model.model_error``, in quadrature; the latter is zero for the impulse model, and the
+   contact chain's discrepancy from the full FEA for a contact record): a candidate
+   qualifies if it lowers the training BIC by more than
    ``BIC_MARGIN``, lowers the held-out RMS error and explains at least
    ``EXPLAINED_FRACTION`` of the excess of the residual's mean square over the noise
    variance (RMS^2 - sigma^2): an effect that leaves most of the misfit is not what is
@@ -37,13 +51,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .adequacy import Adequacy, assess
-from .effects import CATALOGUE
+from ccedi.errors import InputError
+
+from .adequacy import Adequacy
 from .experiment import Experiment
 from .fit import Fit, fit, fit_baseline
 from .model import FingerModel
-from .residual import analyse, noise_std, suggest
-from .sparse import sparse_term
+from .residual import noise_std
 
 BIC_MARGIN = 10.0
 """Minimum BIC decrease to add an effect ("very strong" evidence on Kass & Raftery's scale)."""
@@ -99,7 +113,7 @@ class Calibration:
     ----------
     experiment : Experiment
         The calibrated experiment.
-    model : FingerModel
+    model : FingerModel or ccedi.calibrate.contact_model.DrumContactModel
         Its calibration model.
     baseline : Fit
         The declared model fitted (E_factor, alpha).
@@ -108,8 +122,11 @@ class Calibration:
     rounds : list of Round
         The selection rounds, the last one the stop.
     noise_std_m : float
-        Noise standard deviation used by the stopping test [m].
-    adequacy : Adequacy
+        Standard deviation the stopping test compares the residual with [m] ([N] for a
+        contact record): the noise's and the model's own error (``model.model_error``:
+        0 for an impulse record, the chain's discrepancy from the FEA for a contact
+        record) in quadrature.
+    adequacy : Adequacy or ccedi.calibrate.contact_model.ContactAdequacy
         Whether the declared finger can explain the record, with the evidence; when it
         cannot, ``final`` is the baseline.
     ambiguous : dict or None
@@ -142,8 +159,9 @@ class Calibration:
 
     @property
     def noise_floor_nrmse(self):
-        """Noise std over the record's range: the NRMSE a perfect model would reach [-]."""
-        return self.noise_std_m / float(np.ptp(self.experiment.displacement_m))
+        """Noise std (the sensor's alone) over the record's range: the NRMSE a perfect
+        model would reach [-]."""
+        return noise_std(self.experiment) / float(np.ptp(self.experiment.signal))
 
 
 def at_noise_level(f: Fit, sigma, n):
@@ -166,13 +184,6 @@ def at_noise_level(f: Fit, sigma, n):
         True at the noise level.
     """
     return (f.rms_m / sigma) ** 2 <= 1.0 + NOISE_Z * np.sqrt(2.0 / n)
-
-
-def _candidate_starts(name):
-    """Extra starting values for effects whose fit has several local minima."""
-    if name == "viscoelastic":
-        return ({"prony_tau_s": 0.01}, {"prony_tau_s": 0.3})
-    return ()
 
 
 def excess_explained(current: Fit, candidate: Fit, sigma):
@@ -236,8 +247,8 @@ def separating_measurement(model: FingerModel, a: Fit, b: Fit):
 
     Parameters
     ----------
-    model : FingerModel
-        The calibration model.
+    model : FingerModel or ccedi.calibrate.contact_model.DrumContactModel
+        The calibration model (its ``observables`` and ``measurements``).
     a, b : Fit
         The two fits.
 
@@ -247,10 +258,10 @@ def separating_measurement(model: FingerModel, a: Fit, b: Fit):
         ``quantity``, ``measurement`` (in words), ``values`` (by effect set),
         ``relative_difference`` [-], and ``all`` (every observable's relative difference).
     """
-    oa, ob = observables(model, a.values), observables(model, b.values)
+    oa, ob = model.observables(a.values), model.observables(b.values)
     rel = {k: abs(oa[k] - ob[k]) / max(abs(oa[k]), abs(ob[k]), 1e-300) for k in oa}
     best = max(rel, key=rel.get)
-    return {"quantity": best, "measurement": MEASUREMENTS[best],
+    return {"quantity": best, "measurement": model.measurements[best],
             "values": {"+".join(a.effects): oa[best], "+".join(b.effects): ob[best]},
             "relative_difference": rel[best], "all": rel}
 
@@ -285,15 +296,36 @@ def _ambiguity(model, current, best, runner, tried, sigma):
             "why": why, "separating_measurement": separating_measurement(model, fa, fb)}
 
 
+def calibration_model(exp: Experiment):
+    """The calibration model of an experiment: :class:`FingerModel` for an impulse
+    record, :class:`ccedi.calibrate.contact_model.DrumContactModel` for a contact record.
+
+    Parameters
+    ----------
+    exp : Experiment
+        The validated experiment.
+
+    Returns
+    -------
+    FingerModel or ccedi.calibrate.contact_model.DrumContactModel
+        The model.
+    """
+    if exp.kind == "contact":
+        from .contact_model import DrumContactModel
+
+        return DrumContactModel(exp)
+    return FingerModel(exp)
+
+
 def calibrate(exp: Experiment, candidates=None, progress=None):
     """Run the calibration loop on an experiment (module docstring).
 
     Parameters
     ----------
     exp : Experiment
-        The validated experiment.
+        The validated experiment (impulse or contact).
     candidates : iterable of str, optional
-        Effect names to consider. Default: the whole catalogue.
+        Effect names to consider. Default: the whole catalogue of the record's kind.
     progress : callable, optional
         Called with a one-line message before each candidate fit. Default None.
 
@@ -305,21 +337,30 @@ def calibrate(exp: Experiment, candidates=None, progress=None):
         ambiguity when two effects could not be told apart, the effects not accepted
         because they left the residual above the noise (step 6), and the sparse term when
         the residual is left unexplained.
+
+    Raises
+    ------
+    InputError
+        A candidate that is not in the catalogue of the record's kind.
     """
-    model = FingerModel(exp)
-    names = list(CATALOGUE) if candidates is None else list(candidates)
-    sigma = noise_std(exp)
+    model = calibration_model(exp)
+    names = list(model.catalogue) if candidates is None else list(candidates)
+    unknown = [k for k in names if k not in model.catalogue]
+    if unknown:
+        raise InputError(f"effect(s) {', '.join(unknown)} not in the {exp.kind} catalogue "
+                         f"({', '.join(model.catalogue)})")
+    sigma = float(np.hypot(noise_std(exp), model.model_error))
     n = len(exp.time_s)
     current = baseline = fit_baseline(model)
-    adequacy = assess(model, baseline, sigma)
+    adequacy = model.assess(baseline, sigma)
     rounds = []
     ambiguous = None
     while True:
-        evidence = analyse(model, current)
+        evidence = model.analyse(current, sigma)
         if not adequacy.adequate:
             rounds.append(Round(current, evidence, [], {}, None, adequacy.message() + ": no effect added"))
             break
-        suggested = suggest(evidence)
+        suggested = model.suggest(evidence)
         if at_noise_level(current, sigma, n):
             rounds.append(Round(current, evidence, suggested, {}, None,
                                 f"residual at the noise level (RMS {evidence['rms_over_noise']:.3f} sigma)"))
@@ -333,8 +374,8 @@ def calibrate(exp: Experiment, candidates=None, progress=None):
                 continue
             if progress:
                 progress(f"round {len(rounds) + 1}: {'+'.join(current.effects + (name,))}")
-            tried[name] = fit(model, current.effects + (name,), start=current.values,
-                              extra_starts=_candidate_starts(name))
+            start, extra = model.candidate_starts(name, current, evidence)
+            tried[name] = fit(model, current.effects + (name,), start=current.values | start, extra_starts=extra)
         qualified = {k: f for k, f in tried.items() if f.holdout_rms_m < current.holdout_rms_m
                      and f.bic <= current.bic - BIC_MARGIN and excess_explained(current, f, sigma) >= EXPLAINED_FRACTION}
         ranked = sorted(qualified, key=lambda k: qualified[k].bic)
@@ -367,9 +408,7 @@ def calibrate(exp: Experiment, candidates=None, progress=None):
                             f"not the noise level: the catalogue does not explain the record, no effect accepted"))
     unexplained = None
     if adequacy.adequate and current.rms_m > (1.0 + UNEXPLAINED_EXCESS) * sigma:
-        m = model.modes(current.values)
-        zeta = current.values["alpha_per_s"] / (2.0 * m.omega_rad_s) + current.values.get("beta_s", 0.0) * m.omega_rad_s / 2.0
-        unexplained = sparse_term(exp.time_s, exp.displacement_m - current.prediction, current.prediction, m, zeta)
+        unexplained = model.unexplained_term(current)
     return Calibration(experiment=exp, model=model, baseline=baseline, final=current, rounds=rounds,
                        noise_std_m=sigma, adequacy=adequacy, ambiguous=ambiguous, unexplained=unexplained,
                        rejected=rejected)
@@ -392,8 +431,11 @@ def summary(cal: Calibration):
         ``effects_found`` (per effect added: parameters and standard errors as fitted in
         its round and in the final model, error after, why, residual evidence and the
         candidates' scores), ``selected_effect``, final NRMSE, max error [m] and
-        parameters, ``calibrated`` (E_Pa and alpha_per_s of the final model, the inputs
-        ``ccedi calibrate --write-config`` writes), ``noise_floor_nrmse``, ``stop_reason``,
+        parameters, ``kind`` (of the record), ``calibrated`` (E_Pa and alpha_per_s of the
+        final model and, for a contact record, ``drum``: the corrected [drum] keys; the
+        inputs ``ccedi calibrate --write-config`` writes), ``model_error_std`` (the
+        base model's own error std the stopping test allows besides the noise, record
+        units), ``noise_floor_nrmse``, ``stop_reason``,
         ``final_evidence``, ``final_suggestions``, ``ambiguous`` (None, or the two effects
         with both fits, their BIC difference, correlation and the separating
         measurement), ``rejected_effects`` (None, or the effects added that left the
@@ -426,9 +468,9 @@ def summary(cal: Calibration):
             "effects_found": found,
             "selected_effect": found[0]["name"] if found else None,
             "final_nrmse": fin.nrmse, "final_max_error_m": fin.max_error_m, "final_params": fin.values,
-            "calibrated": {"E_Pa": cal.experiment.finger.E_Pa * fin.values["E_factor"],
-                           "alpha_per_s": fin.values["alpha_per_s"]},
-            "noise_floor_nrmse": cal.noise_floor_nrmse,
+            "kind": cal.experiment.kind,
+            "calibrated": cal.model.calibrated(fin.values),
+            "noise_floor_nrmse": cal.noise_floor_nrmse, "model_error_std": cal.model.model_error,
             "stop_reason": last.reason, "final_evidence": last.evidence,
             "final_suggestions": [{"effect": k, "reason": why} for k, why in last.suggested],
             "ambiguous": _ambiguous_summary(cal.ambiguous),

@@ -116,6 +116,12 @@ def e_factor_bound(E_factor, tol):
     return 1 if (1.0 + tol) - E_factor < width else 0
 
 
+N_E_STARTS = 17
+"""E_factor values across the tolerance in the baseline's starting grid."""
+ZETA_STARTS = (0.01, 0.03, 0.1, 0.3, 1.0, 2.0)
+"""First-mode damping ratios in the baseline's starting grid."""
+
+
 class FingerModel:
     """Predicts the sensor reading of an :class:`Experiment` for parameter values.
 
@@ -138,7 +144,14 @@ class FingerModel:
         y-bending modes kept: those below the record's sampling rate, at least MIN_MODES.
     scales : Scales
         Scales of the record for bounds and starting values.
+    catalogue : dict
+        :data:`ccedi.calibrate.effects.CATALOGUE`.
     """
+
+    catalogue = CATALOGUE
+    model_error = 0.0
+    """Standard deviation of the model's own error against the finger [m]: none beyond
+    the noise (the FE modes are the finger's)."""
 
     def __init__(self, exp: Experiment):
         f = exp.finger
@@ -172,6 +185,159 @@ class FingerModel:
         for name in effects:
             out += CATALOGUE[name].parameters(self.scales)
         return out
+
+    def baseline_starts(self):
+        """Starting points of the baseline fit: ``N_E_STARTS`` values of E across its
+        tolerance times the first-mode damping ratios ``ZETA_STARTS``,
+        alpha = 2 zeta omega_1 sqrt(E_factor).
+
+        Returns
+        -------
+        list of dict
+            ``{"E_factor", "alpha_per_s"}`` values.
+        """
+        tol = self.exp.E_tolerance
+        return [{"E_factor": float(e), "alpha_per_s": 2.0 * z * self.scales.omega1 * np.sqrt(e)}
+                for e in np.linspace(1.0 - tol, 1.0 + tol, N_E_STARTS) for z in ZETA_STARTS]
+
+    def candidate_starts(self, name, current, evidence):
+        """Starting values of a candidate effect's fit beyond the catalogue's: the
+        viscoelastic relaxation time has several local minima, so two more starts
+        (10 ms and 0.3 s) are tried.
+
+        Parameters
+        ----------
+        name : str
+            The candidate effect.
+        current : ccedi.calibrate.fit.Fit
+            The model it is added to.
+        evidence : dict
+            Its residual signatures (unused here).
+
+        Returns
+        -------
+        start : dict
+            Values overriding the catalogue's start (none).
+        extra : tuple of dict
+            Further starts tried.
+        """
+        if name == "viscoelastic":
+            return {}, ({"prony_tau_s": 0.01}, {"prony_tau_s": 0.3})
+        return {}, ()
+
+    def assess(self, baseline, sigma):
+        """Adequacy of the declared finger (:func:`ccedi.calibrate.adequacy.assess`).
+
+        Parameters
+        ----------
+        baseline : ccedi.calibrate.fit.Fit
+            The baseline fit.
+        sigma : float
+            Noise std [m].
+
+        Returns
+        -------
+        ccedi.calibrate.adequacy.Adequacy
+            The verdict and its evidence.
+        """
+        from .adequacy import assess
+
+        return assess(self, baseline, sigma)
+
+    def analyse(self, fitted, sigma):
+        """Residual signatures (:func:`ccedi.calibrate.residual.analyse`).
+
+        Parameters
+        ----------
+        fitted : ccedi.calibrate.fit.Fit
+            The fit.
+        sigma : float
+            Noise std [m] (the analysis uses the experiment's own, :func:`ccedi.calibrate.residual.noise_std`).
+
+        Returns
+        -------
+        dict
+            The signatures.
+        """
+        from .residual import analyse
+
+        return analyse(self, fitted)
+
+    def suggest(self, evidence):
+        """Effects the signatures point to (:func:`ccedi.calibrate.residual.suggest`).
+
+        Parameters
+        ----------
+        evidence : dict
+            :meth:`analyse`'s signatures.
+
+        Returns
+        -------
+        list of (str, str)
+            (effect, reason).
+        """
+        from .residual import suggest
+
+        return suggest(evidence)
+
+    def observables(self, v):
+        """What a measurement could show of a fitted model (:func:`ccedi.calibrate.loop.observables`).
+
+        Parameters
+        ----------
+        v : dict
+            Parameter values.
+
+        Returns
+        -------
+        dict
+            Observable by name.
+        """
+        from .loop import observables
+
+        return observables(self, v)
+
+    @property
+    def measurements(self):
+        """The measurements :meth:`observables` can name (:data:`ccedi.calibrate.loop.MEASUREMENTS`)."""
+        from .loop import MEASUREMENTS
+
+        return MEASUREMENTS
+
+    def unexplained_term(self, fitted):
+        """The best sparse tip-force term on a fit's residual (:func:`ccedi.calibrate.sparse.sparse_term`).
+
+        Parameters
+        ----------
+        fitted : ccedi.calibrate.fit.Fit
+            The final fit.
+
+        Returns
+        -------
+        ccedi.calibrate.sparse.SparseTerm
+            The term.
+        """
+        from .sparse import sparse_term
+
+        m = self.modes(fitted.values)
+        v = fitted.values
+        zeta = v["alpha_per_s"] / (2.0 * m.omega_rad_s) + v.get("beta_s", 0.0) * m.omega_rad_s / 2.0
+        return sparse_term(self.exp.time_s, self.exp.displacement_m - fitted.prediction, fitted.prediction, m, zeta)
+
+    def calibrated(self, v):
+        """The calibrated study inputs of parameter values ``v``.
+
+        Parameters
+        ----------
+        v : dict
+            Final parameter values.
+
+        Returns
+        -------
+        dict
+            ``E_Pa`` (declared E x E_factor) and ``alpha_per_s``.
+        """
+        return {"E_Pa": self.exp.finger.E_Pa * v["E_factor"], "alpha_per_s": v["alpha_per_s"]}
 
     def modes(self, v):
         """Modes of the finger for parameter values ``v``.

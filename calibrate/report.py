@@ -5,7 +5,8 @@ Files: ``fit.png`` (record, baseline and final model [mm] against time [s]),
 ``residual.png`` (residual [mm] against time [s], and its amplitude spectrum [mm] against
 frequency [Hz], before and after), ``residuals.csv`` (time_s, tip_displacement_m,
 baseline_m, final_m) and ``report.md`` (the model's adequacy with its evidence, the errors
-before and after, each effect added).
+before and after, each effect added). A contact record's figures and columns are its
+reaction force [N] instead (``reaction_force_N``, ``baseline_N``, ``final_N``).
 """
 from pathlib import Path
 
@@ -17,21 +18,27 @@ from ccedi.fea.outputs import write_csv, write_figure, write_text
 from .loop import Calibration
 
 
+SIGNALS = {"impulse": ("tip displacement", "tip_displacement_m", "m", 1e3, "mm"),
+           "contact": ("reaction force", "reaction_force_N", "N", 1.0, "N")}
+"""Per record kind: signal name, CSV column, SI unit, plot scale and plot unit."""
+
+
 def _figures(cal: Calibration):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    name_, _, _, k, unit = SIGNALS[cal.experiment.kind]
     t = cal.experiment.time_s
-    y = cal.experiment.displacement_m
+    y = cal.experiment.signal
     base, final = cal.baseline.prediction, cal.final.prediction
     label = "+".join(cal.final.effects) or "baseline"
     fit_fig, ax = plt.subplots(figsize=(7.5, 4.0))
-    ax.plot(t, 1e3 * y, ".", ms=2, color="0.6", label="record")
-    ax.plot(t, 1e3 * base, "-", lw=1.0, label=f"baseline (NRMSE {cal.baseline.nrmse:.2%})")
-    ax.plot(t, 1e3 * final, "--", lw=1.0, label=f"{label} (NRMSE {cal.final.nrmse:.2%})")
+    ax.plot(t, k * y, ".", ms=2, color="0.6", label="record")
+    ax.plot(t, k * base, "-", lw=1.0, label=f"baseline (NRMSE {cal.baseline.nrmse:.2%})")
+    ax.plot(t, k * final, "--", lw=1.0, label=f"{label} (NRMSE {cal.final.nrmse:.2%})")
     ax.set_xlabel("time [s]")
-    ax.set_ylabel("tip displacement [mm]")
+    ax.set_ylabel(f"{name_} [{unit}]")
     ax.legend(fontsize=8)
     fit_fig.tight_layout()
     res_fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.5, 6.0))
@@ -39,36 +46,44 @@ def _figures(cal: Calibration):
     f = np.fft.rfftfreq(len(t), d=dt)
     for pred, name in ((base, "baseline"), (final, label)):
         r = y - pred
-        a1.plot(t, 1e3 * r, lw=0.6, label=f"{name}: RMS {1e3 * np.sqrt(np.mean(r**2)):.3g} mm")
-        a2.semilogy(f, 1e3 * 2.0 * np.abs(np.fft.rfft(r)) / len(r), lw=0.6, label=name)
-    a1.axhline(1e3 * cal.noise_std_m, color="k", lw=0.5, ls=":", label="noise std")
-    a1.axhline(-1e3 * cal.noise_std_m, color="k", lw=0.5, ls=":")
+        a1.plot(t, k * r, lw=0.6, label=f"{name}: RMS {k * np.sqrt(np.mean(r**2)):.3g} {unit}")
+        a2.semilogy(f, k * 2.0 * np.abs(np.fft.rfft(r)) / len(r), lw=0.6, label=name)
+    a1.axhline(k * cal.noise_std_m, color="k", lw=0.5, ls=":", label="noise std")
+    a1.axhline(-k * cal.noise_std_m, color="k", lw=0.5, ls=":")
     a1.set_xlabel("time [s]")
-    a1.set_ylabel("residual [mm]")
+    a1.set_ylabel(f"residual [{unit}]")
     a1.legend(fontsize=8)
     a2.set_xlabel("frequency [Hz]")
-    a2.set_ylabel("residual amplitude [mm]")
+    a2.set_ylabel(f"residual amplitude [{unit}]")
     a2.set_xlim(0.0, min(f[-1], 100.0))
     a2.legend(fontsize=8)
     res_fig.tight_layout()
     return fit_fig, res_fig
 
 
+def _adequacy_rows(a):
+    """The adequacy evidence table rows of an impulse or a contact record."""
+    rows = [f"| baseline E factor [-] (bounds) | {a['E_factor']:.4g} ({a['E_factor_bounds'][0]:g}.."
+            f"{a['E_factor_bounds'][1]:g}) |"]
+    if "peak_over_noise" in a:
+        return rows + [f"| record peak over the noise std [-] | {a['peak_over_noise']:.4g} |"]
+    own = a["record_first_frequency_hz"]
+    return [f"| record's first-mode frequency [Hz] | {'not measurable' if own is None else f'{own:.4g}'} |",
+            f"| declared finger's first frequency [Hz] | {a['declared_first_frequency_hz']:.4g} |",
+            f"| allowed band [Hz] | {a['allowed_band_hz'][0]:.4g}..{a['allowed_band_hz'][1]:.4g} |",
+            *rows,
+            f"| declared first periods covered [-] | {a['periods_covered']:.3g} (at least {a['min_periods']:g}) |"]
+
+
 def _markdown(summary):
     b = summary["baseline"]
     a = summary["adequacy"]
-    own = a["record_first_frequency_hz"]
+    unit = SIGNALS[summary.get("kind", "impulse")][2]
     lines = [f"# Calibration of {summary['source']}", "",
              f"Model adequacy: {a['message']}.", "",
-             "| evidence | value |", "|---|---|",
-             f"| record's first-mode frequency [Hz] | {'not measurable' if own is None else f'{own:.4g}'} |",
-             f"| declared finger's first frequency [Hz] | {a['declared_first_frequency_hz']:.4g} |",
-             f"| allowed band [Hz] | {a['allowed_band_hz'][0]:.4g}..{a['allowed_band_hz'][1]:.4g} |",
-             f"| baseline E factor [-] (bounds) | {a['E_factor']:.4g} ({a['E_factor_bounds'][0]:g}.."
-             f"{a['E_factor_bounds'][1]:g}) |",
-             f"| declared first periods covered [-] | {a['periods_covered']:.3g} (at least {a['min_periods']:g}) |",
+             "| evidence | value |", "|---|---|", *_adequacy_rows(a),
              "", f"Noise floor NRMSE {summary['noise_floor_nrmse']:.4%}.", "",
-             "| model | NRMSE | max error [m] |", "|---|---|---|",
+             f"| model | NRMSE | max error [{unit}] |", "|---|---|---|",
              f"| baseline | {b['nrmse']:.4%} | {b['max_error_m']:.4g} |"]
     for e in summary["effects_found"]:
         lines.append(f"| + {e['name']} | {e['nrmse_after']:.4%} | {e['max_error_after_m']:.4g} |")
@@ -80,7 +95,7 @@ def _markdown(summary):
         lines += [f"## {e['name']}", "",
                   ", ".join(f"{k} = {v:.5g} +- {e['stderr'][k]:.2g}" for k, v in e["params"].items()), "",
                   f"Selected: {e['why']}. Residual signature: {e['suggested_by_residual'] or 'not flagged'}.", "",
-                  "| candidate | delta BIC | held-out RMS [m] | NRMSE |", "|---|---|---|---|"]
+                  f"| candidate | delta BIC | held-out RMS [{unit}] | NRMSE |", "|---|---|---|---|"]
         lines += [f"| {k} | {c['delta_bic']:+.1f} | {c['holdout_rms_m']:.4g} | {c['nrmse']:.4%} |"
                   for k, c in e["candidates"].items()]
         lines.append("")
@@ -108,8 +123,9 @@ def write_report(out_dir, cal: Calibration, summary):
     out = Path(out_dir)
     fit_fig, res_fig = _figures(cal)
     md = _markdown(summary)
-    frame = pd.DataFrame({"time_s": cal.experiment.time_s, "tip_displacement_m": cal.experiment.displacement_m,
-                          "baseline_m": cal.baseline.prediction, "final_m": cal.final.prediction})
+    _, column, unit, _, _ = SIGNALS[cal.experiment.kind]
+    frame = pd.DataFrame({"time_s": cal.experiment.time_s, column: cal.experiment.signal,
+                          f"baseline_{unit}": cal.baseline.prediction, f"final_{unit}": cal.final.prediction})
     paths = [write_figure(out / "fit.png", fit_fig), write_figure(out / "residual.png", res_fig),
              write_csv(out / "residuals.csv", frame), write_text(out / "report.md", md)]
     return paths

@@ -49,15 +49,16 @@ def noise_std(exp):
     Returns
     -------
     float
-        The sidecar's ``sensor.noise_std_m``, or else the estimate of
-        :func:`ccedi.rom.damping.noise_level` from the record [m].
+        The sidecar's ``sensor.noise_std_m`` (a contact record's ``sensor.noise_std_N``),
+        or else the estimate of :func:`ccedi.rom.damping.noise_level` from the record [m]
+        ([N] for a contact record).
 
     Raises
     ------
     InputError
         When estimating from a record of fewer than 5 samples.
     """
-    return exp.noise_std_m if exp.noise_std_m is not None else noise_level(exp.displacement_m)
+    return exp.declared_noise if exp.declared_noise is not None else noise_level(exp.signal)
 
 
 def _cycle_slopes(t, y, y_final, band):

@@ -77,6 +77,7 @@ QUANTITIES = {
     "pulse_duration_s": Quantity("s", 1e-4, 1.0),
     "pulse_start_s": Quantity("s", 0.0, 1e3),
     "noise_std_m": Quantity("m", 1e-9, 1e-2),
+    "noise_std_N": Quantity("N", 1e-9, 1e3),
     "drum_radius_m": Quantity("m", 1e-3, 1.0),
     "omega_rad_s": Quantity("rad/s", 1e-3, 100.0),
     "angle_rad": Quantity("rad", -3.2, 3.2),
@@ -88,7 +89,7 @@ QUANTITIES = {
 compressible), density, length, and each semi-axis of the elliptical section; the
 relative tolerance of a declared E (E may lie in E (1 +- tolerance)); mass-proportional
 damping; the tip load: force, how long it is held and when it starts; the standard
-deviation of a displacement sensor's white noise; and the drum test: drum radius and
+deviation of a displacement sensor's (and a force transducer's) white noise; and the drum test: drum radius and
 speed, the finger's initial angle (and the object's rotation), each coordinate of the
 object's centre (an object 10 m away takes no part), each semi-axis of the object, and
 the Coulomb friction coefficient between finger and object."""

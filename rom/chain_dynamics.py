@@ -255,9 +255,12 @@ P_out : (k, n, 2) ndarray
 TH_out : (k, n) ndarray
     Station rotations at each output [rad].
 C_out : (k, 6) ndarray
-    Contact record of the step reaching each output: force on the object x, y
-    (global) [N], number of points in contact, force-weighted contact point x, y
-    (global) [m], deepest penetration [m].
+    Contact record at each output: force on the object x, y (global) [N], averaged
+    over the steps since the previous output (what an ideal anti-aliased acquisition
+    samples: the chain's contact chatter, at up to its highest frequencies, does not
+    alias into the outputs), then, of the step reaching the output, the number of
+    points in contact, the force-weighted contact point x, y (global) [m] and the
+    deepest penetration [m].
 """
 ContactWork = namedtuple("ContactWork", "F Mo E J far fn nx ny")
 ContactWork.__doc__ = """Scratch arrays of a run (built by :func:`contact_work`).
@@ -487,9 +490,10 @@ def _drift(state, dt):
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def _record(k, back, state, outputs, record):
+def _record(k, back, state, outputs, record, mean_fx, mean_fy):
     """Output k: station states moved back by ``back`` [s] to the output time (linear in the
-    step) and the contact record of the last step."""
+    step), the force on the object averaged since the last output and the rest of the
+    contact record of the last step."""
     P, TH, V, W = state.P, state.TH, state.V, state.W
     for i in range(P.shape[0]):
         outputs.P_out[k, i, 0] = P[i, 0] - back * V[i, 0]
@@ -497,8 +501,8 @@ def _record(k, back, state, outputs, record):
         outputs.TH_out[k, i] = TH[i] - back * W[i]
     fx_sum, fy_sum, px_sum, py_sum, fn_sum, pen_max, n_act = record
     C = outputs.C_out
-    C[k, _FX] = fx_sum
-    C[k, _FY] = fy_sum
+    C[k, _FX] = mean_fx
+    C[k, _FY] = mean_fy
     C[k, _NPTS] = n_act
     C[k, _PX] = px_sum / fn_sum if fn_sum > 0.0 else 0.0
     C[k, _PY] = py_sum / fn_sum if fn_sum > 0.0 else 0.0
@@ -516,6 +520,9 @@ def _chain_run(state, chain, drum, points, dt, outputs, work):
     t = 0.0
     steps = 0
     for k in range(t_out.shape[0]):
+        fx_acc = 0.0
+        fy_acc = 0.0
+        n_acc = 0
         while t < t_out[k] - 1e-12 * dt:
             _station_loads(state, chain, work)
             phi = drum.theta0 + drum.omega * t
@@ -532,7 +539,13 @@ def _chain_run(state, chain, drum, points, dt, outputs, work):
                 return 1, steps
             t += dt
             steps += 1
-        _record(k, t - t_out[k], state, outputs, record)
+            fx_acc += record[0]
+            fy_acc += record[1]
+            n_acc += 1
+        if n_acc > 0:
+            _record(k, t - t_out[k], state, outputs, record, fx_acc / n_acc, fy_acc / n_acc)
+        else:
+            _record(k, t - t_out[k], state, outputs, record, record[0], record[1])
     return 0, steps
 
 
@@ -638,6 +651,7 @@ def chain_run_numpy(state, chain, drum, points, dt, outputs):
     t, steps = 0.0, 0
     record = np.zeros(6)
     for k, t_k in enumerate(outputs.t_out):
+        acc = []                                            # force on the object of each step
         while t < t_k - 1e-12 * dt:
             F, Mo = _internal_forces_numpy(P, TH, chain)
             F, Mo = -F, -Mo
@@ -716,6 +730,9 @@ def chain_run_numpy(state, chain, drum, points, dt, outputs):
             steps += 1
             point = moment / f_sum if f_sum > 0.0 else np.zeros(2)
             record = np.array([f_obj[0], f_obj[1], n_act, point[0], point[1], pen])
+            acc.append(record[:2].copy())
+        if acc:
+            record[:2] = np.mean(acc, axis=0)
         back = t - t_k
         outputs.P_out[k] = P - back * V
         outputs.TH_out[k] = TH - back * W

@@ -20,12 +20,13 @@ such planes, and a tapered or holed finger no single section to put the contact 
 so :func:`require_generated_finger` refuses it in one line; its contact run is the full
 FEA, :class:`ccedi.fea.drum.FullContactModel`.
 """
+import copy
 import time
 
 import numpy as np
 import pandas as pd
 
-from ccedi.errors import InputError, SolverError
+from ccedi.errors import InputError, SolverError, require_finite_positive
 from ccedi.fea.contact import penalty_stiffness
 from ccedi.fea.drum import DrumSetup, finger_mesh, finger_on_drum
 from ccedi.fea.explicit import TSSFAC, critical_time_step
@@ -281,23 +282,9 @@ class ReducedContactModel:
         """
         alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs, damping)
         s, ch = self.setup, self.chain
-        n = len(ch.station_z_m)
-        P = np.column_stack([s.drum_radius_m + ch.station_z_m, np.zeros(n)])
-        TH, V, W = np.zeros(n), np.zeros((n, 2)), np.zeros(n)
-        P0 = P.copy()
         t_out = np.linspace(0.0, t_end_s, int(n_outputs) + 1)[1:]
-        P_out, TH_out = np.zeros((len(t_out), n, 2)), np.zeros((len(t_out), n))
-        C_out = np.zeros((len(t_out), 6))
-        obj = s.object_surface
-        c = np.asarray(obj.center_m, dtype=float)
-        obj_params = np.array([c[0], c[1], obj.a_m, obj.b_m, np.cos(obj.angle_rad), np.sin(obj.angle_rad)])
         wall0 = time.perf_counter()
-        status, steps = chain_run(ChainState(P, TH, V, W), self._chain_group(),
-                                  DrumFrame(s.omega_rad_s, s.theta0_rad, float(alpha), damping == "relative"),
-                                  ContactPoints(self.pt_seg, self.pt_xi, self.pt_k, float(obj.mu), obj_params),
-                                  self.dt_s, ChainOutputs(t_out, P_out, TH_out, C_out))
-        if status:
-            raise SolverError(f"reduced model diverged (non-finite state) at step {steps + 1}")
+        P0, P_out, TH_out, C_out, steps = self._integrate(alpha, damping, t_out)
         stress = self._max_von_mises(P_out, TH_out)
         wall = time.perf_counter() - wall0
         if np.isnan(stress).any():
@@ -322,10 +309,99 @@ class ReducedContactModel:
         summary.update(contact_timing(history))
         return ContactResponse(history=history, summary=summary)
 
-    def _chain_group(self):
-        """The chain as :data:`ccedi.rom.chain_dynamics.ChainGroup`."""
+    def on(self, setup: DrumSetup):
+        """The same chain on another drum set-up (drum speed, initial angle, object,
+        friction); the finger must be the same.
+
+        Parameters
+        ----------
+        setup : DrumSetup
+            The new set-up.
+
+        Returns
+        -------
+        ReducedContactModel
+            A copy sharing the chain, the contact points and the stress recovery.
+
+        Raises
+        ------
+        InputError
+            ``setup``'s finger differs from this model's.
+        """
+        keys = ("finger_length_m", "finger_material", "finger_semi_axes_m", "finger_section_elements",
+                "finger_elements_along", "drum_radius_m")
+        changed = [k for k in keys if getattr(setup, k) != getattr(self.setup, k)]
+        if changed or setup.finger is not None:
+            raise InputError(f"the reduced model's finger and drum radius are fixed; the new set-up changes "
+                             f"{', '.join(changed) or 'finger'}: build a new ReducedContactModel")
+        other = copy.copy(self)
+        other.setup = setup
+        return other
+
+    def reaction_force(self, alpha, time_s, damping="global", E_factor=1.0):
+        """Force of the finger on the object at given times: the chain alone, without the
+        stress recovery of :meth:`run` (the calibration's fast path).
+
+        Young's modulus x ``E_factor`` scales the chain exactly: every section stiffness
+        and contact spring by E_factor (the contact springs are set by the chain's or
+        the FE face's stiffness, both linear in E), the step by 1 / sqrt(E_factor).
+
+        Parameters
+        ----------
+        alpha : float
+            Mass-proportional damping coefficient [1/s].
+        time_s : array_like
+            Increasing output times > 0 [s].
+        damping : str, optional
+            "global" or "relative".
+        E_factor : float, optional
+            Young's modulus over the model's [-], > 0.
+
+        Returns
+        -------
+        numpy.ndarray
+            (k, 2): force on the object, global x and y [N].
+
+        Raises
+        ------
+        InputError
+            Bad ``alpha``, ``damping``, ``E_factor`` or times.
+        SolverError
+            The chain diverged.
+        """
+        t_out = np.asarray(time_s, dtype=float)
+        if t_out.ndim != 1 or len(t_out) == 0 or t_out[0] <= 0.0 or np.any(np.diff(t_out) <= 0.0):
+            raise InputError("time_s must be increasing times > 0 s")
+        alpha, _, _ = validate_run_args(alpha, float(t_out[-1]), len(t_out), damping)
+        C_out = self._integrate(alpha, damping, t_out, require_finite_positive("E_factor", E_factor))[3]
+        return C_out[:, [_FX, _FY]]
+
+    def _integrate(self, alpha, damping, t_out, E_factor=1.0):
+        """Integrate the chain to the output times ``t_out`` (Young's modulus x
+        ``E_factor``, :meth:`reaction_force`); returns (P0, P_out, TH_out, C_out, steps)."""
+        s, ch = self.setup, self.chain
+        n = len(ch.station_z_m)
+        P = np.column_stack([s.drum_radius_m + ch.station_z_m, np.zeros(n)])
+        TH, V, W = np.zeros(n), np.zeros((n, 2)), np.zeros(n)
+        P0 = P.copy()
+        P_out, TH_out = np.zeros((len(t_out), n, 2)), np.zeros((len(t_out), n))
+        C_out = np.zeros((len(t_out), 6))
+        obj = s.object_surface
+        c = np.asarray(obj.center_m, dtype=float)
+        obj_params = np.array([c[0], c[1], obj.a_m, obj.b_m, np.cos(obj.angle_rad), np.sin(obj.angle_rad)])
+        status, steps = chain_run(ChainState(P, TH, V, W), self._chain_group(E_factor),
+                                  DrumFrame(s.omega_rad_s, s.theta0_rad, float(alpha), damping == "relative"),
+                                  ContactPoints(self.pt_seg, self.pt_xi, E_factor * self.pt_k, float(obj.mu),
+                                                obj_params),
+                                  self.dt_s / np.sqrt(E_factor), ChainOutputs(t_out, P_out, TH_out, C_out))
+        if status:
+            raise SolverError(f"reduced model diverged (non-finite state) at step {steps + 1}")
+        return P0, P_out, TH_out, C_out, steps
+
+    def _chain_group(self, E_factor=1.0):
+        """The chain as :data:`ccedi.rom.chain_dynamics.ChainGroup` (stiffness x ``E_factor``)."""
         ch = self.chain
-        return ChainGroup(ch.mass_kg, ch.inertia_kg_m2, ch.segment_length_m, ch.natural_stiffness,
+        return ChainGroup(ch.mass_kg, ch.inertia_kg_m2, ch.segment_length_m, E_factor * ch.natural_stiffness,
                           ch.half_thickness_m, self.nonlinear)
 
     def _max_von_mises(self, P_out, TH_out):

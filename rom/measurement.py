@@ -19,7 +19,9 @@ import pandas as pd
 from ccedi.errors import InputError, brief_repr, one_line
 
 REQUIRED_COLUMNS = ("time_s", "tip_displacement_m")
-OPTIONAL_COLUMNS = ("force_N", "reaction_force_N")
+CONTACT_COLUMNS = ("time_s", "reaction_force_N")
+"""Required columns of a contact record (the force on the object as the transducer reads it)."""
+OPTIONAL_COLUMNS = ("force_N", "reaction_force_N", "contact_force_x_N", "contact_force_y_N")
 MIN_SAMPLES = 8
 
 
@@ -39,25 +41,32 @@ class MeasuredResponse:
         Where the data came from (file path or ``"<frame>"``).
     reaction_force_N : numpy.ndarray or None, optional
         Reaction force at the clamp or object, (n,) [N], or None. Default None.
+    contact_force_x_N, contact_force_y_N : numpy.ndarray or None, optional
+        Lab-frame components of the force on the object, (n,) [N], or None.
     """
 
     time_s: np.ndarray
-    tip_displacement_m: np.ndarray
+    tip_displacement_m: np.ndarray | None
     force_N: np.ndarray | None
     source: str
     reaction_force_N: np.ndarray | None = None
+    contact_force_x_N: np.ndarray | None = None
+    contact_force_y_N: np.ndarray | None = None
 
 
-def load_response(path):
+def load_response(path, required=REQUIRED_COLUMNS):
     """Read and validate a measured response CSV.
 
-    Columns ``time_s`` and ``tip_displacement_m`` are required, ``force_N`` and
-    ``reaction_force_N`` optional; lines starting with ``#`` are comments.
+    Columns ``required`` (default ``time_s`` and ``tip_displacement_m``; a contact record:
+    :data:`CONTACT_COLUMNS`) are required, the others of :data:`OPTIONAL_COLUMNS` optional;
+    lines starting with ``#`` are comments.
 
     Parameters
     ----------
     path : str or pathlib.Path
         The CSV file.
+    required : tuple of str, optional
+        The required columns.
 
     Returns
     -------
@@ -77,24 +86,26 @@ def load_response(path):
     try:        # all text: the header is a row like the others, and no cell is guessed a number
         table = pd.read_csv(path, comment="#", header=None, dtype=str, keep_default_na=False)
     except pd.errors.EmptyDataError:
-        raise InputError(f"{path}: no header row; expected a CSV with the columns {', '.join(REQUIRED_COLUMNS)}") \
+        raise InputError(f"{path}: no header row; expected a CSV with the columns {', '.join(required)}") \
             from None
     except (pd.errors.ParserError, UnicodeDecodeError) as err:
         raise InputError(f"{path}: not a readable CSV ({one_line(err)})") from None
     frame = pd.DataFrame(table.iloc[1:].to_numpy(), columns=table.iloc[0].to_numpy())
-    return response_from_frame(frame, source=str(path))
+    return response_from_frame(frame, source=str(path), required=required)
 
 
-def response_from_frame(frame, source="<frame>"):
+def response_from_frame(frame, source="<frame>", required=REQUIRED_COLUMNS):
     """Validate a DataFrame with the measured-response columns.
 
     Parameters
     ----------
     frame : pandas.DataFrame
-        With columns ``time_s`` [s] and ``tip_displacement_m`` [m], optionally
-        ``force_N`` and ``reaction_force_N`` [N]; other columns are ignored.
+        With the ``required`` columns (default ``time_s`` [s] and ``tip_displacement_m``
+        [m]), optionally those of :data:`OPTIONAL_COLUMNS` [N]; other columns are ignored.
     source : str, optional
         Name used in error messages and stored in the result. Default ``"<frame>"``.
+    required : tuple of str, optional
+        The required columns.
 
     Returns
     -------
@@ -108,11 +119,12 @@ def response_from_frame(frame, source="<frame>"):
         non-numeric or non-finite value, there are fewer than 8 samples, or ``time_s`` is
         not strictly increasing.
     """
-    missing = [c for c in REQUIRED_COLUMNS if c not in frame.columns]
+    missing = [c for c in required if c not in frame.columns]
     if missing:
-        raise InputError(f"{source}: missing column(s) {', '.join(missing)}; need {', '.join(REQUIRED_COLUMNS)} "
-                         f"(and optionally force_N), found {brief_repr(list(frame.columns))}")
-    cols = list(REQUIRED_COLUMNS) + [c for c in OPTIONAL_COLUMNS if c in frame.columns]
+        raise InputError(f"{source}: missing column(s) {', '.join(missing)}; need {', '.join(required)} "
+                         f"(and optionally {', '.join(c for c in OPTIONAL_COLUMNS if c not in required)}), found "
+                         f"{brief_repr(list(frame.columns))}")
+    cols = list(required) + [c for c in OPTIONAL_COLUMNS if c in frame.columns and c not in required]
     twice = [c for c in cols if list(frame.columns).count(c) > 1]
     if twice:
         raise InputError(f"{source}: column {twice[0]} is there {list(frame.columns).count(twice[0])} times; "
@@ -133,9 +145,11 @@ def response_from_frame(frame, source="<frame>"):
     if len(back):
         i = int(back[0])
         raise InputError(f"{source}: time_s must be strictly increasing (row {i + 2}: {t[i + 1]} s after {t[i]} s)")
-    return MeasuredResponse(time_s=t, tip_displacement_m=data["tip_displacement_m"],
+    return MeasuredResponse(time_s=t, tip_displacement_m=data.get("tip_displacement_m"),
                             force_N=data.get("force_N"), source=source,
-                            reaction_force_N=data.get("reaction_force_N"))
+                            reaction_force_N=data.get("reaction_force_N"),
+                            contact_force_x_N=data.get("contact_force_x_N"),
+                            contact_force_y_N=data.get("contact_force_y_N"))
 
 
 def check_sampling(time_s, omega1_rad_s, source):

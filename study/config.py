@@ -348,8 +348,9 @@ def calibrated_config(result, record):
     """The calibrated inputs of a ``ccedi calibrate`` result as a TOML fragment that every
     ``--config`` command reads: ``[material]`` E_Pa (declared E x the final E factor), nu,
     rho_kg_m3 (as declared) and alpha_per_s (the final alpha), ``[finger]``
-    section_semi_axes_m (as declared); the effects found, an ambiguity and an unexplained
-    residual as comments (they are not study inputs).
+    section_semi_axes_m (as declared); for a contact record ``[drum]`` (the declared set-up
+    with the calibrated friction, drum speed, initial angle and object centre); the effects
+    found, an ambiguity and an unexplained residual as comments.
 
     Parameters
     ----------
@@ -384,6 +385,8 @@ def calibrated_config(result, record):
         lines.append(f"# unexplained residual: {result['sparse_term']['force']}")
     cfg = {"material": {"E_Pa": cal["E_Pa"], "nu": f.nu, "rho_kg_m3": f.rho_kg_m3, "alpha_per_s": cal["alpha_per_s"]},
            "finger": {"section_semi_axes_m": list(f.semi_axes_m)}}
+    if "drum" in cal:
+        cfg["drum"] = dict(cal["drum"])
     for section, keys in cfg.items():
         lines += ["", f"[{section}]"] + [f"{k} = {_toml_value(v)}" for k, v in keys.items()]
     text = "\n".join(lines) + "\n"

@@ -50,3 +50,18 @@ def test_compiled_chain_run_matches_the_numpy_reference(contact, damping):
         assert np.allclose(b, a, rtol=1e-9, atol=1e-9 * np.abs(a).max())
     assert np.allclose(C_got, C_ref, rtol=1e-9, atol=1e-9 * np.abs(C_ref).max(axis=0))
     assert np.allclose(got[3].P_out, ref[3].P_out, rtol=1e-9, atol=1e-12)
+
+
+def test_output_force_is_the_mean_over_its_interval():
+    """The force on the object at an output is the mean of the steps' forces since the
+    previous output (anti-aliased): 400 steps recorded at every step, and at every 50th,
+    give the same states and, at the coarse outputs, the mean of the 50 step forces."""
+    setup = replace(COARSE, theta0_rad=COARSE.theta0_rad + COARSE.omega_rad_s * T_CONTACT_S)
+    model = ReducedContactModel(setup, n_segments=13)
+    fine = _run(model, 180.0, "global", 400, 400, "numba")
+    coarse = _run(model, 180.0, "global", 400, 8, "numba")
+    assert fine[1] == coarse[1] == 400
+    f_fine, f_coarse = fine[3].C_out[:, :2], coarse[3].C_out[:, :2]
+    assert np.abs(f_fine).max() > 0.0
+    assert np.allclose(f_coarse, f_fine.reshape(8, 50, 2).mean(axis=1), rtol=1e-12, atol=1e-12 * np.abs(f_fine).max())
+    assert np.allclose(coarse[3].P_out, fine[3].P_out[49::50], rtol=1e-12, atol=1e-15)

@@ -12,7 +12,7 @@ cannot explain the record (:mod:`ccedi.calibrate.adequacy`) is not bad data: the
 (``model_adequate: false``, the evidence, no effect) and the report are written in full,
 then :class:`ccedi.errors.ModelInadequate` gives exit status 3.
 """
-from ccedi.errors import InputError, ModelInadequate
+from ccedi.errors import ModelInadequate
 from ccedi.study.commands.arguments import add_command, add_output_argument
 
 
@@ -24,18 +24,20 @@ def add_parsers(sub):
     sub : argparse._SubParsersAction
         The sub-command registry of the ``ccedi`` parser.
     """
-    from ccedi.calibrate.effects import CATALOGUE
+    from ccedi.calibrate.effects import CATALOGUE, CONTACT_CATALOGUE
 
-    c = add_command(sub, "calibrate", help="fit the declared finger to a measured record, find the effects its "
-                       "residual points to, report the error before and after")
-    c.add_argument("csv", help="measured record: time_s, tip_displacement_m[, force_N, reaction_force_N]")
+    c = add_command(sub, "calibrate", help="fit the declared finger to a measured impulse or contact record, find "
+                       "the effects its residual points to, report the error before and after")
+    c.add_argument("csv", help="measured record: impulse (sidecar kind \"impulse\") time_s, tip_displacement_m"
+                               "[, force_N]; contact (kind \"contact\") time_s, reaction_force_N")
     c.add_argument("--meta", help="JSON sidecar describing the experiment (default: DATA.json beside DATA.csv)")
     add_output_argument(c, "--json", "file", required=True, help="write the result as JSON to this path")
     add_output_argument(c, "--report", "dir", help="directory for plots, residuals.csv and report.md")
     add_output_argument(c, "--write-config", "file", help="write the calibrated inputs ([material] E_Pa, "
-                        "alpha_per_s, ...) as a TOML file for --config")
-    c.add_argument("--effects", nargs="+", choices=sorted(CATALOGUE), metavar="EFFECT",
-                   help=f"candidate effects (default: all of {', '.join(CATALOGUE)})")
+                        "alpha_per_s, ...; a contact record's [drum] too) as a TOML file for --config")
+    c.add_argument("--effects", nargs="+", choices=sorted(set(CATALOGUE) | set(CONTACT_CATALOGUE)), metavar="EFFECT",
+                   help=f"candidate effects (default: the record kind's whole catalogue; impulse: "
+                        f"{', '.join(CATALOGUE)}; contact: {', '.join(CONTACT_CATALOGUE)})")
     c.set_defaults(func=cmd_calibrate)
 
 
@@ -46,12 +48,13 @@ def cmd_calibrate(args):
 
 
 def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None, config_path=None):
-    """Calibrate the declared finger on one measured impulse record and write the result.
+    """Calibrate the declared finger on one measured impulse or contact record and write the result.
 
     Parameters
     ----------
     csv : str or Path
-        Measured record (``time_s``, ``tip_displacement_m``[, ``force_N``, ...]).
+        Measured record (impulse: ``time_s``, ``tip_displacement_m``[, ``force_N``, ...];
+        contact: ``time_s``, ``reaction_force_N``).
     json_path : str or Path
         Result JSON.
     report_dir : str or Path, optional
@@ -59,7 +62,8 @@ def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None, 
     meta : str or Path, optional
         JSON sidecar (default: beside the CSV).
     effects : sequence of str, optional
-        Candidate effects (default: the whole :data:`ccedi.calibrate.effects.CATALOGUE`).
+        Candidate effects (default: the whole catalogue of the record's kind,
+        :data:`ccedi.calibrate.effects.CATALOGUE` or ``CONTACT_CATALOGUE``).
     config_path : str or Path, optional
         Where to write the calibrated inputs as TOML (:func:`ccedi.study.config.calibrated_config`);
         not written when the declared model is inadequate.
@@ -72,8 +76,8 @@ def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None, 
     Raises
     ------
     ccedi.errors.InputError
-        The record or its sidecar is invalid, or the record is not an impulse record
-        (nothing is written).
+        The record or its sidecar is invalid, or an effect is not in the record kind's
+        catalogue (nothing is written).
     ccedi.errors.ModelInadequate
         The declared finger cannot explain the record: raised after the JSON (with
         ``model_adequate: false``) and the report are written; its message is one line
@@ -89,8 +93,6 @@ def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None, 
 
     t0 = time.perf_counter()
     exp = load_experiment(csv, meta)
-    if exp.kind != "impulse":
-        raise InputError(f"{csv}: calibrate handles impulse records; this one is kind {exp.kind!r}")
     cal = calibrate(exp, candidates=effects)
     result = summary(cal) | {"wall_time_s": time.perf_counter() - t0}
     b = result["baseline"]

@@ -1,0 +1,79 @@
+"""Calibration of the bundled full-FEA contact records (data/contact/): outcome against
+the manifest of truths, and the time to calibrate each record (target: under 5 minutes):
+wall time and the process's CPU time (on this machine other jobs' measurements pause
+helper processes, which the wall time then includes).
+
+Per record: the effect selected (or the ambiguity, or nothing), whether it is the injected
+one, the final NRMSE over the noise floor (target: within 10 %), the calibrated E factor
+and alpha against the truth, the wall time [s]. Totals: right effects among the effect
+records, false positives among the clean controls, the largest time. The chain ROM is
+built and compiled before the timing; the 1-minute load average is recorded (the times
+scale with it on the shared 2-core machine).
+
+Run: ``.venv/bin/python benchmarks/calibrate_contact.py [NAME ...]`` (every record of the
+manifest by default; ~2-4 min each); writes benchmarks/calibrate_contact.json.
+"""
+import json
+import os
+import sys
+import time
+from pathlib import Path
+
+from _output import report  # benchmarks/ is on sys.path when run as a script
+
+from ccedi.calibrate.experiment import load_experiment
+from ccedi.calibrate.loop import calibrate, calibration_model, summary
+
+DATA = Path(__file__).parents[1] / "data" / "contact"
+OUT = Path(__file__).with_suffix(".json")
+
+
+def outcome(result, truth):
+    """(selected, right) of a calibration against its truth: the selected effect, or
+    'ambiguous: a/b', or None; right when it names the injected effect (alone or in the
+    ambiguity) or, for a control, nothing."""
+    injected = set(truth["effects"])
+    if result["ambiguous"]:
+        names = result["ambiguous"]["effects"]
+        return "ambiguous: " + "/".join(names), bool(injected & set(names))
+    chosen = [e["name"] for e in result["effects_found"]]
+    return "+".join(chosen) or None, set(chosen) == injected
+
+
+def main(names):
+    manifest = json.loads((DATA / "manifest.json").read_text())["records"]
+    names = names or list(manifest)
+    figures = {"load_average_1min_before": round(os.getloadavg()[0], 1)}
+    first = load_experiment(DATA / f"{names[0]}.csv")
+    model = calibration_model(first)
+    model.predict({"alpha_per_s": 100.0, "E_factor": 1.0})              # build and compile
+    rows = {}
+    for name in names:
+        exp = load_experiment(DATA / f"{name}.csv")
+        t0, c0 = time.perf_counter(), time.process_time()
+        result = summary(calibrate(exp))
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        truth = manifest[name]
+        selected, right = outcome(result, truth)
+        rows[name] = {"injected": list(truth["effects"]) or None, "selected": selected, "right": right,
+                      "final_nrmse_over_noise_floor": result["final_nrmse"] / result["noise_floor_nrmse"],
+                      "E_factor": result["final_params"]["E_factor"], "E_factor_true": truth["E_factor"],
+                      "alpha_per_s": result["final_params"]["alpha_per_s"], "alpha_true": truth["alpha_per_s"],
+                      "params": result["final_params"], "unexplained_residual": result["unexplained_residual"],
+                      "wall_time_s": wall, "cpu_time_s": cpu}
+        print(name, json.dumps(rows[name]), flush=True)
+    effects = [r for r in rows.values() if r["injected"]]
+    controls = [r for r in rows.values() if not r["injected"]]
+    figures.update({"records": len(rows), "right_effect": f"{sum(r['right'] for r in effects)} of {len(effects)}",
+                    "selected_exactly": f"{sum(r['right'] and not str(r['selected']).startswith('ambiguous') for r in effects)}"
+                                        f" of {len(effects)}",
+                    "control_false_positives": f"{sum(not r['right'] for r in controls)} of {len(controls)}",
+                    "max_final_nrmse_over_noise_floor": max(r["final_nrmse_over_noise_floor"] for r in rows.values()),
+                    "max_wall_time_s": max(r["wall_time_s"] for r in rows.values()),
+                    "max_cpu_time_s": max(r["cpu_time_s"] for r in rows.values()),
+                    "load_average_1min_after": round(os.getloadavg()[0], 1), "per_record": rows})
+    report(figures, OUT)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
