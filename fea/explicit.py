@@ -888,7 +888,8 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
             steps += n
             dt_min = min(dt_min, dt_seen)
             if status == _INVERTED:
-                raise SolverError(f"{element_name(mesh, info)} inverted (J <= 0) at t = {t:.6g} s, step {steps}")
+                raise SolverError(f"{element_name(mesh, info)} inverted (J <= 0) at t = {t:.6g} s, step {steps}: "
+                                  "the mesh is too coarse for the deformation there; refine it")
             if status == _FOLDED:
                 raise SolverError(f"rod hinge {info} folded back on itself (turning angle >= 180 deg) "
                                   f"at t = {t:.6g} s, step {steps}")

@@ -319,14 +319,18 @@ def characteristic_length(x_e, volume):
     return volume / area.max(axis=1)
 
 
-def element_time_step(Le, wave_speed, strain_rate_vol):
+def element_time_step(Le, wave_speed, strain_rate_vol, viscous_length=None):
     """Critical time step of each element, paper Eq. (6).
 
     ::
 
-        dt_e = Le / (Q + sqrt(Q^2 + c^2)),   Q = C1 c + C0 Le |e_v|  (e_v < 0, else Q = 0)
+        dt_e = Le / (Q + sqrt(Q^2 + c^2)),   Q = (h / Le) (C1 c + C0 h |e_v|)  (e_v < 0, else Q = 0)
 
-    with the bulk-viscosity constants C0 = 1.5, C1 = 0.06.
+    with the bulk-viscosity constants C0 = 1.5, C1 = 0.06 and h the length the viscosity
+    pressure is taken on (h = Le for the hexahedron, as in the paper): a viscosity
+    ``q = rho h (C0 h e_v^2 - C1 c e_v)`` gives the mode of frequency 2 c / Le the damping
+    ratio xi = C1 h / Le, and ``Le / (Q + sqrt(Q^2 + c^2)) = (Le / c)(sqrt(1 + xi^2) - xi)``
+    is the central-difference limit of that damped mode.
 
     Parameters
     ----------
@@ -337,14 +341,17 @@ def element_time_step(Le, wave_speed, strain_rate_vol):
     strain_rate_vol : numpy.ndarray
         Volumetric strain rate e_v = J'/J, shape (e,) [1/s]; bulk viscosity acts only
         in compression (e_v < 0).
+    viscous_length : numpy.ndarray, optional
+        h, the length of the viscosity pressure, shape (e,) [m] (default: Le).
 
     Returns
     -------
     numpy.ndarray
         dt_e, shape (e,) [s].
     """
+    h = Le if viscous_length is None else viscous_length
     Q = np.where(strain_rate_vol < 0.0,
-                 BULK_VISCOSITY_C1 * wave_speed + BULK_VISCOSITY_C0 * Le * np.abs(strain_rate_vol), 0.0)
+                 h / Le * (BULK_VISCOSITY_C1 * wave_speed + BULK_VISCOSITY_C0 * h * np.abs(strain_rate_vol)), 0.0)
     return Le / (Q + np.sqrt(Q * Q + wave_speed**2))
 
 

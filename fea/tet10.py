@@ -388,7 +388,7 @@ def internal_forces_numba(x, v, group, material, f):
         w += 0.5 * lam * volume[e] * lnJ * lnJ
         e_v = vol_rate / vol
         Le = group.length_factor[e] * corner_min_altitude(x, tets, e)
-        q, dte = bulk_viscosity(Le, e_v, rho, c)
+        q, dte = bulk_viscosity(Le, Le, e_v, rho, c)
         dt_min = min(dt_min, dte)
         p_b -= q * vol_rate
         p = lam * lnJ / Jb - q

@@ -45,7 +45,9 @@ Lumped mass rho V0 / 4 per corner. Critical step: paper Eq. (6) with
 construction from the element's largest eigenvalue (with its own, un-averaged shear and
 lam terms, which bound the averaged ones) and the assembled mesh's
 (:func:`ccedi.fea.tetra.time_step_length_factors`): the assembled scale brings the
-estimate at rest to the real limit 2/omega_max (never above it).
+estimate at rest to the real limit 2/omega_max (never above it). The bulk viscosity q_e is
+taken on h_e, not on Le (:func:`ccedi.fea.tetra.bulk_viscosity`), so that it damps the
+highest modes at its nominal ratio.
 """
 from collections import namedtuple
 
@@ -179,24 +181,6 @@ def lumped_mass(group, n_nodes, rho):
     m = np.zeros(n_nodes)
     np.add.at(m, group.tets, np.repeat((rho * group.volume / 4.0)[:, None], 4, axis=1))
     return m
-
-
-def characteristic_length(x, group):
-    """``Le = kappa_e x`` the minimum altitude of each element.
-
-    Parameters
-    ----------
-    x : numpy.ndarray
-        Current nodal positions, shape (n, 3) [m].
-    group : Tet4Group
-        The tetrahedra.
-
-    Returns
-    -------
-    numpy.ndarray
-        Le, shape (e,) [m].
-    """
-    return group.length_factor * min_altitude(x[group.tets])
 
 
 def smoothing_operator(group, n_nodes):
@@ -336,10 +320,11 @@ def internal_forces_numpy(x, v, group, material, f):
     Jb = np.linalg.det(Fb)
     if np.any(Jb <= 0.0):
         return 0.0, 0.0, 0.0, _first_element_at(tets, Jb <= 0.0)
+    h = min_altitude(x[tets])
     dt, energy, power, status = averaged_forces_numpy(
         x, v, tets, group.grad[:, None], group.volume[:, None], averaging_matrix(tets, len(x), nodal=True),
-        characteristic_length(x, group), (1.0 - alpha) * material.mu, material.lam, material.rho, material.c, f,
-        group.bulk_force)
+        group.length_factor * h, (1.0 - alpha) * material.mu, material.lam, material.rho, material.c, f,
+        group.bulk_force, viscous_length=h)
     P = alpha * material.mu * (Fb - np.linalg.inv(Fb).swapaxes(1, 2))
     np.add.at(f, tets, np.einsum("e,eij,ekj->eki", group.volume, P[tets].mean(axis=1), group.grad))
     energy += alpha * float(group.node_volume @ strain_energy_density(Fb, material.mu, 0.0))
@@ -449,8 +434,8 @@ def internal_forces_numba(x, v, group, material, f):
         for i in range(3):
             for j in range(3):
                 e_v += Fdot[i, j] * G[j, i]
-        Le = group.length_factor[e] * corner_min_altitude(x, tets, e)
-        q, dte = bulk_viscosity(Le, e_v, rho, c)
+        h = corner_min_altitude(x, tets, e)
+        q, dte = bulk_viscosity(group.length_factor[e] * h, h, e_v, rho, c)
         dt_min = min(dt_min, dte)
         p_b -= q * e_v * J * volume[e]
         if q > 0.0:

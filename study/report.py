@@ -277,6 +277,15 @@ def _skipped(out):
     return f"<p class='missing'>Steps skipped for this finger:</p><ul>{items}</ul>"
 
 
+def _failed(out):
+    """The steps whose run failed, each with the solver's message (``study.json``)."""
+    s = _load(out, "study.json")
+    if not s or not s.get("failed"):
+        return ""
+    items = "".join(f"<li><code>{html.escape(step)}</code>: {html.escape(why)}</li>" for step, why in s["failed"].items())
+    return f"<p class='missing'>Steps that failed (their results are missing from this report):</p><ul>{items}</ul>"
+
+
 def _warnings(out):
     """The validity warnings every step recorded in ``study.json`` (:mod:`ccedi.fea.validity`)."""
     s = _load(out, "study.json")
@@ -312,7 +321,7 @@ def write_index(out):
     stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     body = [f"<h1>ccedi design study</h1><p>Generated {stamp} from the files in this directory. Units: SI "
             "unless a header says otherwise; every number below was computed by this run.</p>",
-            "<h2>Run</h2>", _timings(out), _skipped(out), _warnings(out), _inputs(out)]
+            "<h2>Run</h2>", _timings(out), _skipped(out), _failed(out), _warnings(out), _inputs(out)]
     for title, section, figures in SECTIONS:
         body += [f"<h2>{html.escape(title)}</h2>", section(out)]
         body += [_figure(src, cap) for src, cap in figures if (out / src).exists()]

@@ -31,7 +31,7 @@ import json
 import time
 from pathlib import Path
 
-from ccedi.errors import InputError, ValidityWarning
+from ccedi.errors import InputError, SolverError, ValidityWarning
 from ccedi.fea.outputs import write_json, write_text
 from ccedi.progress import progress_bar
 
@@ -163,14 +163,19 @@ LONGEST_FIRST = ("design", "contact", "damping_fits", "steel_rod", "mesh", "tabl
 
 
 def _run_step(name, cfg, out, scheduler):
-    """Run the study step ``name`` (on a Dask worker or in this process): its wall time [s]
-    and the warnings it issued, recorded (:func:`ccedi.fea.distributed.recording_warnings`)."""
+    """Run the study step ``name`` (on a Dask worker or in this process): its wall time [s],
+    the warnings it issued, recorded (:func:`ccedi.fea.distributed.recording_warnings`), and
+    the one-line message of the :class:`ccedi.errors.SolverError` that stopped it (None when
+    it finished), so that one failed run does not cost the other steps their results."""
     from ccedi.fea.distributed import recording_warnings
 
     thunk = next(t for n, _, t in steps(cfg, out, scheduler) if n == name)
     t0 = time.perf_counter()
-    _, recorded = recording_warnings(thunk)
-    return time.perf_counter() - t0, recorded
+    try:
+        _, recorded = recording_warnings(thunk)
+    except SolverError as err:
+        return time.perf_counter() - t0, [], str(err)
+    return time.perf_counter() - t0, recorded, None
 
 
 def _step_warnings(name, recorded):
@@ -185,7 +190,7 @@ def _step_warnings(name, recorded):
 
 
 def _distributed(todo, cfg, out, scheduler):
-    """Yield (name, wall time [s], recorded warnings) as the steps finish, each step a task on the cluster
+    """Yield (name, wall time [s], recorded warnings, error or None) as the steps finish, each step a task on the cluster
     (its own sweeps go to the same cluster first, so the workers stay busy)."""
     from contextlib import ExitStack
 
@@ -239,6 +244,10 @@ def run_study(cfg, out, scheduler=None, quick=False, only=None):
     ------
     ccedi.errors.InputError
         A measured record or its sidecar is missing.
+    ccedi.errors.SolverError
+        A step's run failed (e.g. an element inverted); raised after every other step has
+        run and the index is written, with the failed steps' messages in ``study.json``
+        (``failed``) and on the page.
     """
     from ccedi.fea.distributed import SERIAL
     from ccedi.fea.outputs import remove_temporaries
@@ -253,12 +262,14 @@ def run_study(cfg, out, scheduler=None, quick=False, only=None):
         _check_records(cfg["study"]["measured_records"])
     write_text(out / CONFIG_NAME, to_toml(cfg))
     record = {"config": cfg, "quick": quick, "scheduler": scheduler, "wall_time_s": {}, "warnings": {},
-              "skipped": {}}
+              "skipped": {}, "failed": {}}
     if only is not None and (out / "study.json").exists():     # keep the other steps' timings and warnings
         before = json.loads((out / "study.json").read_text())
         record["wall_time_s"] = before["wall_time_s"]
         record["warnings"] = before.get("warnings", {})
-        record["skipped"] = {k: v for k, v in before.get("skipped", {}).items() if k not in {n for n, _, _ in todo}}
+        rerun = {n for n, _, _ in todo}
+        record["skipped"] = {k: v for k, v in before.get("skipped", {}).items() if k not in rerun}
+        record["failed"] = {k: v for k, v in before.get("failed", {}).items() if k not in rerun}
     record["skipped"].update(skipped)
     for name, why in skipped.items():
         record["wall_time_s"].pop(name, None)
@@ -268,13 +279,20 @@ def run_study(cfg, out, scheduler=None, quick=False, only=None):
     finished = ((name, *_run_step(name, cfg, out, scheduler)) for name, _, _ in todo) if scheduler == SERIAL \
         else _distributed(sorted(todo, key=lambda st: LONGEST_FIRST.index(st[0])), cfg, out, scheduler)
     try:
-        for name, wall, recorded in progress_bar(finished, total=len(todo), desc="ccedi study", unit="step"):
+        for name, wall, recorded, error in progress_bar(finished, total=len(todo), desc="ccedi study", unit="step"):
             record["warnings"][name] = _step_warnings(name, recorded)
             record["wall_time_s"][name] = wall
             record["elapsed_s"] = time.perf_counter() - t0
+            if error is not None:
+                record["failed"][name] = error
             write_json(out / "study.json", record)
-            print(f"ccedi study: {name} done in {wall:.0f} s", flush=True)
+            print(f"ccedi study: {name} " + (f"failed after {wall:.0f} s: {error}" if error else f"done in {wall:.0f} s"),
+                  flush=True)
     except KeyboardInterrupt:
         remove_temporaries(out)
         raise
-    return write_index(out)
+    index = write_index(out)
+    if record["failed"]:
+        raise SolverError(f"{len(record['failed'])} step(s) failed ({', '.join(record['failed'])}); {index} "
+                          "shows the other steps' results and why")
+    return index

@@ -29,6 +29,28 @@ def test_interrupt_leaves_finished_steps_and_no_temporary_files(tmp_path, monkey
     assert not (tmp_path / "index.html").exists()
 
 
+def test_a_failed_step_keeps_the_others_and_the_report(tmp_path, monkeypatch, capsys):
+    """A step whose run fails (an inverted element) is recorded with its message; the steps
+    after it still run, the index is written and says why, and the exit status is 1."""
+    from ccedi.errors import SolverError
+
+    def failing():
+        raise SolverError("tet4 element 7 inverted (J <= 0) at t = 0.5 s, step 100")
+
+    def last():
+        write_json(tmp_path / "last" / "result.json", {"x_m": 2.0})
+
+    monkeypatch.setattr(study_run, "steps", lambda cfg, out, scheduler: [("contact", "one", failing),
+                                                                       ("calibrate", "two", last)])
+    assert main(["study", "--out", str(tmp_path), "--scheduler", "serial"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "1 step(s) failed (contact)" in err[0]
+    record = json.loads((tmp_path / "study.json").read_text())
+    assert record["failed"] == {"contact": "tet4 element 7 inverted (J <= 0) at t = 0.5 s, step 100"}
+    assert json.loads((tmp_path / "last" / "result.json").read_text()) == {"x_m": 2.0}
+    assert "element 7 inverted" in (tmp_path / "index.html").read_text()
+
+
 def test_index_reports_the_numbers_of_the_run_and_marks_missing_steps(tmp_path):
     write_json(tmp_path / "table1.json", {"SM-A": {"nodes": 1080, "elements": 725, "dt_us": 4.411,
                                                    "steps_to_0_2_s": 45340, "step_ratio": 1.0,
