@@ -121,6 +121,10 @@ SCHEMA = {
         "measured_records": Key(str, "-", None, None, ["data/measured/tip_mass+quadratic_damping_high.csv",
                                                        "data/measured/control_fea_solid.csv"],
                                 "measured impulse records to close the loop on (CSV with a JSON sidecar)", True),
+        "design_calibration_record": Key(str, "-", None, None, "data/contact/friction_high.csv",
+                                         "measured record (impulse or contact, CSV with a JSON sidecar) whose "
+                                         "calibrated inputs the design is re-run with, beside the declared model's "
+                                         "design (empty: none)"),
         "scheduler": Key(str, "-", None, None, "local",
                          "serial, local (2-worker Dask cluster) or a Dask scheduler address"),
     },

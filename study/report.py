@@ -191,16 +191,57 @@ def _design(out):
             [{"output": k, **(v if isinstance(v, dict) else {"value": v})} for k, v in err.items()],
             [("output", "output")] + [(f"{c} [-]", c) for c in
                                       sorted({c for v in err.values() if isinstance(v, dict) for c in v})]))
-    if d["fea_check"]:
-        checked = [*objectives, "max_finger_stress_Pa"]
-        rows = [{"alpha_per_s": c["alpha_per_s"], "length_in": c["length_in"], "wall_time_s": c["wall_time_s"],
-                 **{f"{k} error": c["relative_error"][k] for k in checked}} for c in d["fea_check"]]
-        parts.append("<h3>Full-FEA re-check (relative error of the surrogate against the FEA)</h3>" + _table(
-            rows, [_col("alpha_per_s"), _col("length_in")] + [(f"{k} error [-]", f"{k} error") for k in checked]
-            + [_col("wall_time_s", "FEA wall time")]))
-    else:
-        parts.append("<p>FEA re-check skipped in this run.</p>")
-    return "".join(parts)
+    parts.append(_fea_check(d, "Full-FEA re-check (relative error of the surrogate against the FEA)"))
+    return "".join(parts) + _calibrated_design(out, d)
+
+
+def _fea_check(d, title):
+    """The full-FEA re-check table of a design result."""
+    if not d["fea_check"]:
+        return "<p>FEA re-check skipped in this run.</p>"
+    checked = [*d["problem"]["objectives"], "max_finger_stress_Pa"]
+    rows = [{"alpha_per_s": c["alpha_per_s"], "length_in": c["length_in"], "wall_time_s": c["wall_time_s"],
+             **{f"{k} error": c["relative_error"][k] for k in checked}} for c in d["fea_check"]]
+    return f"<h3>{html.escape(title)}</h3>" + _table(
+        rows, [_col("alpha_per_s"), _col("length_in")] + [(f"{k} error [-]", f"{k} error") for k in checked]
+        + [_col("wall_time_s", "FEA wall time")])
+
+
+def _calibrated_design(out, declared):
+    """The design made with the calibrated inputs (``design/calibrated/``) beside the one
+    made with the declared model, and the measured finger as built on the surrogate."""
+    cal = _load(out, "design/calibrated/calibration.json")
+    if cal is None:
+        return ""
+    source = html.escape(Path(cal["source"]).name)
+    head = "<h3>Design with the calibrated inputs</h3>"
+    calibrated = _load(out, "design/calibrated/design.json")
+    if cal.get("model_adequate") is False or calibrated is None:
+        why = html.escape(cal.get("adequacy", {}).get("message", "no calibrated design in this run"))
+        return head + f"<p class='missing'>Not made: the declared finger cannot explain {source} ({why}).</p>"
+    objectives = declared["problem"]["objectives"]
+
+    def row(name, d, design):
+        drum = d.get("drum", {})
+        return {"model": name, "E_Pa": d["finger_material"]["E_Pa"], "friction": drum.get("friction"),
+                "omega_rad_s": drum.get("omega_rad_s"), **{k: design[k] for k in ["alpha_per_s", "length_in", *objectives]}}
+
+    rows = [row("declared model: optimum", declared, declared["optimum"]),
+            row(f"calibrated on {source}: optimum", calibrated, calibrated["optimum"])]
+    if calibrated.get("measured_finger"):
+        rows.append(row("calibrated: the measured finger as built", calibrated, calibrated["measured_finger"]))
+    effects = ", ".join(e["name"] for e in cal["effects_found"]) or "none"
+    notes = [f"effects found: {effects}"]
+    if cal.get("ambiguous"):
+        notes.append("ambiguous, not added: " + " or ".join(cal["ambiguous"]["effects"]))
+    if cal.get("unexplained_residual"):
+        notes.append("an unexplained residual remains")
+    text = (f"<p>{source} calibrated ({'; '.join(html.escape(n) for n in notes)}; NRMSE {cal['baseline']['nrmse']:.3%} "
+            f"-> {cal['final_nrmse']:.3%}, noise floor {cal['noise_floor_nrmse']:.3%}); its inputs "
+            "(<code>design/calibrated/calibrated.toml</code>) re-ran the design.</p>")
+    table = _table(rows, [("model", "model"), _col("E_Pa"), ("friction [-]", "friction"), _col("omega_rad_s"),
+                          _col("alpha_per_s"), _col("length_in"), *[_col(k) for k in objectives]])
+    return head + text + table + _fea_check(calibrated, "Full-FEA re-check of the calibrated design")
 
 
 def _calibrate(out):

@@ -63,7 +63,7 @@ def steps(cfg, out, scheduler):
     list of (str, str, callable)
         (name, description, thunk) per step, in the study's order.
     """
-    from ccedi.study.commands.design import DesignOptions, write_design
+    from ccedi.study.commands.design import DesignOptions, write_designs
     from ccedi.study.commands.fea import contact_setup, write_contact_sweep, write_impulse, write_table1
     from ccedi.study.commands.rom import write_damping_fits
 
@@ -92,8 +92,8 @@ def steps(cfg, out, scheduler):
         ("contact", "drum contact sweep (Figs. 10, 13, 14)", lambda: write_contact_sweep(
             contact_setup(cfg), s["contact_alphas_per_s"], out / "contact", t_end_s=s["contact_t_end_s"],
             scheduler=scheduler)),
-        ("design", "design optimisation and FEA re-check", lambda: write_design(
-            contact_setup(cfg), design, out / "design" / "design.json", out / "design", scheduler=scheduler)),
+        ("design", "design optimisation and FEA re-check, with the declared and the calibrated inputs",
+         lambda: write_designs(cfg, design, s["design_calibration_record"], out / "design", scheduler)),
         ("calibrate", "close the loop on measured records", lambda: calibrate_records(records, out / "calibrate")),
     ]
 
@@ -206,14 +206,14 @@ def _distributed(todo, cfg, out, scheduler):
             yield futures[future], *future.result()
 
 
-def _check_records(records):
+def _check_records(records, key="measured_records"):
     """Raise :class:`ccedi.errors.InputError` for the first measured record (or its JSON
     sidecar) that is not a readable file, before any step runs."""
     for record in map(Path, records):
         for path in (record, record.with_suffix(".json")):
             if not path.is_file():
                 where = "" if path.is_absolute() else f" (relative to the working directory {Path.cwd()})"
-                raise InputError(f"[study] measured_records: {path}: no such file{where}")
+                raise InputError(f"[study] {key}: {path}: no such file{where}")
 
 
 def run_study(cfg, out, scheduler=None, quick=False, only=None):
@@ -260,6 +260,8 @@ def run_study(cfg, out, scheduler=None, quick=False, only=None):
     todo = [st for st in steps(cfg, out, scheduler) if (only is None or st[0] in only) and st[0] not in skipped]
     if any(name == "calibrate" for name, _, _ in todo):
         _check_records(cfg["study"]["measured_records"])
+    if any(name == "design" for name, _, _ in todo) and cfg["study"]["design_calibration_record"]:
+        _check_records([cfg["study"]["design_calibration_record"]], "design_calibration_record")
     write_text(out / CONFIG_NAME, to_toml(cfg))
     record = {"config": cfg, "quick": quick, "scheduler": scheduler, "wall_time_s": {}, "warnings": {},
               "skipped": {}, "failed": {}}

@@ -106,3 +106,26 @@ def test_design_runs_on_the_calibrated_config(tmp_path):
     assert d["finger_material"]["E_Pa"] == pytest.approx(load(toml)["material"]["E_Pa"], rel=1e-12)
     assert d["measured_finger"] is None or d["measured_finger"]["alpha_per_s"] == pytest.approx(
         load(toml)["material"]["alpha_per_s"])
+
+
+def test_the_study_design_is_rerun_with_the_calibrated_inputs(tmp_path):
+    """The study's design step on a contact record whose friction is not the declared one:
+    the calibrated design is made on the calibrated drum (its friction and E, not the
+    declared ones) and the report shows it beside the declared model's design."""
+    from ccedi.study.commands.design import CALIBRATED, DesignOptions, write_designs
+    from ccedi.study.config import validate
+    from ccedi.study.report import write_index
+
+    record = Path(__file__).parents[1] / "data" / "contact" / "friction_high.csv"
+    cfg = validate({})
+    options = DesignOptions(grid=(4, 4), validation_runs=1, pareto_points=20, starts=1, fea_check=False)
+    out = tmp_path / "design"
+    write_designs(cfg, options, str(record), out, scheduler="serial")
+    declared = json.loads((out / "design.json").read_text())
+    calibrated = json.loads((out / CALIBRATED / "design.json").read_text())
+    cal = json.loads((out / CALIBRATED / "calibration.json").read_text())["calibrated"]
+    assert calibrated["drum"]["friction"] == pytest.approx(cal["drum"]["friction"], rel=1e-12)
+    assert calibrated["finger_material"]["E_Pa"] == pytest.approx(cal["E_Pa"], rel=1e-12)
+    assert declared["drum"]["friction"] == cfg["drum"]["friction"] != pytest.approx(cal["drum"]["friction"], rel=0.05)
+    page = write_index(tmp_path).read_text()
+    assert "Design with the calibrated inputs" in page and "friction_high.csv: optimum" in page

@@ -154,7 +154,8 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
     -------
     dict
         The result written to ``json_path``; ``finger_material`` holds the E_Pa, nu and
-        rho_kg_m3 the designs were computed with.
+        rho_kg_m3 the designs were computed with, ``drum`` the drum set-up (omega_rad_s,
+        theta0_rad, friction, object_center_m, object_semi_axes_m).
 
     Raises
     ------
@@ -225,6 +226,8 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
         "optimum": optimum.as_dict(problem),
         "measured_finger": measured,
         "finger_material": {"E_Pa": m.E, "nu": m.nu, "rho_kg_m3": m.rho},
+        "drum": {"omega_rad_s": setup.omega_rad_s, "theta0_rad": setup.theta0_rad, "friction": setup.friction,
+                 "object_center_m": list(setup.object_center_m), "object_semi_axes_m": list(setup.object_semi_axes_m)},
         "pareto": [d.as_dict(problem) for d in front],
         "fea_check": checks,
         "solver": {**info, "pareto_wall_time_s": pareto_s, "pareto_points": len(front)},
@@ -246,3 +249,79 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
           + ", ".join(f"{k} = {best[k]:.4g}" for k in keys) + f" ({info['status']}, {info['iterations']} iterations)")
     print(f"Pareto front: {len(front)} points in {pareto_s:.2f} s; wrote {json_path}, {out}/pareto.png")
     return result
+
+
+CALIBRATED = "calibrated"
+"""Sub-directory of the design output holding the design with the calibrated inputs."""
+
+
+def write_designs(cfg, options, record, out, scheduler="local"):
+    """The study's design step: :func:`write_design` with the declared inputs in ``out``,
+    then, when ``record`` is given, :func:`write_calibrated_design` in ``out/calibrated``.
+
+    Parameters
+    ----------
+    cfg : dict
+        Validated study inputs (:func:`ccedi.study.config.load`).
+    options : DesignOptions
+        What is asked.
+    record : str
+        Measured record for the calibrated design ("" for none).
+    out : Path
+        Output directory of the step.
+    scheduler : str
+        ``serial``, ``local`` or a Dask scheduler address (the FEA re-checks).
+    """
+    from ccedi.study.commands.fea import contact_setup
+
+    write_design(contact_setup(cfg), options, out / "design.json", out, scheduler=scheduler)
+    if record:
+        write_calibrated_design(cfg, record, options, out / CALIBRATED, scheduler=scheduler)
+
+
+def write_calibrated_design(cfg, record, options, out, scheduler="local"):
+    """Close the loop on the design: calibrate ``record``, take its calibrated inputs
+    (:func:`ccedi.study.config.calibrated_config`: [material] E and alpha, [drum]
+    corrections) over ``cfg`` and run :func:`write_design` with them, so that the design
+    made with the declared model stands beside the one made with the measured finger.
+
+    Writes ``out/calibration.json`` and its report, ``out/calibrated.toml`` and the design
+    files (``out/design.json``, Pareto front, ROM caches, FEA re-checks).
+
+    Parameters
+    ----------
+    cfg : dict
+        Validated study inputs (:func:`ccedi.study.config.load`): the declared model.
+    record : str or Path
+        Measured record (impulse or contact CSV with its JSON sidecar).
+    options : DesignOptions
+        What is asked (the same as for the declared design).
+    out : str or Path
+        Output directory.
+    scheduler : str
+        ``serial``, ``local`` or a Dask scheduler address (the FEA re-checks).
+
+    Returns
+    -------
+    dict or None
+        The design result (:func:`write_design`); None when the declared finger cannot
+        explain the record (``out/calibration.json`` says why; no design is made).
+    """
+    import tomllib
+
+    from ccedi.errors import ModelInadequate
+    from ccedi.study.commands.calibrate import write_calibration
+    from ccedi.study.commands.fea import contact_setup
+
+    out = Path(out)
+    toml_path = out / "calibrated.toml"
+    try:
+        write_calibration(Path(record), out / "calibration.json", report_dir=out / "calibration",
+                          config_path=toml_path)
+    except ModelInadequate as err:
+        print(f"calibrated design skipped: {err}", flush=True)
+        return None
+    fragment = tomllib.loads(toml_path.read_text())
+    calibrated = {section: {**keys, **fragment.get(section, {})} for section, keys in cfg.items()}
+    return write_design(contact_setup(calibrated), options, out / "design.json", out, scheduler=scheduler,
+                        measured_alpha=calibrated["material"]["alpha_per_s"])
