@@ -10,8 +10,10 @@ records, false positives among the clean controls, the largest time. The chain R
 built and compiled before the timing; the 1-minute load average is recorded (the times
 scale with it on the shared 2-core machine).
 
-Run: ``.venv/bin/python benchmarks/calibrate_contact.py [NAME ...]`` (every record of the
-manifest by default; ~2-4 min each); writes benchmarks/calibrate_contact.json.
+Run: ``.venv/bin/python benchmarks/calibrate_contact.py [--contact face] [NAME ...]`` (every
+record of the manifest by default; ~2-4 min each); writes benchmarks/calibrate_contact.json,
+or calibrate_contact_face.json with the chain's face contact
+(``ccedi.rom.contact_rom.DEFAULT_CONTACT`` set to "face" for the run).
 """
 import json
 import os
@@ -40,10 +42,16 @@ def outcome(result, truth):
     return "+".join(chosen) or None, set(chosen) == injected
 
 
-def main(names):
+def main(args):
+    import ccedi.rom.contact_rom as contact_rom
+
+    out, names = OUT, list(args)
+    if names[:1] == ["--contact"]:
+        contact_rom.DEFAULT_CONTACT, names = names[1], names[2:]
+        out = OUT.with_name(f"calibrate_contact_{contact_rom.DEFAULT_CONTACT}.json")
     manifest = json.loads((DATA / "manifest.json").read_text())["records"]
     names = names or list(manifest)
-    figures = {"load_average_1min_before": round(os.getloadavg()[0], 1)}
+    figures = {"contact_model": contact_rom.DEFAULT_CONTACT, "load_average_1min_before": round(os.getloadavg()[0], 1)}
     first = load_experiment(DATA / f"{names[0]}.csv")
     model = calibration_model(first)
     model.predict({"alpha_per_s": 100.0, "E_factor": 1.0})              # build and compile
@@ -72,7 +80,7 @@ def main(names):
                     "max_wall_time_s": max(r["wall_time_s"] for r in rows.values()),
                     "max_cpu_time_s": max(r["cpu_time_s"] for r in rows.values()),
                     "load_average_1min_after": round(os.getloadavg()[0], 1), "per_record": rows})
-    report(figures, OUT)
+    report(figures, out)
 
 
 if __name__ == "__main__":

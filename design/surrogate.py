@@ -116,13 +116,21 @@ class Variable:
         return self.from_unit(np.linspace(-1.0, 1.0, n))
 
 
-def design_space(alpha_bounds_per_s=(1.0, 600.0), length_bounds_in=(3.0, 8.0)):
+CHECKED_ALPHA_PER_S = (7.5, 600.0)
+"""The alpha range [1/s] over which the contact ROM behind the surrogate was checked
+against the full FEA (``ccedi rom-check`` at 7.5, 180 and 600 1/s, sensor-filtered peak
+force within 3 % with the face contact); below it the finger's friction stick-slip grows
+and at 3 1/s the ROM's peak force was 24 % below the FEA's
+(``benchmarks/design_low_alpha.json``). The default design space."""
+
+
+def design_space(alpha_bounds_per_s=CHECKED_ALPHA_PER_S, length_bounds_in=(3.0, 8.0)):
     """The (alpha [1/s], L [m]) design variables (lengths given in inches).
 
     Parameters
     ----------
     alpha_bounds_per_s : tuple, optional
-        (lo, hi) [1/s].
+        (lo, hi) [1/s] (default :data:`CHECKED_ALPHA_PER_S`).
     length_bounds_in : tuple, optional
         (lo, hi) [in].
 

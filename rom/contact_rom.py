@@ -208,10 +208,11 @@ class ReducedContactModel:
     TSSFAC x 2 / omega_c (:func:`ccedi.rom.chain_dynamics.contact_omega`). Against the full FEA
     (8-in finger, global damping) "face" matches the mean force as "stations" does, keeps
     the alpha = 180 and 600 peaks within 6 % at 13-51 segments (stations: +83 % / +51 % at
-    34), costs ~2x the wall time, and leaves the alpha = 7.5 peak as far off (friction
-    chatter, see rom.check); it is not the default because it changes the design
-    surrogate's low-alpha peak forces (tests/test_design.py's high-damping direction for
-    the peak-force objective fails with it).
+    34), costs ~2x the wall time, and with the 100 Hz transducer brings the alpha = 7.5 peak
+    reading to +1.3 % of the FEA's (stations: -11.6 %); it is not the default because the
+    contact calibration, which fits this chain, does worse with it (right effect in 6 of 13
+    full-FEA records against 8, and a transducer bandwidth added to a clean control:
+    ``benchmarks/calibrate_contact_face.json``).
     """
 
     def __init__(self, setup: DrumSetup, n_segments=DEFAULT_SEGMENTS, nonlinear=True, fit=True, contact=None,

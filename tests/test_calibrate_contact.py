@@ -94,7 +94,7 @@ def test_radial_object_offset_keeps_the_direction_from_the_drum_axis():
     c = (0.1016, 0.18415)
     moved = radially_offset(c, 0.002)
     assert np.hypot(*moved) == pytest.approx(np.hypot(*c) + 0.002, rel=1e-12)
-    assert np.cross(c, moved) == pytest.approx(0.0, abs=1e-15)
+    assert c[0] * moved[1] - c[1] * moved[0] == pytest.approx(0.0, abs=1e-15)
 
 
 def test_the_reading_is_the_transducer_of_the_force_plus_offset_and_drift(model):

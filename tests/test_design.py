@@ -139,11 +139,15 @@ def test_cli_bad_weights(tmp_path, capsys):
 
 
 @pytest.mark.slow
-def test_cli_writes_the_documented_keys(tmp_path):
+def test_cli_writes_the_documented_keys(tmp_path, capsys):
+    """The result's keys; alpha bounds below the range the ROM was checked in are run,
+    with one validity warning naming it."""
     out = tmp_path / "d.json"
     rc = main(["design", "--weights", "1,1,2", "--grid", "5", "4", "--validation-runs", "2", "--pareto-points", "20",
-               "--no-fea-check", "--out", str(tmp_path), "--json", str(out)])
+               "--alpha-bounds", "1", "600", "--no-fea-check", "--out", str(tmp_path), "--json", str(out)])
     assert rc == 0
+    warned = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
+    assert len(warned) == 1 and "below 7.5 1/s where the contact ROM was checked" in warned[0]
     d = json.loads(out.read_text())
     assert {"optimum", "pareto", "fea_check", "solver"} <= set(d)
     assert {"alpha_per_s", "length_in", "residual_oscillation_m_s"} <= set(d["optimum"])
