@@ -154,3 +154,12 @@ def test_cli_writes_the_documented_keys(tmp_path, capsys):
     assert 3.0 <= d["optimum"]["length_in"] <= 8.0 and 1.0 <= d["optimum"]["alpha_per_s"] <= 600.0
     assert len(d["pareto"]) >= 2 and {"status", "iterations", "wall_time_s"} <= set(d["solver"])
     assert (tmp_path / "pareto.png").exists()
+
+
+def test_fea_check_count_out_of_range_is_refused_before_any_run(tmp_path):
+    from ccedi.fea.drum import DrumSetup
+    from ccedi.study.commands.design import DesignOptions, write_design
+
+    with pytest.raises(InputError, match="fea_check_designs must be 1, 2 or 3, got 4"):
+        write_design(DrumSetup(), DesignOptions(fea_check_designs=4), tmp_path / "d.json", tmp_path)
+    assert not list(tmp_path.iterdir())
