@@ -309,22 +309,23 @@ def _timings(out):
             + _table(rows, [("step", "step"), _col("wall_time_s", "wall time")]))
 
 
-def _skipped(out):
-    """The steps this run skipped, each with its reason (``study.json``, :func:`ccedi.study.run.skipped_steps`)."""
+def _step_list(out, key, heading):
+    """The steps ``study.json`` lists under ``key`` ({step: reason}), under ``heading``."""
     s = _load(out, "study.json")
-    if not s or not s.get("skipped"):
+    if not s or not s.get(key):
         return ""
-    items = "".join(f"<li><code>{html.escape(step)}</code>: {html.escape(why)}</li>" for step, why in s["skipped"].items())
-    return f"<p class='missing'>Steps skipped for this finger:</p><ul>{items}</ul>"
+    items = "".join(f"<li><code>{html.escape(step)}</code>: {html.escape(why)}</li>" for step, why in s[key].items())
+    return f"<p class='missing'>{heading}:</p><ul>{items}</ul>"
+
+
+def _skipped(out):
+    """The steps this run skipped, each with its reason (:func:`ccedi.study.run.skipped_steps`)."""
+    return _step_list(out, "skipped", "Steps skipped for this finger")
 
 
 def _failed(out):
-    """The steps whose run failed, each with the solver's message (``study.json``)."""
-    s = _load(out, "study.json")
-    if not s or not s.get("failed"):
-        return ""
-    items = "".join(f"<li><code>{html.escape(step)}</code>: {html.escape(why)}</li>" for step, why in s["failed"].items())
-    return f"<p class='missing'>Steps that failed (their results are missing from this report):</p><ul>{items}</ul>"
+    """The steps whose run failed, each with the solver's message."""
+    return _step_list(out, "failed", "Steps that failed (their results are missing from this report)")
 
 
 def _warnings(out):
