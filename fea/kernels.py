@@ -37,9 +37,12 @@ BLOCK = 32
 the 32 KiB first-level cache."""
 
 CHUNKS = 8
-"""Blocks are dealt round-robin into this many chunks, the unit of work of a thread (a
-constant, so that the kernel can be cached: numba's thread count is a run-time value):
-up to 8 threads share a mesh's blocks evenly."""
+"""Blocks are split into this many chunks of consecutive blocks, the unit of work of a
+thread (a constant, so that the kernel can be cached: numba's thread count is a run-time
+value): up to 8 threads share a mesh's blocks evenly, and on the node-ordered mesh each
+thread's elements touch a range of nodes close to the range its node sums cover, so little
+data moves between the cores' caches (dealt round-robin instead, two threads ran the drum
+step at 137.5 against 123.7 us, one thread 168.8 / 168.6 us)."""
 
 _FACES = FACES.astype(np.int64)
 _H = HOURGLASS_BASE.copy()
@@ -296,7 +299,7 @@ def _element_block(i, x, v, group, mu, lam, rho, c, xv, w, lnj, dv, hq, out):
 
 @nb.njit(cache=True, fastmath=FASTMATH, error_model="numpy", inline="always")
 def _block_chunk(ch, chunks, x, v, group, mu, lam, rho, c):
-    """Blocks ch, ch + chunks, ch + 2 chunks ... with one set of work arrays.
+    """Chunk ch of ``chunks`` (consecutive blocks) with one set of work arrays.
 
     The work arrays are allocated here, in the function that uses them (inlined with
     :func:`_element_block`), so that LLVM knows they alias nothing else and compiles the
@@ -307,7 +310,8 @@ def _block_chunk(ch, chunks, x, v, group, mu, lam, rho, c):
     dv = np.empty((9, BLOCK))            # sum_k v_k b_k^T
     hq = np.empty((12, BLOCK))           # Qt = K_hg qt
     out = np.empty((29, BLOCK))
-    for i in range(ch, group.block_nodes.shape[0], chunks):
+    n = group.block_nodes.shape[0]
+    for i in range(ch * n // chunks, (ch + 1) * n // chunks):
         _element_block(i, x, v, group, mu, lam, rho, c, xv, w, lnj, dv, hq, out)
 
 
