@@ -411,11 +411,13 @@ def _dm_inputs(cone_radius_m, rib_thickness_m):
 
 DM_CONE_RADIUS = 11.2186e-3
 """Root radius of the DM's cone [m]: fitted to Table 1's stiffness by
-:func:`fit_detailed_model` in ``benchmarks/dm_fit.py`` at 2.8 mm (two evaluations from
-11.15 mm: 79.23 and 80.81 N/m, the latter within its 1 % tolerance of 81.2 N/m; stiffness
-evaluated as the linear one at 2.8 mm times the nonlinear-to-linear ratio 1.048 measured on
-a 6-mm DM of an 11-mm cone and 2-mm ribs, 77.28 / 73.75 N/m: the nonlinear solves take
-minutes there and tens of minutes at 2.8 mm)."""
+:func:`fit_detailed_model` in ``benchmarks/dm_fit.py`` at 2.8 mm, the stiffness evaluated
+as the linear one at 2.8 mm times the nonlinear-to-linear ratio of a 6-mm DM (its
+nonlinear solves take a minute or two there, some 20 minutes at 2.8 mm). Fitted on the
+Delaunay mesh, re-measured on HXT's (:data:`DM_ALGORITHM_3D`): from this radius the fit's
+first evaluation is within its 1 % of 81.2 N/m (ratio 1.0496, 76.99 / 73.35 N/m at 6 mm;
+80.94 N/m), and the nonlinear Table 1 solve at 2.8 mm gives 80.49 N/m (-0.88 %,
+``benchmarks/dm_row.json``)."""
 DM_RIB_THICKNESS = 0.8138e-3
 """Thickness along z of the DM's ribs [m]: fitted to Table 1's volume (30 cm^3, CAD) at
 :data:`DM_CONE_RADIUS` (:func:`rib_thickness_for_volume`)."""
@@ -478,9 +480,9 @@ def detailed_model(element_size_m=DM_ELEMENT_LENGTH, cone_radius_m=DM_CONE_RADIU
     -------
     Mesh
         ``tets10`` (or ``tets4``), node sets ``root`` (the circular end, z = 0) and ``tip``
-        (the last rib's face, z = L). At the defaults (measured): 28512 nodes, 16389
-        elements, mesh volume 29.78 cm^3 (paper: 36782, 23147, 30 cm^3); stable step 0.438
-        us on the Delaunay mesh used before HXT (``benchmarks/dm_fit.json``; paper 0.22 us).
+        (the last rib's face, z = L). At the defaults (measured, ``benchmarks/dm_row.json``):
+        28512 nodes, 16389 elements, mesh volume 29.78 cm^3, stable step 0.585 us, nonlinear
+        tip stiffness 80.49 N/m (paper: 36782, 23147, 30 cm^3, 0.22 us, 81.2 N/m).
 
     Raises
     ------
