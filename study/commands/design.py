@@ -1,7 +1,7 @@
 """``ccedi design``: pick finger damping and length (:mod:`ccedi.design`)."""
 import time
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from ccedi.errors import InputError, ValidityWarning
@@ -33,7 +33,7 @@ def add_parsers(sub):
     d.add_argument("--allowable-finger-stress-Pa", type=float, help="max finger von Mises stress allowed [Pa]")
     d.add_argument("--contact-start-bounds-s", type=float, nargs=2, metavar=("LO", "HI"),
                    help="allowed first-contact time window [s]")
-    d.add_argument("--alpha-bounds", type=float, nargs=2, default=(7.5, 600.0), metavar=("LO", "HI"),
+    d.add_argument("--alpha-bounds", type=float, nargs=2, default=DesignOptions.alpha_bounds, metavar=("LO", "HI"),
                    help="damping bounds [1/s] (default: where the contact ROM was checked against the FEA)")
     d.add_argument("--length-bounds-in", type=float, nargs=2, default=(3.0, 8.0), metavar=("LO", "HI"),
                    help="finger length bounds [in]")
@@ -327,8 +327,6 @@ def write_calibrated_design(cfg, record, options, out, scheduler="local"):
     from ccedi.errors import ModelInadequate
     from ccedi.study.commands.calibrate import write_calibration
     from ccedi.study.commands.fea import contact_setup
-
-    from dataclasses import replace
 
     out = Path(out)
     toml_path = out / "calibrated.toml"
