@@ -4,8 +4,10 @@ wall time and the process's CPU time (on this machine other jobs' measurements p
 helper processes, which the wall time then includes).
 
 Per record: the effect selected (or the ambiguity, or nothing), whether it is the injected
-one, the final NRMSE over the noise floor (target: within 10 %), the calibrated E factor
-and alpha against the truth, the wall time [s]. Totals: right effects among the effect
+one, the final NRMSE over the noise floor (target: within 10 %; and the chain's own
+baseline before its FEA correction), the model error std the stopping test allowed (over
+the noise std), the full FEA at the final parameters against the record (``fea_check``),
+the calibrated E factor and alpha against the truth, the wall time [s]. Totals: right effects among the effect
 records, false positives among the clean controls, the largest time. The chain ROM is
 built and compiled before the timing; the 1-minute load average is recorded (the times
 scale with it on the shared 2-core machine).
@@ -68,6 +70,11 @@ def main(args):
                       "E_factor": result["final_params"]["E_factor"], "E_factor_true": truth["E_factor"],
                       "alpha_per_s": result["final_params"]["alpha_per_s"], "alpha_true": truth["alpha_per_s"],
                       "params": result["final_params"], "unexplained_residual": result["unexplained_residual"],
+                      "chain_baseline_nrmse_over_noise_floor": (None if result["chain_baseline"] is None else
+                                                                result["chain_baseline"]["nrmse"]
+                                                                / result["noise_floor_nrmse"]),
+                      "model_error_over_noise": result["model_error_std"] / exp.noise_std_N,
+                      "fea_check": result["fea_check"], "stop_reason": result["stop_reason"],
                       "wall_time_s": wall, "cpu_time_s": cpu}
         print(name, json.dumps(rows[name]), flush=True)
     effects = [r for r in rows.values() if r["injected"]]

@@ -8,7 +8,8 @@ Sidecar (``DATA.json`` beside ``DATA.csv``; format in data/README.md)::
                   direction); E_Pa; nu; rho_kg_m3
     load          impulse: force_N, duration_s, at ("tip"), start_s (optional, default 0)
     drum          contact: drum_radius_m, omega_rad_s, theta0_rad, object_center_m [x, y],
-                  object_semi_axes_m [a, b], friction (the keys of the study TOML's [drum])
+                  object_semi_axes_m [a, b], friction, optionally contact_damping_ratio (the keys
+                  of the study TOML's [drum])
     damping       (optional, contact) "global" (default) or "relative"
     alpha_per_s   (optional) mass-proportional damping, the fit's starting value [1/s]
     sensor        (optional) impulse: noise_std_m [m]; contact: noise_std_N [N]
@@ -171,7 +172,8 @@ FIELDS = {"": ("kind", "finger", "load", "drum", "damping", "alpha_per_s", "sens
           "finger": ("length_in", "length_m", "section_semi_axes_m", "E_Pa", "nu", "rho_kg_m3"),
           "load": ("force_N", "duration_s", "start_s", "at"), "sensor": ("noise_std_m", "noise_std_N"),
           "tolerances": ("E_Pa",),
-          "drum": ("drum_radius_m", "omega_rad_s", "theta0_rad", "object_center_m", "object_semi_axes_m", "friction")}
+          "drum": ("drum_radius_m", "omega_rad_s", "theta0_rad", "object_center_m", "object_semi_axes_m", "friction",
+                   "contact_damping_ratio")}
 """The sidecar's fields, by object ("" the top level). Any other is refused: a misspelt
 optional field (``tolerances.E``) would otherwise be ignored and its default used."""
 
@@ -291,18 +293,20 @@ def load_experiment(csv_path, meta_path=None):
 
 DRUM_QUANTITIES = {"drum_radius_m": "drum_radius_m", "omega_rad_s": "omega_rad_s", "theta0_rad": "angle_rad",
                    "object_center_m": "object_position_m", "object_semi_axes_m": "object_semi_axis_m",
-                   "friction": "friction"}
-"""The contact sidecar's ``drum`` keys and their :data:`ccedi.quantities.QUANTITIES` entries."""
+                   "friction": "friction", "contact_damping_ratio": "contact_damping_ratio"}
+"""The contact sidecar's ``drum`` keys and their :data:`ccedi.quantities.QUANTITIES` entries
+(``contact_damping_ratio`` optional, default 0)."""
 
 
 def parse_drum(drum, source):
-    """The sidecar's ``drum`` object, every key required and checked.
+    """The sidecar's ``drum`` object, every key but contact_damping_ratio required, all checked.
 
     Parameters
     ----------
     drum : dict
         ``drum_radius_m`` [m], ``omega_rad_s`` [rad/s], ``theta0_rad`` [rad],
-        ``object_center_m`` [x, y] [m], ``object_semi_axes_m`` [a, b] [m], ``friction`` [-].
+        ``object_center_m`` [x, y] [m], ``object_semi_axes_m`` [a, b] [m], ``friction`` [-],
+        optionally ``contact_damping_ratio`` [-] (default 0).
     source : str
         Name of the sidecar in error messages.
 
@@ -326,7 +330,8 @@ def parse_drum(drum, source):
                                  f"got {brief_repr(pair)}")
             out[key] = tuple(QUANTITIES[quantity].check(x, f"{source}: sidecar field '{name}'") for x in pair)
         else:
-            out[key] = _quantity(drum, name, quantity, source)
+            optional = key == "contact_damping_ratio"
+            out[key] = _quantity(drum, name, quantity, source, required=not optional, default=0.0 if optional else None)
     return out
 
 

@@ -7,20 +7,25 @@ contact record (:class:`ccedi.calibrate.contact_model.DrumContactModel`, catalog
 :data:`ccedi.calibrate.effects.CONTACT_CATALOGUE`); the loop is the same, through the
 models' common methods (``parameters``, ``predict``, ``baseline_starts``, ``assess``,
 ``analyse``, ``suggest``, ``observables``, ``measurements``, ``unexplained_term``,
-``calibrated``).
+``calibrated``, ``correct_at``).
 
 1. Baseline: alpha and E (within tolerance) fitted (:func:`ccedi.calibrate.fit.fit_baseline`).
    Adequacy (:mod:`ccedi.calibrate.adequacy`): the record's own first frequency against the
    declared finger's, E_factor against its bounds, the record's length against the declared
    first period. If the declared finger cannot explain the record, the loop stops here:
-   no effect is added to cover a wrong declaration.
+   no effect is added to cover a wrong declaration. A reduced base model is then corrected
+   by its full model at the baseline point and refitted (``model.correct_at``: for a contact
+   record one full explicit FE run on the drum; the chain carries the smooth part of its
+   discrepancy from it, and the rough rest, measured on this record's set-up, becomes the
+   model error of the tests below); at the end the full model is run at the final
+   parameters and compared with the record (``model.fea_check``).
 2. Residual analysis (:mod:`ccedi.calibrate.residual`): signatures and suggested effects.
 3. Every catalogued effect not yet in the model is refitted together with it, from the
    current values and the model's starting values for it (``candidate_starts``: e.g. a
    contact record's timing offset from its contact start and end errors).
 4. Selection (sigma below: the noise std and the base model's own error,
    ``model.model_error``, in quadrature; the latter is zero for the impulse model, and the
-   contact chain's discrepancy from the full FEA for a contact record): a candidate
+   contact chain's remaining discrepancy from the full FEA for a contact record): a candidate
    qualifies if it lowers the training BIC by more than
    ``BIC_MARGIN``, lowers the held-out RMS error and explains at least
    ``EXPLAINED_FRACTION`` of the excess of the residual's mean square over the noise
@@ -138,6 +143,12 @@ class Calibration:
     rejected : Fit or None
         The model with the effects the search added that did not bring the residual to
         the noise level (module docstring, step 6), or None.
+    chain_baseline : Fit or None
+        The baseline of the reduced model before its FEA correction (step 1), or None
+        when it was not corrected.
+    fea_check : dict or None
+        The full FE model at the final parameters against the record
+        (``model.fea_check``), or None when the base model was not corrected.
     """
 
     experiment: Experiment
@@ -150,6 +161,8 @@ class Calibration:
     ambiguous: dict | None = None
     unexplained: object = None
     rejected: Fit | None = None
+    chain_baseline: Fit | None = None
+    fea_check: dict | None = None
 
     @property
     def unexplained_residual(self):
@@ -317,7 +330,7 @@ def calibration_model(exp: Experiment):
     return FingerModel(exp)
 
 
-def calibrate(exp: Experiment, candidates=None, progress=None):
+def calibrate(exp: Experiment, candidates=None, progress=None, fea_correction=True):
     """Run the calibration loop on an experiment (module docstring).
 
     Parameters
@@ -328,6 +341,11 @@ def calibrate(exp: Experiment, candidates=None, progress=None):
         Effect names to consider. Default: the whole catalogue of the record's kind.
     progress : callable, optional
         Called with a one-line message before each candidate fit. Default None.
+    fea_correction : bool, optional
+        Correct a reduced base model by its full FE model at the baseline fit (module
+        docstring, step 1; a contact record's chain by one full explicit run on the drum,
+        ~2 minutes). Default True; no effect on an impulse record, whose base model is
+        the FE model's own modes.
 
     Returns
     -------
@@ -349,9 +367,13 @@ def calibrate(exp: Experiment, candidates=None, progress=None):
     if unknown:
         raise InputError(f"effect(s) {', '.join(unknown)} not in the {exp.kind} catalogue "
                          f"({', '.join(model.catalogue)})")
-    sigma = float(np.hypot(noise_std(exp), model.model_error))
     n = len(exp.time_s)
     current = baseline = fit_baseline(model)
+    chain_baseline = None
+    if fea_correction and model.correct_at(baseline.values) is not None:
+        chain_baseline = baseline
+        current = baseline = fit(model, (), start=baseline.values)
+    sigma = float(np.hypot(noise_std(exp), model.model_error))
     adequacy = model.assess(baseline, sigma)
     rounds = []
     ambiguous = None
@@ -409,9 +431,10 @@ def calibrate(exp: Experiment, candidates=None, progress=None):
     unexplained = None
     if adequacy.adequate and current.rms_m > (1.0 + UNEXPLAINED_EXCESS) * sigma:
         unexplained = model.unexplained_term(current)
+    fea_check = model.fea_check(current.values, sigma) if chain_baseline is not None else None
     return Calibration(experiment=exp, model=model, baseline=baseline, final=current, rounds=rounds,
                        noise_std_m=sigma, adequacy=adequacy, ambiguous=ambiguous, unexplained=unexplained,
-                       rejected=rejected)
+                       rejected=rejected, chain_baseline=chain_baseline, fea_check=fea_check)
 
 
 def summary(cal: Calibration):
@@ -477,6 +500,9 @@ def summary(cal: Calibration):
             "rejected_effects": None if cal.rejected is None else {
                 "effects": list(cal.rejected.effects), "params": cal.rejected.values, "nrmse": cal.rejected.nrmse,
                 "rms_over_noise": cal.rejected.rms_m / cal.noise_std_m},
+            "chain_baseline": None if cal.chain_baseline is None else {
+                "nrmse": cal.chain_baseline.nrmse, "params": cal.chain_baseline.values},
+            "fea_check": cal.fea_check,
             "unexplained_residual": cal.unexplained_residual,
             "sparse_term": cal.unexplained.summary() if cal.unexplained is not None else None}
 

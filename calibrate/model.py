@@ -324,6 +324,21 @@ class FingerModel:
         zeta = v["alpha_per_s"] / (2.0 * m.omega_rad_s) + v.get("beta_s", 0.0) * m.omega_rad_s / 2.0
         return sparse_term(self.exp.time_s, self.exp.displacement_m - fitted.prediction, fitted.prediction, m, zeta)
 
+    def correct_at(self, v):
+        """No correction: the base model is the FE model's own modes (the contact model's
+        chain is corrected by its FEA, :meth:`ccedi.calibrate.contact_model.DrumContactModel.correct_at`).
+
+        Parameters
+        ----------
+        v : dict
+            Parameter values (unused).
+
+        Returns
+        -------
+        None
+        """
+        return None
+
     def calibrated(self, v):
         """The calibrated study inputs of parameter values ``v``.
 

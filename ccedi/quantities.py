@@ -84,6 +84,7 @@ QUANTITIES = {
     "object_position_m": Quantity("m", -10.0, 10.0),
     "object_semi_axis_m": Quantity("m", 1e-3, 1.0),
     "friction": Quantity("-", 0.0, 2.0),
+    "contact_damping_ratio": Quantity("-", 0.0, 0.2),
 }
 """Finger material and geometry: Young's modulus, Poisson's ratio (neo-Hookean,
 compressible), density, length, and each semi-axis of the elliptical section; the
@@ -92,7 +93,8 @@ damping; the tip load: force, how long it is held and when it starts; the standa
 deviation of a displacement sensor's (and a force transducer's) white noise; and the drum test: drum radius and
 speed, the finger's initial angle (and the object's rotation), each coordinate of the
 object's centre (an object 10 m away takes no part), each semi-axis of the object, and
-the Coulomb friction coefficient between finger and object."""
+the Coulomb friction coefficient between finger and object, and the normal contact damping
+as a fraction of critical (up to ccedi.fea.contact.MAX_DAMPING_RATIO, the explicit step's limit)."""
 
 QUANTITIES["length_m"] = QUANTITIES["length_in"].in_unit(INCH, "m")
 """The finger length in metres: the same range as ``length_in``, for inputs given in SI."""

@@ -24,6 +24,7 @@ it needs no regularisation and cannot reverse the sliding direction within a ste
 tangential trial velocity v_t is reduced by at most ``mu f_n Dt / m_eff`` (slip); if
 that would stop it, it is set to zero (stick). See :func:`ccedi.fea.explicit.run`.
 """
+from collections import namedtuple
 from dataclasses import dataclass
 
 import numba as nb
@@ -38,6 +39,9 @@ PLANE, ELLIPSE = 0, 1
 NEWTON_ITERATIONS = 12
 STEP_SHRINK = 0.9
 """The stable step is multiplied by this factor when contact is modelled."""
+MAX_DAMPING_RATIO = 0.2
+"""Largest normal contact damping ratio (:func:`contact_damping`): at 0.9 x the contact
+step, 0.436 zeta <= (1 - 0.9^2) / (2 x 0.9) = 0.106 keeps the damped step limit."""
 
 
 @dataclass(frozen=True)
@@ -52,17 +56,21 @@ class RigidPlane:
         Outward normal n (away from the solid side) [-]; normalised by :meth:`params`.
     mu : float, optional
         Coulomb friction coefficient [-], >= 0. Default 0 (frictionless).
+    damping_ratio : float, optional
+        Normal contact damping as a fraction of each contact spring's critical damping
+        [-], in [0, MAX_DAMPING_RATIO] (:func:`contact_damping`). Default 0.
 
     Raises
     ------
     InputError
-        If ``mu`` is negative or not finite, or ``normal`` is not a finite, non-zero
-        3-vector.
+        If ``mu`` is negative or not finite, ``damping_ratio`` is outside [0, MAX_DAMPING_RATIO], or
+        ``normal`` is not a finite, non-zero 3-vector.
     """
 
     point_m: tuple
     normal: tuple
     mu: float = 0.0
+    damping_ratio: float = 0.0
 
     def params(self):
         """Kernel form of the plane for :func:`contact_forces`.
@@ -81,6 +89,7 @@ class RigidPlane:
 
     def __post_init__(self):
         require_finite_positive("mu (friction coefficient)", self.mu, allow_zero=True)
+        _check_damping_ratio(self.damping_ratio)
         n = np.asarray(self.normal, dtype=float)
         if n.shape != (3,) or not np.isfinite(n).all() or np.linalg.norm(n) == 0.0:
             raise InputError(f"normal must be a non-zero 3-vector, got {self.normal!r}")
@@ -109,12 +118,15 @@ class RigidEllipse:
         Upper end of the cylinder [m], > ``z_min_m``. Default +inf.
     mu : float, optional
         Coulomb friction coefficient [-], >= 0. Default 0 (frictionless).
+    damping_ratio : float, optional
+        Normal contact damping as a fraction of each contact spring's critical damping
+        [-], in [0, MAX_DAMPING_RATIO] (:func:`contact_damping`). Default 0.
 
     Raises
     ------
     InputError
-        If a semi-axis is not finite and positive, ``mu`` is negative or not finite, or
-        ``z_min_m >= z_max_m``.
+        If a semi-axis is not finite and positive, ``mu`` is negative or not finite,
+        ``damping_ratio`` is outside [0, MAX_DAMPING_RATIO], or ``z_min_m >= z_max_m``.
     """
 
     center_m: tuple
@@ -124,11 +136,13 @@ class RigidEllipse:
     z_min_m: float = -np.inf
     z_max_m: float = np.inf
     mu: float = 0.0
+    damping_ratio: float = 0.0
 
     def __post_init__(self):
         require_finite_positive("a_m (ellipse semi-axis, m)", self.a_m)
         require_finite_positive("b_m (ellipse semi-axis, m)", self.b_m)
         require_finite_positive("mu (friction coefficient)", self.mu, allow_zero=True)
+        _check_damping_ratio(self.damping_ratio)
         if not self.z_min_m < self.z_max_m:
             raise InputError(f"z_min_m must be below z_max_m, got {self.z_min_m}, {self.z_max_m}")
 
@@ -166,6 +180,73 @@ class Contact:
     nodes: np.ndarray
     surface: object
     stiffness: np.ndarray | None = None
+
+
+ContactGroup = namedtuple("ContactGroup", "nodes k c kind params mu normal fn out")
+ContactGroup.__doc__ = """Penalty contact as :func:`contact_forces` and
+:func:`ccedi.fea.friction.coulomb_friction` take it.
+
+Attributes
+----------
+nodes : (s,) int ndarray
+    Slave node indices (empty without contact).
+k : (s,) ndarray
+    Penalty stiffness per slave node [N/m].
+c : (s,) ndarray
+    Normal damping coefficient per slave node [N s/m] (:func:`contact_damping`).
+kind : int
+    Surface kind, :data:`ccedi.fea.contact.PLANE` or :data:`ccedi.fea.contact.ELLIPSE`.
+params : (8,) ndarray
+    Surface parameters (:meth:`ccedi.fea.contact.RigidPlane.params`,
+    :meth:`ccedi.fea.contact.RigidEllipse.params`).
+mu : float
+    Coulomb friction coefficient [-].
+normal : (n_nodes, 3) ndarray
+    Work array: outward surface normal at each node in contact [-].
+fn : (n_nodes,) ndarray
+    Work array: normal contact force magnitude of each node [N].
+out : (8,) ndarray
+    Contact record of the last step (see :func:`ccedi.fea.contact.contact_forces`).
+"""
+
+
+def _check_damping_ratio(zeta):
+    """:class:`ccedi.errors.InputError` unless 0 <= zeta <= MAX_DAMPING_RATIO."""
+    if not (np.isfinite(zeta) and 0.0 <= zeta <= MAX_DAMPING_RATIO):
+        raise InputError(f"damping_ratio (contact damping, fraction of critical) must be in [0, {MAX_DAMPING_RATIO:g}], "
+                         f"got {zeta!r}")
+
+
+def contact_damping(stiffness, mass, damping_ratio):
+    """Normal damping coefficient of each contact spring, a fraction of its critical
+    damping (the viscous contact damping of explicit codes, LS-DYNA's VDC)::
+
+        c = 2 zeta sqrt(k m)
+
+    The dashpot acts on the penetration rate while a node is in contact (a lossy object
+    surface: energy lost in every contact closure and in the finger's chatter against it);
+    the normal force stays compressive, f_n = max(k d + c d', 0). Stability at the
+    contact step (0.9 x the step, :func:`penalty_stiffness`): the contact spring alone has
+    w_c = sqrt(k / m) = 0.484 w_max, the node with it w_max / 0.9, and the dashpot damps
+    that node at a ratio 0.436 zeta; central differences with damping ratio xi are stable
+    below (2 / w)(sqrt(1 + xi^2) - xi), which stays above the step taken (0.9 of the
+    undamped limit 2 / w at the default TSSFAC) for zeta <= :data:`MAX_DAMPING_RATIO`.
+
+    Parameters
+    ----------
+    stiffness : (s,) array_like
+        Penalty stiffness per slave node [N/m].
+    mass : (s,) array_like
+        Lumped mass per slave node [kg].
+    damping_ratio : float
+        Fraction of critical damping zeta [-], in [0, MAX_DAMPING_RATIO].
+
+    Returns
+    -------
+    (s,) ndarray
+        Damping coefficient per node [N s/m].
+    """
+    return 2.0 * damping_ratio * np.sqrt(np.asarray(stiffness, float) * np.asarray(mass, float))
 
 
 def penalty_stiffness(mass, dt_cfl):
@@ -261,44 +342,39 @@ def _ellipse_gap(px, py, a, b):
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def contact_forces(x, nodes, stiffness, kind, params, f_ext, normal, f_normal, out):
+def contact_forces(x, v, contact, f_ext):
     """Penalty normal forces of slave nodes against a rigid surface, compiled.
 
     A slave node at penetration depth d = -gap > 0 (signed distance to the closest
-    surface point, negative inside) receives ``f_n = k d`` along the outward surface
-    normal n; the ellipse's closest point comes from Newton's method (module
-    docstring). Nodes of an ellipse outside its z range, or outside it in plane, are
-    skipped.
+    surface point, negative inside) receives ``f_n = max(k d + c d', 0)`` along the
+    outward surface normal n, with d' = -v . n its penetration rate (the surface is
+    fixed); the ellipse's closest point comes from Newton's method (module docstring).
+    Nodes of an ellipse outside its z range, or outside it in plane, are skipped.
 
     Parameters
     ----------
     x : (n_nodes, 3) ndarray
         Current nodal coordinates [m].
-    nodes : (s,) int ndarray
-        Slave node indices.
-    stiffness : (s,) ndarray
-        Penalty stiffness per slave node [N/m].
-    kind : int
-        Surface kind, :data:`PLANE` or :data:`ELLIPSE`.
-    params : (8,) ndarray
-        Surface parameters from :meth:`RigidPlane.params` or :meth:`RigidEllipse.params`.
+    v : (n_nodes, 3) ndarray
+        Nodal velocities [m/s] (the last half step's in the step loop).
+    contact : ContactGroup
+        Slave nodes, their penalty stiffness and damping, the surface; its work arrays
+        receive the outputs: ``normal``, the outward unit normal [-] of each node in
+        contact (other rows are left as they were); ``fn``, the normal force magnitude
+        of each slave node [N] (zero when not in contact); ``out``, the total force on
+        the surface (3) [N], the penalty energy sum k d^2 / 2 [J], the maximum
+        penetration [m], the number of nodes in contact and the force-weighted contact
+        point x, y [m] (0 when there is no contact).
     f_ext : (n_nodes, 3) ndarray
         External nodal forces [N]; the contact forces are ADDED to it.
-    normal : (n_nodes, 3) ndarray
-        Output: the outward unit normal [-] of each node in contact (other rows are
-        left as they were).
-    f_normal : (n_nodes,) ndarray
-        Output: normal force magnitude of each slave node [N] (zero when not in contact).
-    out : (8,) ndarray
-        Output: total force on the surface (3) [N], penalty energy sum k d^2 / 2 [J],
-        maximum penetration [m], number of nodes in contact, force-weighted contact
-        point x, y [m] (0 when there is no contact).
 
     Returns
     -------
     float
         Sum of the normal force magnitudes [N].
     """
+    nodes, stiffness, damping, kind, params = contact.nodes, contact.k, contact.c, contact.kind, contact.params
+    normal, f_normal, out = contact.normal, contact.fn, contact.out
     for i in range(8):
         out[i] = 0.0
     fsum = 0.0
@@ -325,6 +401,8 @@ def contact_forces(x, nodes, stiffness, kind, params, f_ext, normal, f_normal, o
         if gap >= 0.0:
             continue
         fn = -stiffness[s] * gap
+        if damping[s] > 0.0:
+            fn = max(fn - damping[s] * (v[n, 0] * n0 + v[n, 1] * n1 + v[n, 2] * n2), 0.0)
         f_ext[n, 0] += fn * n0
         f_ext[n, 1] += fn * n1
         f_ext[n, 2] += fn * n2

@@ -98,6 +98,9 @@ class DrumSetup:
         F/T sensor pad radius [m] (the object's clamp in the stress solve).
     friction : float
         Coulomb friction coefficient [-].
+    contact_damping_ratio : float
+        Normal contact damping, a fraction of each contact spring's critical damping [-]
+        (:func:`ccedi.fea.contact.contact_damping`; 0: none).
     theta0_rad : float
         Initial finger angle [rad] (:func:`calibrate_initial_angle`).
     finger_material, object_material : NeoHookean
@@ -132,6 +135,7 @@ class DrumSetup:
     object_thickness_m: float = 0.025
     sensor_radius_m: float = 0.010
     friction: float = 0.6
+    contact_damping_ratio: float = 0.0
     theta0_rad: float = CALIBRATED_THETA0_RAD
     finger_material: NeoHookean = RUBBER
     finger_semi_axes_m: tuple = SEMI_AXES
@@ -144,7 +148,7 @@ class DrumSetup:
         self._resolve_finger()
         q = QUANTITIES
         checks = {"drum_radius_m": q["drum_radius_m"], "omega_rad_s": q["omega_rad_s"], "friction": q["friction"],
-                  "finger_length_m": q["length_m"], "theta0_rad": q["angle_rad"],
+                  "contact_damping_ratio": q["contact_damping_ratio"], "finger_length_m": q["length_m"], "theta0_rad": q["angle_rad"],
                   "object_angle_rad": q["angle_rad"]}
         for name, quantity in checks.items():
             quantity.check(getattr(self, name), f"DrumSetup {name}")
@@ -192,7 +196,7 @@ class DrumSetup:
         h = 0.5 * self.object_thickness_m
         return RigidEllipse(center_m=self.object_center_m, a_m=self.object_semi_axes_m[0],
                             b_m=self.object_semi_axes_m[1], angle_rad=self.object_angle_rad,
-                            z_min_m=-h, z_max_m=h, mu=self.friction)
+                            z_min_m=-h, z_max_m=h, mu=self.friction, damping_ratio=self.contact_damping_ratio)
 
 
 def _pair(value, name):

@@ -41,7 +41,7 @@ import psutil
 from ccedi.errors import InputError, SolverError, require_finite_positive
 from ccedi.progress import progress_bar
 
-from .contact import PLANE, STEP_SHRINK, contact_forces, penalty_stiffness
+from .contact import PLANE, STEP_SHRINK, ContactGroup, contact_damping, contact_forces, penalty_stiffness
 from .fastmath import FASTMATH
 from .friction import coulomb_friction
 from .hex8 import deformation_gradient, internal_forces_numpy
@@ -163,32 +163,6 @@ dt_user : float
 tssfac : float
     Scale factor of the CFL step [-] (TSSFAC, times STEP_SHRINK with contact).
 """
-ContactGroup = namedtuple("ContactGroup", "nodes k kind params mu normal fn out")
-ContactGroup.__doc__ = """Penalty contact as :func:`ccedi.fea.contact.contact_forces` and
-:func:`ccedi.fea.friction.coulomb_friction` take it.
-
-Attributes
-----------
-nodes : (s,) int ndarray
-    Slave node indices (empty without contact).
-k : (s,) ndarray
-    Penalty stiffness per slave node [N/m].
-kind : int
-    Surface kind, :data:`ccedi.fea.contact.PLANE` or :data:`ccedi.fea.contact.ELLIPSE`.
-params : (8,) ndarray
-    Surface parameters (:meth:`ccedi.fea.contact.RigidPlane.params`,
-    :meth:`ccedi.fea.contact.RigidEllipse.params`).
-mu : float
-    Coulomb friction coefficient [-].
-normal : (n_nodes, 3) ndarray
-    Work array: outward surface normal at each node in contact [-].
-fn : (n_nodes,) ndarray
-    Work array: normal contact force magnitude of each node [N].
-out : (8,) ndarray
-    Contact record of the last step (see :func:`ccedi.fea.contact.contact_forces`).
-"""
-
-
 @nb.njit(cache=True, fastmath=FASTMATH)
 def _stable_step(dte, beta):
     """Stable step [s] of the CFL step dte [s] lowered for stiffness damping beta [s]."""
@@ -393,8 +367,7 @@ def _advance(forces, tet4_forces, tet10_forces, rod_forces, contact_kernel, t, t
         dt_seen = min(dt_seen, dt)
         pulse_forces(f_ext, loads, t)
         if contact.nodes.shape[0] > 0:
-            contact_kernel(x, contact.nodes, contact.k, contact.kind, contact.params, f_ext, contact.normal,
-                           contact.fn, contact.out)
+            contact_kernel(x, v, contact, f_ext)
         if frame.nodes.shape[0] > 0:
             prescribed_rotation(frame.nodes, nodes.X, x, nodes.v_pres, frame.center, frame.axis,
                                 frame.omega * (t + dt), dt)
@@ -625,13 +598,14 @@ def _contact_group(model, dt_cfl):
     n = model.mesh.n_nodes
     c = model.contact
     if c is None:
-        kind, params, nodes, k, mu = PLANE, np.zeros(8), np.zeros(0, np.int64), np.zeros(0), 0.0
+        kind, params, nodes, k, c_n, mu = PLANE, np.zeros(8), np.zeros(0, np.int64), np.zeros(0), np.zeros(0), 0.0
     else:
         kind, params = c.surface.params()
         nodes = np.asarray(c.nodes, dtype=np.int64)
         k = penalty_stiffness(model.mass[nodes], dt_cfl) if c.stiffness is None else np.asarray(c.stiffness, float)
+        c_n = contact_damping(k, model.mass[nodes], c.surface.damping_ratio)
         mu = float(c.surface.mu)
-    return ContactGroup(nodes, k, kind, params, mu, np.zeros((n, 3)), np.zeros(n), np.zeros(8))
+    return ContactGroup(nodes, k, c_n, kind, params, mu, np.zeros((n, 3)), np.zeros(n), np.zeros(8))
 
 
 def _step_data(model, x, v, dt_user, tssfac, dt_cfl):

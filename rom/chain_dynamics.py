@@ -226,7 +226,7 @@ alpha : float
 relative : bool
     True: damping of the velocity in the drum frame; False: of the absolute velocity.
 """
-ContactPoints = namedtuple("ContactPoints", "seg xi k mu obj")
+ContactPoints = namedtuple("ContactPoints", "seg xi k zeta mu obj")
 ContactPoints.__doc__ = """Contact points along the chain (each on both faces) and the object.
 
 Attributes
@@ -237,6 +237,10 @@ xi : (p,) ndarray
     Fraction of the segment length at which the point sits [-], in [0, 1].
 k : (p,) ndarray
     Penalty stiffness of each point [N/m].
+zeta : float
+    Normal contact damping, a fraction of each point's critical damping
+    2 sqrt(k m_eff) [-] (m_eff: the point's effective mass, 1 / (n J M^-1 J^T n));
+    :func:`ccedi.fea.contact.contact_damping` is the FE's.
 mu : float
     Coulomb friction coefficient [-] (0: frictionless).
 obj : (6,) ndarray
@@ -340,8 +344,10 @@ def _cull_segments(P, chain, obj, cp, sp, far):
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def _penalty_contact(state, chain, points, cp, sp, work):
-    """Penalty normal forces of the face points on the object, added to the stations.
+def _penalty_contact(state, chain, drum, points, cp, sp, work):
+    """Penalty normal forces of the face points on the object, added to the stations:
+    f = k d, or with contact damping f = max(k d + c d', 0), c = 2 zeta sqrt(k m_eff) and
+    d' = -(n . absolute velocity of the point) (frame velocity plus J [V, W]).
 
     Stores each point's normal force and drum-frame normal in work.fn, work.nx, work.ny.
     Returns the contact record (force on the object x, y [N], force-weighted point sums
@@ -375,6 +381,8 @@ def _penalty_contact(state, chain, points, cp, sp, work):
             ngx, ngy = rotate(lx, ly, obj[4], obj[5])
             ndx, ndy = rotate_back(ngx, ngy, cp, sp)      # normal in the drum frame
             f = -points.k[p] * gap
+            if points.zeta > 0.0:
+                f = max(f - _damping_force(state, chain, drum, points, a, qx, qy, ndx, ndy, J, p), 0.0)
             fx = f * ndx
             fy = f * ndy
             for e in range(2):
@@ -392,6 +400,25 @@ def _penalty_contact(state, chain, points, cp, sp, work):
             pen_max = max(pen_max, -gap)
             n_act += 1
     return fx_sum, fy_sum, px_sum, py_sum, fn_sum, pen_max, n_act
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _damping_force(state, chain, drum, points, a, qx, qy, nx, ny, J, p):
+    """c v_n of face point p on segment a at (qx, qy) with drum-frame normal (nx, ny): its
+    absolute velocity along the normal v_n (the penetration rate is -v_n) times
+    c = 2 zeta sqrt(k m_eff), m_eff = 1 / (n J M^-1 J^T n) over the free end stations."""
+    vn = planar_frame_velocity_along(qx, qy, nx, ny, drum.omega)
+    flex = 0.0
+    for e in range(2):
+        i = a + e
+        if i == 0:
+            continue
+        gx = J[0, 3 * e] * nx + J[1, 3 * e] * ny
+        gy = J[0, 3 * e + 1] * nx + J[1, 3 * e + 1] * ny
+        gr = J[0, 3 * e + 2] * nx + J[1, 3 * e + 2] * ny
+        vn += gx * state.V[i, 0] + gy * state.V[i, 1] + gr * state.W[i]
+        flex += (gx * gx + gy * gy) / chain.mass[i] + gr * gr / chain.inertia[i]
+    return 2.0 * points.zeta * np.sqrt(points.k[p] / flex) * vn
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
@@ -529,7 +556,7 @@ def _chain_run(state, chain, drum, points, dt, outputs, work):
             cp = np.cos(phi)
             sp = np.sin(phi)
             _cull_segments(state.P, chain, points.obj, cp, sp, work.far)
-            record = _penalty_contact(state, chain, points, cp, sp, work)
+            record = _penalty_contact(state, chain, drum, points, cp, sp, work)
             _velocity_update(state, chain, drum, work, dt, damp_lo, damp_hi)
             if points.mu > 0.0:
                 fx_sum, fy_sum = _coulomb_friction(state, chain, drum, points, cp, sp, work, dt, damp_hi,
@@ -681,6 +708,16 @@ def chain_run_numpy(state, chain, drum, points, dt, outputs):
                     n_glob = np.array([ca * lx - sa * ly, sa * lx + ca * ly])
                     n_drum = rot.T @ n_glob
                     f = -kp * gap
+                    if points.zeta > 0.0:
+                        g_n = (n_drum @ Jp).reshape(2, 3)       # J^T n per end station
+                        v_n = om * (q[0] * n_drum[1] - q[1] * n_drum[0])
+                        flex = 0.0
+                        for e in (0, 1):
+                            i = a + e
+                            if i > 0:
+                                v_n += g_n[e, :2] @ V[i] + g_n[e, 2] * W[i]
+                                flex += g_n[e, :2] @ g_n[e, :2] / chain.mass[i] + g_n[e, 2] ** 2 / chain.inertia[i]
+                        f = max(f - 2.0 * points.zeta * np.sqrt(kp / flex) * v_n, 0.0)
                     gen = Jp.T @ (f * n_drum)                   # on [Pa, theta_a, Pb, theta_b]
                     F[a:a + 2] += gen.reshape(2, 3)[:, :2]
                     Mo[a:a + 2] += gen.reshape(2, 3)[:, 2]

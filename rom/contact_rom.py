@@ -392,8 +392,8 @@ class ReducedContactModel:
         obj_params = np.array([c[0], c[1], obj.a_m, obj.b_m, np.cos(obj.angle_rad), np.sin(obj.angle_rad)])
         status, steps = chain_run(ChainState(P, TH, V, W), self._chain_group(E_factor),
                                   DrumFrame(s.omega_rad_s, s.theta0_rad, float(alpha), damping == "relative"),
-                                  ContactPoints(self.pt_seg, self.pt_xi, E_factor * self.pt_k, float(obj.mu),
-                                                obj_params),
+                                  ContactPoints(self.pt_seg, self.pt_xi, E_factor * self.pt_k,
+                                                float(obj.damping_ratio), float(obj.mu), obj_params),
                                   self.dt_s / np.sqrt(E_factor), ChainOutputs(t_out, P_out, TH_out, C_out))
         if status:
             raise SolverError(f"reduced model diverged (non-finite state) at step {steps + 1}")

@@ -96,6 +96,8 @@ SCHEMA = {
         "object_semi_axes_m": _key("object_semi_axis_m", list(_DRUM["object_semi_axes_m"]),
                                    "elliptical object semi-axes [a, b]", True, 2, 2),
         "friction": _key("friction", _DRUM["friction"], "Coulomb friction coefficient finger-object"),
+        "contact_damping_ratio": _key("contact_damping_ratio", _DRUM["contact_damping_ratio"],
+                                      "normal contact damping, fraction of each contact spring's critical damping"),
     },
     "study": {
         "impulse_alphas_per_s": _key("alpha_per_s", [70.0, 120.0, 160.0, 180.0, 200.0],
@@ -125,6 +127,9 @@ SCHEMA = {
                                          "measured record (impulse or contact, CSV with a JSON sidecar) whose "
                                          "calibrated inputs the design is re-run with, beside the declared model's "
                                          "design (empty: none)"),
+        "calibration_fea_correction": Key(bool, "-", None, None, True,
+                                          "correct the contact ROM by one full FE run at the calibration's "
+                                          "baseline and check the result with another (~2 x 2 minutes)"),
         "scheduler": Key(str, "-", None, None, "local",
                          "serial, local (2-worker Dask cluster) or a Dask scheduler address"),
     },
@@ -291,7 +296,8 @@ def drum_setup(cfg, finger=None):
     try:
         return DrumSetup(drum_radius_m=d["drum_radius_m"], omega_rad_s=d["omega_rad_s"], theta0_rad=d["theta0_rad"],
                          object_center_m=tuple(d["object_center_m"]), object_semi_axes_m=tuple(d["object_semi_axes_m"]),
-                         friction=d["friction"], finger_length_m=length_m, finger_material=material,
+                         friction=d["friction"], contact_damping_ratio=d["contact_damping_ratio"],
+                         finger_length_m=length_m, finger_material=material,
                          finger_semi_axes_m=semi_axes, finger=finger)
     except InputError as err:
         raise InputError(f"[drum]: {err}") from None

@@ -41,7 +41,8 @@ from .report import write_index
 
 QUICK = {"study": {"impulse_t_end_s": 0.05, "mesh_comparison_t_end_s": 0.03, "identification_lengths_in": [3.0, 4.5],
                    "contact_alphas_per_s": [600.0], "contact_t_end_s": 1.0, "design_fea_check": False,
-                   "table1_stiffness": False, "detailed_model": False}}
+                   "table1_stiffness": False, "detailed_model": False,
+                   "calibration_fea_correction": False}}
 """Settings ``--quick`` overrides: a few-minute smoke run of every step."""
 
 

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from scipy.signal import butter, sosfiltfilt
 
 from ccedi.calibrate.contact_model import DrumContactModel, declared_setup, radially_offset
 from ccedi.calibrate.contact_synthetic import declared_sidecar
@@ -123,7 +124,7 @@ def test_contact_write_config_holds_the_calibrated_drum(tmp_path):
     writes [drum] with the calibrated set-up; the study loader reads it back."""
     out, toml = tmp_path / "c.json", tmp_path / "calibrated.toml"
     assert main(["calibrate", str(DATA / "sensor_offset_drift_down.csv"), "--json", str(out), "--effects",
-                 "sensor_offset_drift", "--write-config", str(toml)]) == 0
+                 "sensor_offset_drift", "--write-config", str(toml), "--no-fea-correction"]) == 0
     result = json.loads(out.read_text())
     cfg = load(toml)
     assert result["kind"] == "contact" and result["selected_effect"] == "sensor_offset_drift"
@@ -146,3 +147,28 @@ def test_baseline_finds_the_alpha_of_the_low_damping_control():
     truth = json.loads((DATA / "manifest.json").read_text())["records"]["control_80"]
     assert base.values["alpha_per_s"] == pytest.approx(truth["alpha_per_s"], rel=0.05)
     assert base.rms_m < 1.15 * np.hypot(exp.noise_std_N, model.model_error)
+
+
+def test_the_fea_correction_carries_the_smooth_discrepancy_and_counts_the_rest_as_model_error(monkeypatch):
+    """The chain corrected by a full model (here a stand-in on the FEA's 0.5 ms outputs:
+    the chain's own force plus a slow 0.4 N bias and a 150 Hz, 0.3 N ripple) reads what
+    the full model reads but for the ripple: its residual against the full model's reading
+    has no slow part left (below 3 Hz: under 5 % of the bias), and the model error is the
+    RMS of that residual, the transducer's reading of the ripple (to 5 %), not the bias."""
+    m = DrumContactModel(_experiment(np.full_like(T, 5.0)))
+    v = {"alpha_per_s": 180.0, "E_factor": 1.0}
+    t_fe = np.arange(0, 3001) * 0.5e-3
+    F = np.interp(t_fe, T, m.force(v), left=0.0)
+    bias = 0.4 * np.sin(np.pi * t_fe / 1.5)
+    ripple = 0.3 * np.sin(2 * np.pi * 150.0 * t_fe)
+    monkeypatch.setattr(m, "fea_force", lambda values: (t_fe, F + bias + ripple))
+    chain_alone = m.predict(v)
+    m.correct_at(v)
+    full = np.interp(T, t_fe, Transducer().measured(t_fe, F + bias + ripple))
+    residual = full - m.predict(v)
+    slow = sosfiltfilt(butter(2, 3.0, fs=1000.0, output="sos"), residual)[100:-100]   # no filter start-up
+    assert np.abs(slow).max() < 0.05 * 0.4
+    assert np.sqrt(np.mean((full - chain_alone) ** 2)) > 3.0 * np.sqrt(np.mean(residual**2))
+    assert m.model_error == pytest.approx(np.sqrt(np.mean(residual**2)), rel=1e-9)
+    ripple_reading = np.interp(T, t_fe, Transducer().measured(t_fe, ripple))
+    assert m.model_error == pytest.approx(np.sqrt(np.mean(ripple_reading**2)), rel=0.05)

@@ -25,20 +25,24 @@ def _run(model, alpha, damping, n_steps, n_outputs, backend):
     t_out = np.linspace(0.0, n_steps * model.dt_s, n_outputs + 1)[1:]
     out = ChainOutputs(t_out, np.zeros((n_outputs, n, 2)), np.zeros((n_outputs, n)), np.zeros((n_outputs, 6)))
     obj = s.object_surface
-    points = ContactPoints(model.pt_seg, model.pt_xi, model.pt_k, float(obj.mu), obj.params()[1][:6])
+    points = ContactPoints(model.pt_seg, model.pt_xi, model.pt_k, float(obj.damping_ratio), float(obj.mu),
+                           obj.params()[1][:6])
     drum = DrumFrame(s.omega_rad_s, s.theta0_rad, float(alpha), damping == "relative")
     status, steps = chain_run(state, model._chain_group(), drum, points, model.dt_s, out, backend=backend)
     return status, steps, state, out
 
 
-@pytest.mark.parametrize("contact, damping", [("stations", "global"), ("face", "relative")])
-def test_compiled_chain_run_matches_the_numpy_reference(contact, damping):
+@pytest.mark.parametrize("contact, damping, zeta", [("stations", "global", 0.0), ("face", "relative", 0.0),
+                                                    ("stations", "global", 0.2)])
+def test_compiled_chain_run_matches_the_numpy_reference(contact, damping, zeta):
     """Coarse chain started just before contact, 400 steps with penalty contact and
     friction active. fastmath (reassociation, fused multiply-adds) changes the last bits
     of every step; over 400 steps they stay near 1e-12 of the values, so the states and
     the contact record must agree to rtol 1e-9 (far above round-off, far below any
-    modelling change: one step's contact force changes it by > 1e-3)."""
-    setup = replace(COARSE, theta0_rad=COARSE.theta0_rad + COARSE.omega_rad_s * T_CONTACT_S)
+    modelling change: one step's contact force changes it by > 1e-3). With contact damping
+    (zeta 0.2) as well."""
+    setup = replace(COARSE, theta0_rad=COARSE.theta0_rad + COARSE.omega_rad_s * T_CONTACT_S,
+                    contact_damping_ratio=zeta)
     model = ReducedContactModel(setup, n_segments=13, contact=contact)
     ref = _run(model, 180.0, damping, 400, 8, "numpy")
     got = _run(model, 180.0, damping, 400, 8, "numba")

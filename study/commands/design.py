@@ -332,7 +332,7 @@ def write_calibrated_design(cfg, record, options, out, scheduler="local"):
     toml_path = out / "calibrated.toml"
     try:
         write_calibration(Path(record), out / "calibration.json", report_dir=out / "calibration",
-                          config_path=toml_path)
+                          config_path=toml_path, fea_correction=cfg["study"]["calibration_fea_correction"])
     except ModelInadequate as err:
         print(f"calibrated design skipped: {err}", flush=True)
         return None
