@@ -290,8 +290,8 @@ class DrumContactModel:
         return self._rough_error
 
     def fea_force(self, v):
-        """Magnitude of the full FEA's in-plane force on the object at the record's times
-        [N]: :class:`ccedi.fea.drum.FullContactModel` on the set-up of ``v`` (:meth:`setup_of`)
+        """Magnitude of the full FEA's in-plane force on the object [N], at the FEA's own
+        output times: :class:`ccedi.fea.drum.FullContactModel` on the set-up of ``v`` (:meth:`setup_of`)
         at Young's modulus x ``E_factor`` and ``alpha_per_s``, output every record sample
         (at most every :data:`FEA_OUTPUT_S`) up to the record's end.
 

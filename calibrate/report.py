@@ -83,8 +83,10 @@ def _markdown(summary):
              f"Model adequacy: {a['message']}.", "",
              "| evidence | value |", "|---|---|", *_adequacy_rows(a),
              "", f"Noise floor NRMSE {summary['noise_floor_nrmse']:.4%}.", "",
-             f"| model | NRMSE | max error [{unit}] |", "|---|---|---|",
-             f"| baseline | {b['nrmse']:.4%} | {b['max_error_m']:.4g} |"]
+             f"| model | NRMSE | max error [{unit}] |", "|---|---|---|"]
+    if summary.get("chain_baseline"):
+        lines.append(f"| baseline, chain alone | {summary['chain_baseline']['nrmse']:.4%} | |")
+    lines.append(f"| baseline | {b['nrmse']:.4%} | {b['max_error_m']:.4g} |")
     for e in summary["effects_found"]:
         lines.append(f"| + {e['name']} | {e['nrmse_after']:.4%} | {e['max_error_after_m']:.4g} |")
     lines += ["", "Baseline parameters: " + ", ".join(f"{k} = {v:.5g} +- {b['stderr'][k]:.2g}"
@@ -100,6 +102,13 @@ def _markdown(summary):
                   for k, c in e["candidates"].items()]
         lines.append("")
     lines += [f"Stop: {summary['stop_reason']}.", ""]
+    f = summary.get("fea_check")
+    if f:
+        lines += [f"The chain carried the smooth part of its discrepancy from one full FEA run at the baseline "
+                  f"(RMS {f['correction_rms_N']:.4g} N); the rest, {f['rough_error_N']:.4g} N RMS, was its model error. "
+                  f"The full FEA at {', '.join(f'{k} = {v:.5g}' for k, v in f['run_at'].items())}"
+                  f"{'' if f['new_run'] else ' (the correction run)'}: NRMSE {f['nrmse']:.4%}, "
+                  f"{f['rms_over_noise']:.3f} x the noise std, peak {f['peak_error']:+.2%}.", ""]
     return "\n".join(lines)
 
 
