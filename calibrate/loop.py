@@ -17,8 +17,11 @@ models' common methods (``parameters``, ``predict``, ``baseline_starts``, ``asse
    by its full model at the baseline point and refitted (``model.correct_at``: for a contact
    record one full explicit FE run on the drum; the chain carries the smooth part of its
    discrepancy from it, and the rough rest, measured on this record's set-up, becomes the
-   model error of the tests below); at the end the full model is run at the final
-   parameters and compared with the record (``model.fea_check``).
+   model error of the tests below). When the search has added effects that move the model
+   away from that point, the full model is run again at the selected model, the chain
+   re-corrected there and the selected model refitted before the stopping test of step 6.
+   At the end the full model's run nearest the final parameters is compared with the record
+   (``model.fea_check``).
 2. Residual analysis (:mod:`ccedi.calibrate.residual`): signatures and suggested effects.
 3. Every catalogued effect not yet in the model is refitted together with it, from the
    current values and the model's starting values for it (``candidate_starts``: e.g. a
@@ -422,12 +425,19 @@ def calibrate(exp: Experiment, candidates=None, progress=None, fea_correction=Tr
                             f"{current.holdout_rms_m:.3g} -> {tried[best].holdout_rms_m:.3g} m, "
                             f"{excess_explained(current, tried[best], sigma):.0%} of the excess over the noise"))
         current = tried[best]
+    if chain_baseline is not None and current.effects and not model.corrected_near(current.values):
+        model.correct_at(current.values)
+        current = fit(model, current.effects, start=current.values)
+        sigma = float(np.hypot(noise_std(exp), model.model_error))
     rejected = None
     if ambiguous is None and current.effects and not at_noise_level(current, sigma, n):
         rejected, current = current, baseline
         rounds.append(Round(baseline, rounds[0].evidence, [], {}, None,
                             f"{'+'.join(rejected.effects)} leave the residual at {rejected.rms_m / sigma:.3f} sigma, "
                             f"not the noise level: the catalogue does not explain the record, no effect accepted"))
+        if chain_baseline is not None:
+            model.correct_at(baseline.values)
+            sigma = float(np.hypot(noise_std(exp), model.model_error))
     unexplained = None
     if adequacy.adequate and current.rms_m > (1.0 + UNEXPLAINED_EXCESS) * sigma:
         unexplained = model.unexplained_term(current)
