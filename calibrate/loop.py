@@ -20,7 +20,7 @@ models' common methods (``parameters``, ``predict``, ``baseline_starts``, ``asse
    model error of the tests below). When the search has added effects that move the model
    away from that point, the full model is run again at the selected model, the chain
    re-corrected there and the selected model refitted before the stopping test of step 6.
-   At the end the full model's run nearest the final parameters is compared with the record
+   At the end the full model's run of the last correction is compared with the record
    (``model.fea_check``).
 2. Residual analysis (:mod:`ccedi.calibrate.residual`): signatures and suggested effects.
 3. Every catalogued effect not yet in the model is refitted together with it, from the
