@@ -106,8 +106,8 @@ def _markdown(summary):
     if f:
         lines += [f"The chain carried the smooth part of its discrepancy from one full FEA run at the baseline "
                   f"(RMS {f['correction_rms_N']:.4g} N); the rest, {f['rough_error_N']:.4g} N RMS, was its model error. "
-                  f"The full FEA at {', '.join(f'{k} = {v:.5g}' for k, v in f['run_at'].items())}"
-                  f"{'' if f['new_run'] else ' (the correction run)'}: NRMSE {f['nrmse']:.4%}, "
+                  f"The full FEA run of the last correction (of {f['fea_runs']}), at "
+                  f"{', '.join(f'{k} = {v:.5g}' for k, v in f['run_at'].items())}: NRMSE {f['nrmse']:.4%}, "
                   f"{f['rms_over_noise']:.3f} x the noise std, peak {f['peak_error']:+.2%}.", ""]
     return "\n".join(lines)
 

@@ -124,7 +124,7 @@ def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None, 
               f"(the nearest catalogued stand-ins, not the missing physics)")
     if result["fea_check"]:
         f = result["fea_check"]
-        print(f"full FEA at the final parameters: NRMSE {f['nrmse']:.3%} ({f['rms_over_noise']:.3f} x the noise std), "
+        print(f"full FEA (run of the last correction, {f['fea_runs']} run(s)): NRMSE {f['nrmse']:.3%} ({f['rms_over_noise']:.3f} x the noise std), "
               f"peak {f['peak_error']:+.2%}")
     if result["unexplained_residual"]:
         s = result["sparse_term"]
