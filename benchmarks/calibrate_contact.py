@@ -61,7 +61,7 @@ def main(args):
     for name in names:
         exp = load_experiment(DATA / f"{name}.csv")
         t0, c0 = time.perf_counter(), time.process_time()
-        result = summary(calibrate(exp))
+        result = summary(calibrate(exp, fea_correction=True))
         wall, cpu = time.perf_counter() - t0, time.process_time() - c0
         truth = manifest[name]
         selected, right = outcome(result, truth)

@@ -127,7 +127,7 @@ SCHEMA = {
                                          "measured record (impulse or contact, CSV with a JSON sidecar) whose "
                                          "calibrated inputs the design is re-run with, beside the declared model's "
                                          "design (empty: none)"),
-        "calibration_fea_correction": Key(bool, "-", None, None, True,
+        "calibration_fea_correction": Key(bool, "-", None, None, False,
                                           "correct the contact ROM by one full FE run at the calibration's "
                                           "baseline and check the result with another (~2 x 2 minutes)"),
         "scheduler": Key(str, "-", None, None, "local",

@@ -124,7 +124,7 @@ def test_contact_write_config_holds_the_calibrated_drum(tmp_path):
     writes [drum] with the calibrated set-up; the study loader reads it back."""
     out, toml = tmp_path / "c.json", tmp_path / "calibrated.toml"
     assert main(["calibrate", str(DATA / "sensor_offset_drift_down.csv"), "--json", str(out), "--effects",
-                 "sensor_offset_drift", "--write-config", str(toml), "--no-fea-correction"]) == 0
+                 "sensor_offset_drift", "--write-config", str(toml)]) == 0
     result = json.loads(out.read_text())
     cfg = load(toml)
     assert result["kind"] == "contact" and result["selected_effect"] == "sensor_offset_drift"

@@ -1,7 +1,7 @@
 """``ccedi calibrate`` (:mod:`ccedi.calibrate`): close the loop on a measured record.
 
   calibrate DATA.csv [--meta DATA.json] --json OUT.json [--report DIR] [--effects NAME ...]
-            [--write-config OUT.toml] [--no-fea-correction]
+            [--write-config OUT.toml] [--fea-correction]
 
 ``--write-config`` writes the calibrated inputs (:func:`ccedi.study.config.calibrated_config`)
 as a TOML fragment that ``ccedi study --config`` and every other ``--config`` command read.
@@ -38,9 +38,9 @@ def add_parsers(sub):
     c.add_argument("--effects", nargs="+", choices=sorted(set(CATALOGUE) | set(CONTACT_CATALOGUE)), metavar="EFFECT",
                    help=f"candidate effects (default: the record kind's whole catalogue; impulse: "
                         f"{', '.join(CATALOGUE)}; contact: {', '.join(CONTACT_CATALOGUE)})")
-    c.add_argument("--no-fea-correction", dest="fea_correction", action="store_false",
-                   help="contact record: calibrate the reduced chain alone, without its correction by one full "
-                        "explicit FE run at the baseline and the FE check at the end (~2 x 2 minutes fewer)")
+    c.add_argument("--fea-correction", action="store_true",
+                   help="contact record: correct the reduced chain by one or two full explicit FE runs (~2 minutes "
+                        "each) and check the result against the full FEA")
     c.set_defaults(func=cmd_calibrate)
 
 
@@ -51,7 +51,7 @@ def cmd_calibrate(args):
 
 
 def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None, config_path=None,
-                      fea_correction=True):
+                      fea_correction=False):
     """Calibrate the declared finger on one measured impulse or contact record and write the result.
 
     Parameters
@@ -73,7 +73,7 @@ def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None, 
         not written when the declared model is inadequate.
     fea_correction : bool, optional
         Correct a contact record's chain by the full FEA at the baseline and check the
-        final model with it (:func:`ccedi.calibrate.loop.calibrate`). Default True.
+        final model with it (:func:`ccedi.calibrate.loop.calibrate`). Default False.
 
     Returns
     -------
