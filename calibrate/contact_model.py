@@ -400,10 +400,11 @@ class DrumContactModel:
         fe = self._at_record_times(t_fe, f_fe)
         t = self.exp.time_s
         sos = butter(2, CORRECTION_BAND_HZ, fs=1.0 / float(np.median(np.diff(t))), output="sos")
-        self.correction = sosfiltfilt(sos, fe - self.force(w))
+        chain = self.force(w)
+        self.correction = sosfiltfilt(sos, fe - chain)
         self.corrected_at = dict(w)
         self._forces.clear()
-        rough = self._at_record_times(t_fe, f_fe, w) - self.transducer(w).measured(t, self.force(w))
+        rough = self._at_record_times(t_fe, f_fe, w) - self.transducer(w).measured(t, chain + self.correction)
         self._rough_error = float(np.sqrt(np.mean(rough**2)))
         return fe
 

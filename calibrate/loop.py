@@ -150,8 +150,9 @@ class Calibration:
         The baseline of the reduced model before its FEA correction (step 1), or None
         when it was not corrected.
     fea_check : dict or None
-        The full FE model at the final parameters against the record
-        (``model.fea_check``), or None when the base model was not corrected.
+        The full FE model's run of the last correction against the record, read as the
+        final model reads (``model.fea_check``), or None when the base model was not
+        corrected.
     """
 
     experiment: Experiment
