@@ -120,6 +120,38 @@ def deformation_gradients(x, conn, grad):
     return np.einsum("eki,egkj->egij", x[conn], grad)
 
 
+@nb.njit(cache=True, fastmath=FASTMATH)
+def deformation_gradients_numba(x, conn, grad):
+    """:func:`deformation_gradients`, compiled: the same sums without the (e, nn, 3)
+    gather, for the outputs of a run (max stress and strain at every output time).
+
+    Parameters
+    ----------
+    x : (n, 3) ndarray
+        Nodal positions [m] (or velocities [m/s]).
+    conn : (e, nn) int ndarray
+        Connectivity.
+    grad : (e, g, nn, 3) ndarray
+        Reference shape-function gradients at the points [1/m].
+
+    Returns
+    -------
+    (e, g, 3, 3) ndarray
+        F [-] (or dF/dt [1/s]).
+    """
+    ne, ng, nn = grad.shape[0], grad.shape[1], grad.shape[2]
+    F = np.zeros((ne, ng, 3, 3))
+    for e in range(ne):
+        for g in range(ng):
+            for k in range(nn):
+                nd = conn[e, k]
+                for i in range(3):
+                    xi = x[nd, i]
+                    for j in range(3):
+                        F[e, g, i, j] += xi * grad[e, g, k, j]
+    return F
+
+
 def averaging_matrix(conn, n_nodes, nodal):
     """The averaging matrix S of the module docstring.
 
