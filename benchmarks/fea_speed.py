@@ -4,11 +4,13 @@ SM-A 4.5-in finger, 1 N tip impulse for 10 ms, alpha = 180 1/s, 0.2 s simulated.
 whole run is timed best of 3 on one thread and on two (``run(..., threads=N)``), the two
 interleaved so that a busy machine slows both alike; the internal-force kernel alone is
 timed as the best of many short batches (which filters out the moments the process was
-not running). Prints and writes to benchmarks/fea_speed.json: wall time [s], steps,
-nanoseconds per element-cycle for the whole run and for the kernel alone, on 1 and 2
-threads, and the load average (``os.getloadavg``) before and after: on a machine shared
-with other jobs the run figures are upper bounds. Target: < 100 ns per element-cycle on
-one thread.
+not running). The same run on the pure-numpy reference path (``backend="numpy"``, once,
+untimed) gives the tip history the compiled one is compared with: the largest difference
+relative to the reference's peak (target: 1e-9). Prints and writes to
+benchmarks/fea_speed.json: wall time [s], steps, nanoseconds per element-cycle for the
+whole run and for the kernel alone, on 1 and 2 threads, that difference, and the load
+average (``os.getloadavg``) before and after: on a machine shared with other jobs the run
+figures are upper bounds. Target: < 100 ns per element-cycle on one thread.
 
 Run: ``make bench`` or ``.venv/bin/python benchmarks/fea_speed.py``.
 """
@@ -51,6 +53,16 @@ def kernel_ns_per_element(model, threads, batches=400, calls=5):
     return 1e9 * best / model.mesh.n_elements
 
 
+def tip_difference(compiled, reference):
+    """Largest |difference| of the two runs' tip deflection histories over the reference's
+    largest |deflection| [-]."""
+    a = compiled.history["tip_uy_m"].to_numpy()
+    b = reference.history["tip_uy_m"].to_numpy()
+    if a.shape != b.shape:
+        raise ValueError(f"the runs' histories have {a.shape[0]} and {b.shape[0]} samples; expected the same")
+    return float(np.max(np.abs(a - b)) / np.max(np.abs(b)))
+
+
 def main():
     mesh = sm_a(length_in=4.5)
     model = cantilever_model(mesh, RUBBER, alpha=180.0, pulses=[tip_pulse(mesh, [0.0, 1.0, 0.0], 0.01)])
@@ -65,6 +77,7 @@ def main():
             if n not in best or res.summary["wall_time_s"] < best[n].summary["wall_time_s"]:
                 best[n] = res
     kernel = {n: kernel_ns_per_element(model, n) for n in threads}
+    reference = run(model, 0.2, n_outputs=400, backend="numpy")
     s = best[1].summary
     figures = {
         "model": "SM-A 4.5 in, 725 hex8, alpha 180 1/s, 0.2 s",
@@ -77,6 +90,8 @@ def main():
         figures[f"wall_time_s_{n}_threads"] = round(best[n].summary["wall_time_s"], 3)
         figures[f"ns_per_element_cycle_{n}_threads"] = round(best[n].summary["ns_per_element_cycle"], 1)
         figures[f"kernel_ns_per_element_{n}_threads"] = round(kernel[n], 1)
+    figures["tip_history_difference_to_numpy_reference"] = float(f"{tip_difference(best[1], reference):.3g}")
+    figures["target_tip_history_difference"] = 1e-9
     if 2 in best:
         figures["speedup_2_threads"] = round(s["wall_time_s"] / best[2].summary["wall_time_s"], 2)
         figures["same_tip_history_1_and_2_threads"] = bool(best[1].history["tip_uy_m"].equals(

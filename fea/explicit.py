@@ -324,16 +324,24 @@ def _advance(forces, tet4_forces, tet10_forces, rod_forces, contact_kernel, t, t
     steps = 0
     dt_seen = np.inf
     while t < t_stop:
-        dte, w_int, w_hg, p_bulk, bad = forces(x, v, hexes, material, f_int)
-        if bad >= 0:
-            return t, dt_prev, steps, _INVERTED, bad, dt_seen
-        dt4, w4, _, bad4 = tet4_forces(x, v, tets4, material, f_int)
-        if bad4 >= 0:
-            return t, dt_prev, steps, _INVERTED, hexes.hexes.shape[0] + bad4, dt_seen
-        dt10, w10, _, bad10 = tet10_forces(x, v, tets10, material, f_int)
-        if bad10 >= 0:
-            return t, dt_prev, steps, _INVERTED, hexes.hexes.shape[0] + tets4.tets.shape[0] + bad10, dt_seen
-        dte = min(dte, dt4, dt10)
+        if hexes.hexes.shape[0] > 0:
+            dte, w_int, w_hg, p_bulk, bad = forces(x, v, hexes, material, f_int)
+            if bad >= 0:
+                return t, dt_prev, steps, _INVERTED, bad, dt_seen
+        else:
+            f_int[:] = 0.0
+            dte, w_int, w_hg, p_bulk = np.inf, 0.0, 0.0, 0.0
+        w4 = w10 = 0.0
+        if tets4.tets.shape[0] > 0:
+            dt4, w4, _, bad4 = tet4_forces(x, v, tets4, material, f_int)
+            if bad4 >= 0:
+                return t, dt_prev, steps, _INVERTED, hexes.hexes.shape[0] + bad4, dt_seen
+            dte = min(dte, dt4)
+        if tets10.tets.shape[0] > 0:
+            dt10, w10, _, bad10 = tet10_forces(x, v, tets10, material, f_int)
+            if bad10 >= 0:
+                return t, dt_prev, steps, _INVERTED, hexes.hexes.shape[0] + tets4.tets.shape[0] + bad10, dt_seen
+            dte = min(dte, dt10)
         w_int += w4 + w10
         w_rod, folded = rod_forces(x, rods.segments, rods.rest_length, rods.axial_stiffness, rods.hinges,
                                    rods.bending_stiffness, f_int)
