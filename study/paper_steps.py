@@ -109,19 +109,32 @@ def _mesh_run(name, length_in, alpha, force_N, duration_s, t_end_s, material, se
     return h, res.summary
 
 
+def _mesh_model(name, length_in, alpha, force_N, duration_s, t_end_s, material, semi_axes_m, out):
+    """One model of the Fig. 6 comparison: an explicit run of SM-A or SM-B (its history and
+    summary, :func:`_mesh_run`), or the detailed model's comparison ("DM", its summary,
+    :func:`dm_comparison`, which writes its own files in ``out``)."""
+    if name == "DM":
+        return dm_comparison(out, alpha, force_N, duration_s, material)
+    return _mesh_run(name, length_in, alpha, force_N, duration_s, t_end_s, material, semi_axes_m)
+
+
 def mesh_comparison(out, length_in, alpha, force_N, duration_s, t_end_s, scheduler, material, semi_axes_m,
                     detailed_model=True):
     """Fig. 6 analogue: tip response and max von Mises stress of SM-A and SM-B (``material``,
     section semi-axes ``semi_axes_m`` [m]) under the same impulse at one alpha. Writes
     mesh_comparison.csv/.json and the figure; for the paper's finger, when
     ``detailed_model``, also the detailed model's half of Fig. 6 (:func:`dm_comparison`,
-    summary under ``"detailed_model"``)."""
+    summary under ``"detailed_model"``). The three are independent runs, mapped together over
+    ``scheduler`` (the DM's first, the longest)."""
     from ccedi.fea.distributed import map_runs
     from ccedi.fea.studies import is_paper_finger
 
-    run = partial(_mesh_run, length_in=length_in, alpha=alpha, force_N=force_N, duration_s=duration_s,
-                  t_end_s=t_end_s, material=material, semi_axes_m=semi_axes_m)
-    runs = map_runs(run, ["SM-A", "SM-B"], scheduler, label="SM-A/SM-B")
+    run = partial(_mesh_model, length_in=length_in, alpha=alpha, force_N=force_N, duration_s=duration_s,
+                  t_end_s=t_end_s, material=material, semi_axes_m=semi_axes_m, out=out)
+    detailed = detailed_model and is_paper_finger(length_in, material, semi_axes_m)
+    names = (["DM"] if detailed else []) + ["SM-B", "SM-A"]     # longest first: a cluster starts them in order
+    results = dict(zip(names, map_runs(run, names, scheduler, label="/".join(names))))
+    runs = [results["SM-A"], results["SM-B"]]
     history = pd.concat([h for h, _ in runs], ignore_index=True)
     write_csv(out / "mesh_comparison.csv", history)
     fig, (a1, a2) = _axes(2, figsize=(7, 7))
@@ -139,8 +152,8 @@ def mesh_comparison(out, length_in, alpha, force_N, duration_s, t_end_s, schedul
     a1.legend()
     write_figure(out / "fig6_mesh_comparison.png", fig)
     write_json(out / "mesh_comparison.json", summary)
-    if detailed_model and is_paper_finger(length_in, material, semi_axes_m):
-        summary["detailed_model"] = dm_comparison(out, alpha, force_N, duration_s, material)
+    if detailed:
+        summary["detailed_model"] = results["DM"]
     return summary
 
 
