@@ -38,6 +38,17 @@ class ModelInadequate(Exception):
     """
 
 
+class RequirementsUnmet(Exception):
+    """No design in the design space meets the designer's requirements: exit status 4 on
+    the command line.
+
+    Every input was valid and the design space was searched; ``ccedi design`` raises it
+    *after* writing its complete result (``feasible: false``, the design closest to
+    meeting them and by how much it misses each requirement) and report. The message is
+    one line naming the requirements missed and by how much.
+    """
+
+
 class ValidityWarning(UserWarning):
     """A run's results leave the model's range of validity, but the numbers still mean
     something (see :mod:`ccedi.fea.validity`).

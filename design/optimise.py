@@ -1,78 +1,161 @@
 """The design problem on the surrogate, solved with casadi/IPOPT (multi-start) and by
 brute force on a grid (the check of the former).
 
-Design variables: alpha [1/s] and L [m] (:func:`ccedi.design.surrogate.design_space`), worked
-in their unit coordinates u in [-1, 1]^2 (ln alpha and L scaled). Objectives (surrogate
-values, SI units):
+Design variables: alpha [1/s] and L [m] (:func:`ccedi.design.surrogate.design_space`),
+worked in their unit coordinates u in [-1, 1]^2 (ln alpha and L scaled). The objective is
+one output with a meaning (:data:`OBJECTIVES`; default: the transducer-filtered peak force
+on the object), normalised by its range over the brute-force grid,
 
-    f_s = peak reaction force on the object [N] (``stress_measure="reaction_force"``)
-          or peak object von Mises stress [Pa] (``"object_stress"``),
-    f_d = contact duration [s],
-    f_o = residual oscillation, RMS tip velocity over 0.5 s after breakaway [m/s],
+    J = (f - min_grid f) / (max_grid f - min_grid f),
 
-each normalised by its range over the brute-force grid of the bounds,
-f~_i = (f_i - min_grid f_i) / (max_grid f_i - min_grid f_i), and combined as
+or a weighted sum of such terms (``objective="weighted"``, ``weights={output: w}``).
+Constraints: every requirement's margin >= 0 (:mod:`ccedi.design.requirements`), its
+bound tightened by the surrogate's measured model error where one is given
+(:class:`ModelError`: a ROM that reads a force 12 % low against the full FEA has its
+force limit lowered by 12 %), and for "this rubber only" designs alpha = alpha(L)
+(:func:`ccedi.design.rubber.alpha_of_length`), imposed as ln alpha - ln alpha(L) = 0.
 
-    J = sum_i w_i f~_i,   w = weights / sum(weights)   (dimensionless).
-
-Constraints: contact duration >= ``min_contact_duration_s`` (the finger touches the
-object), max finger von Mises stress <= ``allowable_finger_stress_Pa``, optionally
-contact start in ``contact_start_bounds_s`` [s], and for "this rubber only" designs
-alpha = alpha(L) (:func:`ccedi.design.objectives.alpha_of_length`), imposed as
-ln alpha - ln alpha(L) = 0.
+When no design meets the requirements, :func:`closest_design` finds the grid point whose
+largest shortfall is smallest and says by how much it misses each requirement;
+:func:`solve` raises :class:`ccedi.errors.RequirementsUnmet` with it.
 """
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import casadi as ca
 import numpy as np
 
-from ccedi.errors import InputError, SolverError, require_finite_positive
+from ccedi.errors import InputError, RequirementsUnmet, SolverError
 from ccedi.fea.units import m_to_inch
 
-from .objectives import alpha_of_length
+from .requirements import DISPLAY_UNITS, Limit, Requirements
+from .rubber import alpha_of_length
 from .surrogate import Surrogate
 
-STRESS_MEASURES = {"reaction_force": "peak_reaction_force_N", "object_stress": "max_object_stress_Pa"}
-"""Selectable stress objective -> surrogate output."""
+OBJECTIVES = {"object_force": "sensor_peak_force_N", "object_stress": "max_object_stress_Pa",
+              "root_stress": "max_finger_stress_Pa", "recovery": "recovery_deviation_m",
+              "ringing": "ringing_amplitude_m"}
+"""Objective name -> the output it minimises ("weighted": a weighted sum of outputs)."""
 
-OBJECTIVE_KEYS = ("stress", "duration", "oscillation")
-"""Order of the weights."""
+BINDING_MARGIN = 1e-3
+"""A requirement whose margin at the optimum is below this (normalised) binds."""
+
+ON_BOUND = 0.01
+"""A variable within this fraction of its range (in unit coordinates) of a bound sits on it."""
 
 _OK = ("Solve_Succeeded", "Solved_To_Acceptable_Level")
 
 
-def normalised_weights(weights):
-    """The design weights normalised to sum 1 (check them before building anything).
+class ModelError:
+    """How far the surrogate's model strays from the full FEA on one output, as measured
+    (``benchmarks/design_rom_check.py``): its under- and over-prediction over the design
+    variables, interpolated linearly in (ln alpha, L) between the checked points (held
+    constant beyond them).
 
     Parameters
     ----------
-    weights : sequence of float
-        w_stress, w_duration, w_oscillation: finite, >= 0, not all zero.
-
-    Returns
-    -------
-    tuple of float
-        ``weights / sum(weights)``.
-
-    Raises
-    ------
-    InputError
-        Not three finite numbers >= 0 with a positive sum.
+    alphas_per_s : array_like
+        Increasing alpha nodes [1/s] (one node: a constant error).
+    lengths_m : array_like
+        Increasing length nodes [m] (one node: constant along the length).
+    under : array_like
+        (len(alphas), len(lengths)) largest (FEA - model), >= 0: a fraction of the FEA's
+        value when ``relative``, else in the output's unit.
+    over : array_like
+        The same for (model - FEA).
+    relative : bool, optional
+        The errors are fractions of the FEA's value.
     """
-    try:
-        w = np.asarray(weights, dtype=float)
-    except (TypeError, ValueError):
-        w = np.array([np.nan])
-    if w.shape != (3,) or not np.all(np.isfinite(w)) or np.any(w < 0) or w.sum() <= 0:
-        raise InputError(f"weights must be three numbers >= 0 (stress, duration, oscillation), "
-                         f"not all zero, got {tuple(weights) if np.iterable(weights) else weights!r}")
-    return tuple(w / w.sum())
+
+    def __init__(self, alphas_per_s, lengths_m, under, over, relative=True):
+        self.alphas_per_s = np.atleast_1d(np.asarray(alphas_per_s, dtype=float))
+        self.lengths_m = np.atleast_1d(np.asarray(lengths_m, dtype=float))
+        shape = (len(self.alphas_per_s), len(self.lengths_m))
+        self.under = np.maximum(np.asarray(under, dtype=float).reshape(shape), 0.0)
+        self.over = np.maximum(np.asarray(over, dtype=float).reshape(shape), 0.0)
+        self.relative = bool(relative)
+        x = ca.SX.sym("x", 2)
+        coords = [np.log(self.alphas_per_s), self.lengths_m]
+        pieces = [ca.fmin(ca.fmax(ca.log(x[0]), coords[0][0]), coords[0][-1]),
+                  ca.fmin(ca.fmax(x[1], coords[1][0]), coords[1][-1])]
+        values = []
+        for table in (self.under, self.over):
+            axes = [c for c in coords if len(c) > 1]
+            args = [p for p, c in zip(pieces, coords) if len(c) > 1]
+            if not axes:
+                values.append(ca.SX(float(table.ravel()[0])))
+                continue
+            f = ca.interpolant("model_error", "linear", axes, table.ravel(order="F"))
+            values.append(f(ca.vertcat(*args)))
+        self.function = ca.Function("model_error", [x], [ca.vertcat(*values)])
+
+    @classmethod
+    def constant(cls, under, over, relative=True):
+        """The same error everywhere.
+
+        Parameters
+        ----------
+        under, over : float
+            Largest under- and over-prediction (module docstring of the class).
+        relative : bool, optional
+
+        Returns
+        -------
+        ModelError
+        """
+        return cls([1.0], [1.0], [[under]], [[over]], relative)
+
+    def at(self, alpha_per_s, length_m):
+        """(under, over) at the design(s) (numpy arrays or casadi expressions).
+
+        Parameters
+        ----------
+        alpha_per_s, length_m : float, numpy.ndarray or casadi expression
+
+        Returns
+        -------
+        tuple
+        """
+        if isinstance(alpha_per_s, (ca.SX, ca.MX)):
+            y = self.function(ca.vertcat(alpha_per_s, length_m))
+            return y[0], y[1]
+        a, L = np.broadcast_arrays(np.asarray(alpha_per_s, dtype=float), np.asarray(length_m, dtype=float))
+        y = np.array(self.function.map(a.size)(np.vstack([a.ravel(), L.ravel()]))).reshape(2, *a.shape)
+        return y[0], y[1]
+
+    def tightened(self, limit: Limit, alpha_per_s, length_m):
+        """The bound of ``limit`` that the model's value must meet at the design so that
+        the FEA's does: upper limit b (1 - under) or b - under; lower b (1 + over) or b + over.
+
+        Parameters
+        ----------
+        limit : Limit
+        alpha_per_s, length_m : float, numpy.ndarray or casadi expression
+            The design(s).
+
+        Returns
+        -------
+        Same type as ``alpha_per_s``.
+        """
+        under, over = self.at(alpha_per_s, length_m)
+        b = limit.bound
+        if limit.upper:
+            return b * (1.0 - under) if self.relative else b - under
+        return b * (1.0 + over) if self.relative else b + over
+
+    def largest(self):
+        """The largest (under, over) anywhere.
+
+        Returns
+        -------
+        tuple of float
+        """
+        return float(self.under.max()), float(self.over.max())
 
 
 @dataclass
 class Design:
-    """One design: its variables, the surrogate's outputs there and the weighted objective.
+    """One design: its variables, the surrogate's outputs there and the objective.
 
     Parameters
     ----------
@@ -81,9 +164,9 @@ class Design:
     length_m : float
         Finger length [m].
     outputs : dict
-        Surrogate outputs at the design, by name (SI units, :data:`ccedi.design.objectives.OUTPUTS`).
+        Surrogate outputs at the design, by name (SI units).
     J : float
-        Weighted normalised objective (dimensionless, module docstring).
+        Normalised objective (dimensionless, module docstring).
     """
 
     alpha_per_s: float
@@ -92,7 +175,9 @@ class Design:
     J: float
 
     def as_dict(self, problem):
-        """JSON form: ``alpha_per_s``, ``length_in``, the three objectives by name, J.
+        """JSON form: ``alpha_per_s``, ``length_in``, J, every output, and each
+        requirement's margin (``margins``, normalised, >= 0 when met by the surrogate
+        with the model-error margin).
 
         Parameters
         ----------
@@ -103,93 +188,127 @@ class Design:
         dict
         """
         d = {"alpha_per_s": self.alpha_per_s, "length_in": m_to_inch(self.length_m), "J": self.J}
-        d.update({name: self.outputs[name] for name in problem.objective_outputs})
-        d.update({k: self.outputs[k] for k in ("contact_start_s", "max_finger_stress_Pa")})
+        d.update({k: float(v) for k, v in self.outputs.items()})
+        d["margins"] = {k: float(v) for k, v in
+                        problem.constraint_margins(self.outputs, self.alpha_per_s, self.length_m).items()}
         return d
 
 
 @dataclass
 class DesignProblem:
-    """Weighted design problem on ``surrogate`` (see the module docstring).
+    """A design problem on ``surrogate`` (see the module docstring).
 
     Parameters
     ----------
     surrogate : ccedi.design.surrogate.Surrogate
         Interpolants of the design outputs over (alpha, L).
-    weights : tuple of float, optional
-        w_stress, w_duration, w_oscillation, >= 0 and not all zero (normalised to sum 1).
-    stress_measure : {"reaction_force", "object_stress"}, optional
-        The stress objective f_s: peak reaction force [N] or peak object stress [Pa].
+    requirements : Requirements, optional
+        The designer's requirements (default: their documented defaults).
+    objective : str, optional
+        One of :data:`OBJECTIVES` or "weighted".
+    weights : dict, optional
+        ``{output: weight >= 0}`` of the weighted objective (not all zero).
     alpha_of_length : {"free", "paper", "fit"}, optional
         alpha free, or tied to the length by the paper's Eq. (7) or our fit.
-    allowable_finger_stress_Pa : float, optional
-        Largest finger von Mises stress allowed [Pa] (no limit when None).
-    contact_start_bounds_s : tuple of float, optional
-        Allowed first-contact window (lo, hi) [s], 0 <= lo < hi.
-    min_contact_duration_s : float, optional
-        Shortest contact that counts as touching the object [s].
+    model_error : dict, optional
+        ``{output: ModelError}``: the surrogate's measured error against the full FEA,
+        carried as a conservative margin on every requirement on that output.
     n_check : int, optional
         Points per axis of the brute-force grid (normalisation and check).
 
     Attributes
     ----------
     scale : dict
-        ``{objective: (min over the grid, range over the grid)}``, the normalisation.
+        ``{output: (min over the grid, range over the grid)}`` of the objective's outputs.
 
     Raises
     ------
     InputError
-        Weights, stress measure, alpha-of-length mode, stress limit or contact window out
-        of range.
+        Unknown objective, bad weights, a requirement on an output the surrogate lacks,
+        or an unknown alpha-of-length mode.
     """
 
     surrogate: Surrogate
-    weights: tuple = (1.0, 1.0, 1.0)
-    stress_measure: str = "reaction_force"
+    requirements: Requirements = field(default_factory=Requirements)
+    objective: str = "object_force"
+    weights: dict | None = None
     alpha_of_length: str = "free"
-    allowable_finger_stress_Pa: float | None = None
-    contact_start_bounds_s: tuple | None = None
-    min_contact_duration_s: float = 0.01
+    model_error: dict = field(default_factory=dict)
     n_check: int = 100
     scale: dict = field(init=False)
 
     def __post_init__(self):
-        self.weights = normalised_weights(self.weights)
-        if self.stress_measure not in STRESS_MEASURES:
-            raise InputError(f"stress objective must be one of {sorted(STRESS_MEASURES)}, got {self.stress_measure!r}")
+        if self.objective not in (*OBJECTIVES, "weighted"):
+            raise InputError(f"objective must be one of {', '.join((*OBJECTIVES, 'weighted'))}, got {self.objective!r}")
+        self.weights = self._checked_weights()
         if self.alpha_of_length != "free":
             alpha_of_length(self.alpha_of_length, 6.0)            # validates the mode
-        if self.allowable_finger_stress_Pa is not None:
-            require_finite_positive("allowable finger stress (Pa)", self.allowable_finger_stress_Pa)
-        if self.contact_start_bounds_s is not None:
-            lo, hi = (float(b) for b in self.contact_start_bounds_s)
-            if not (np.isfinite(lo) and np.isfinite(hi) and 0.0 <= lo < hi):
-                raise InputError(f"contact start bounds must satisfy 0 <= lo < hi [s], got {self.contact_start_bounds_s}")
-        grid = self.candidates(self.n_check)
-        values = self.surrogate.evaluate(grid)
-        self.scale = {k: (float(values[k].min()), float(np.ptp(values[k])) or 1.0) for k in self.objective_outputs}
+        missing = sorted({lim.output for lim in self.limits} - set(self.surrogate.outputs))
+        if missing:
+            raise InputError(f"requirements on outputs the surrogate lacks: {', '.join(missing)} "
+                             f"(it has {', '.join(self.surrogate.outputs)})")
+        values = self.surrogate.evaluate(self.candidates(self.n_check))
+        self.scale = {k: (float(values[k].min()), float(np.ptp(values[k])) or 1.0) for k in self.weights}
+
+    def _checked_weights(self):
+        if self.objective != "weighted":
+            return {OBJECTIVES[self.objective]: 1.0}
+        w = self.weights or {}
+        bad = [k for k in w if k not in self.surrogate.outputs]
+        values = np.array([float(v) for v in w.values()]) if w else np.array([])
+        if bad or not len(values) or not np.all(np.isfinite(values)) or np.any(values < 0) or values.sum() <= 0:
+            raise InputError(f"weights must map surrogate outputs ({', '.join(self.surrogate.outputs)}) to numbers "
+                             f">= 0, not all zero, got {w!r}")
+        return {k: float(v) / values.sum() for k, v in w.items()}
 
     @property
-    def objective_outputs(self):
-        """Surrogate outputs of (stress, duration, oscillation)."""
-        return (STRESS_MEASURES[self.stress_measure], "contact_duration_s", "residual_oscillation_m_s")
+    def limits(self):
+        """The requirements as :class:`ccedi.design.requirements.Limit` objects."""
+        return self.requirements.limits()
 
-    def J(self, outputs, weights=None):
-        """Weighted sum of normalised objectives (numpy or casadi).
+    def bound(self, limit, alpha_per_s, length_m):
+        """The bound the surrogate must meet for ``limit`` at the design(s): tightened by
+        the output's model error there when one is given.
+
+        Parameters
+        ----------
+        limit : Limit
+        alpha_per_s, length_m : float, numpy.ndarray or casadi expression
+            The design(s).
+
+        Returns
+        -------
+        float, numpy.ndarray or casadi expression
+        """
+        err = self.model_error.get(limit.output)
+        return limit.bound if err is None else err.tightened(limit, alpha_per_s, length_m)
+
+    def J(self, outputs):
+        """Normalised objective (numpy or casadi).
 
         Parameters
         ----------
         outputs : dict
             Surrogate outputs (numpy or casadi).
-        weights : tuple, optional
-            Objective weights (default: the problem's).
 
         Returns
         -------
         float or casadi expression
         """
-        w = self.weights if weights is None else weights
-        return sum(wi * (outputs[k] - self.scale[k][0]) / self.scale[k][1] for wi, k in zip(w, self.objective_outputs))
+        return sum(w * (outputs[k] - self.scale[k][0]) / self.scale[k][1] for k, w in self.weights.items())
+
+    def objective_value(self, outputs):
+        """The objective in its own unit: the output minimised, or J for a weighted sum.
+
+        Parameters
+        ----------
+        outputs : dict
+
+        Returns
+        -------
+        float
+        """
+        return float(outputs[OBJECTIVES[self.objective]]) if self.objective != "weighted" else float(self.J(outputs))
 
     def candidates(self, n):
         """Brute-force points (m, 2) of (alpha [1/s], L [m]): an n x n grid (uniform in the
@@ -212,39 +331,53 @@ class DesignProblem:
         L = vl.grid(n * n)
         return np.column_stack([alpha_of_length(self.alpha_of_length, m_to_inch(L)), L])
 
-    def constraint_margins(self, outputs, alpha_per_s=None):
-        """{name: margin} with margin >= 0 when satisfied (numpy or casadi).
+    def constraint_margins(self, outputs, alpha_per_s, length_m, alpha_bounds=False):
+        """{requirement: normalised margin}, >= 0 when met (numpy or casadi); with
+        ``alpha_bounds``, also the alpha bounds (for the alpha-of-length designs).
 
         Parameters
         ----------
         outputs : dict
-            Surrogate outputs.
-        alpha_per_s : float, optional
-            alpha [1/s] (for the alpha-of-length constraint).
+            Surrogate outputs at the design(s).
+        alpha_per_s, length_m : float, numpy.ndarray or casadi expression
+            The design(s) [1/s], [m].
+        alpha_bounds : bool, optional
+            Add the margin of alpha to its bounds.
 
         Returns
         -------
         dict
         """
-        g = {"touches the object (contact duration >= "
-             f"{self.min_contact_duration_s:g} s)": outputs["contact_duration_s"] - self.min_contact_duration_s}
-        if self.allowable_finger_stress_Pa is not None:
-            g[f"max finger stress <= {self.allowable_finger_stress_Pa:g} Pa"] = \
-                (self.allowable_finger_stress_Pa - outputs["max_finger_stress_Pa"]) / self.allowable_finger_stress_Pa
-        if self.contact_start_bounds_s is not None:
-            lo, hi = self.contact_start_bounds_s
-            g[f"contact start >= {lo:g} s"] = outputs["contact_start_s"] - lo
-            g[f"contact start <= {hi:g} s"] = hi - outputs["contact_start_s"]
-        if alpha_per_s is not None:
+        g = {lim.describe(): lim.margin(outputs[lim.output], self.bound(lim, alpha_per_s, length_m))
+             for lim in self.limits}
+        if alpha_bounds:
             va = self.surrogate.variables[0]
-            g[f"alpha within [{va.lo:g}, {va.hi:g}] 1/s"] = np.minimum(alpha_per_s - va.lo, va.hi - alpha_per_s)
+            g[f"alpha within [{va.lo:g}, {va.hi:g}] 1/s"] = np.minimum(alpha_per_s - va.lo, va.hi - alpha_per_s) / va.hi
         return g
+
+    def without(self, output):
+        """The same problem without the requirements on ``output``.
+
+        Parameters
+        ----------
+        output : str
+
+        Returns
+        -------
+        DesignProblem
+        """
+        kept = [lim for lim in self.limits if lim.output != output]
+        return replace(self, requirements=Requirements.from_limits(kept))
+
+
+def _design_at(problem, X, k, out):
+    return Design(float(X[k, 0]), float(X[k, 1]), {name: float(v[k]) for name, v in out.items()},
+                  float(problem.J({name: v[k] for name, v in out.items()})))
 
 
 def brute_force(problem: DesignProblem, n=None):
     """Best feasible point of :meth:`DesignProblem.candidates` (n x n, default
-    ``problem.n_check``). Raises :class:`InputError` naming the constraint(s) no point
-    satisfies.
+    ``problem.n_check``).
 
     Parameters
     ----------
@@ -258,32 +391,81 @@ def brute_force(problem: DesignProblem, n=None):
 
     Raises
     ------
-    InputError
-        No candidate is feasible.
+    RequirementsUnmet
+        No candidate is feasible (with :func:`closest_design`).
     """
     X = problem.candidates(n or problem.n_check)
     out = problem.surrogate.evaluate(X)
-    margins = problem.constraint_margins(out, X[:, 0])
+    margins = problem.constraint_margins(out, X[:, 0], X[:, 1], alpha_bounds=True)
     feasible = np.logical_and.reduce([m >= 0 for m in margins.values()])
     if not feasible.any():
-        raise InputError(_infeasible_message(problem, out, margins))
+        raise unmet(problem)
     J = problem.J(out)
     k = int(np.flatnonzero(feasible)[np.argmin(J[feasible])])
-    return Design(float(X[k, 0]), float(X[k, 1]), {name: float(v[k]) for name, v in out.items()}, float(J[k]))
+    return _design_at(problem, X, k, out)
 
 
-def _infeasible_message(problem, out, margins):
+def closest_design(problem: DesignProblem, n=None):
+    """The candidate whose largest shortfall is smallest, and its shortfall per
+    requirement.
+
+    Parameters
+    ----------
+    problem : DesignProblem
+    n : int, optional
+        Points per variable (default ``problem.n_check``).
+
+    Returns
+    -------
+    design : Design
+        The closest design.
+    misses : dict
+        ``{requirement: {"value", "bound", "miss"}}`` for each requirement it misses:
+        the surrogate's value, the bound it had to meet (with the model-error margin) and
+        the shortfall in the requirement's own unit (SI).
+    """
+    X = problem.candidates(n or problem.n_check)
+    out = problem.surrogate.evaluate(X)
+    margins = problem.constraint_margins(out, X[:, 0], X[:, 1], alpha_bounds=True)
+    worst = np.max(np.vstack([-m for m in margins.values()]), axis=0)
+    k = int(np.argmin(worst))
+    design = _design_at(problem, X, k, out)
+    misses = {}
+    for lim in problem.limits:
+        value, b = design.outputs[lim.output], float(problem.bound(lim, design.alpha_per_s, design.length_m))
+        if lim.margin(value, b) < 0:
+            misses[lim.describe()] = {"value": value, "bound": b, "miss": abs(value - b)}
+    return design, misses
+
+
+def unmet(problem: DesignProblem):
+    """:class:`ccedi.errors.RequirementsUnmet` naming what the closest design misses; its
+    ``design`` and ``misses`` attributes are those of :func:`closest_design`.
+
+    Parameters
+    ----------
+    problem : DesignProblem
+
+    Returns
+    -------
+    RequirementsUnmet
+    """
+    design, misses = closest_design(problem)
     va, vl = problem.surrogate.variables
-    where = (f"alpha in [{va.lo:g}, {va.hi:g}] 1/s, L in [{m_to_inch(vl.lo):g}, {m_to_inch(vl.hi):g}] in"
-             + ("" if problem.alpha_of_length == "free" else f", alpha = alpha(L) ({problem.alpha_of_length})"))
-    never = [name for name, m in margins.items() if not np.any(m >= 0)]
-    if never:
-        detail = "; ".join(never)
-        hints = {"contact_start_s": "contact start", "max_finger_stress_Pa": "max finger stress",
-                 "contact_duration_s": "contact duration"}
-        ranges = ", ".join(f"{label} {out[k].min():.4g} to {out[k].max():.4g}" for k, label in hints.items())
-        return f"no design satisfies: {detail} (for {where}; the surrogate predicts {ranges})"
-    return f"no design satisfies all constraints together (for {where}): relax one of {', '.join(margins)}"
+    where = (f"alpha {va.lo:g}-{va.hi:g} 1/s, L {m_to_inch(vl.lo):g}-{m_to_inch(vl.hi):g} in"
+             + ("" if problem.alpha_of_length == "free" else f" on alpha = alpha(L) ({problem.alpha_of_length})"))
+    said = "; ".join(f"{name}: {_shown(name, m['value'])} against {_shown(name, m['bound'])}"
+                     for name, m in misses.items())
+    err = RequirementsUnmet(f"no design meets the requirements ({where}); the closest, alpha = "
+                            f"{design.alpha_per_s:.4g} 1/s, L = {m_to_inch(design.length_m):.3g} in, misses {said}")
+    err.design, err.misses = design, misses
+    return err
+
+
+def _shown(description, value):
+    """``value`` in the display unit the requirement ``description`` ends with."""
+    unit = next((u for u in sorted(DISPLAY_UNITS, key=len, reverse=True) if description.endswith(" " + u)), "")
+    return f"{value / DISPLAY_UNITS.get(unit, 1.0):.4g} {unit}".rstrip()
 
 
 def _nlp(problem: DesignProblem, extra=None):
@@ -292,17 +474,16 @@ def _nlp(problem: DesignProblem, extra=None):
     va, vl = problem.surrogate.variables
     u = ca.SX.sym("u", 2)
     out = problem.surrogate.unit_expressions([u[0], u[1]])
-    g = list(problem.constraint_margins(out).values())
+    g = list(problem.constraint_margins(out, va.from_unit(u[0]), vl.from_unit(u[1])).values())
     lbg, ubg = [0.0] * len(g), [np.inf] * len(g)
     if problem.alpha_of_length != "free":
         g.append(u[0] - va.to_unit(alpha_of_length(problem.alpha_of_length, m_to_inch(vl.from_unit(u[1])))))
         lbg.append(0.0)
         ubg.append(0.0)
-    if extra is not None:
-        for e in extra(out):
-            g.append(e)
-            lbg.append(0.0)
-            ubg.append(np.inf)
+    for e in extra(out) if extra is not None else ():
+        g.append(e)
+        lbg.append(0.0)
+        ubg.append(np.inf)
     nlp = {"x": u, "f": problem.J(out), "g": ca.vertcat(*g)}
     opts = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.tol": 1e-10, "ipopt.mu_init": 1e-5,
             "ipopt.max_iter": 200}
@@ -314,7 +495,8 @@ def _starts(problem, n_starts, seed=6):
     va, vl = problem.surrogate.variables
     X = problem.candidates(12)
     out = problem.surrogate.evaluate(X)
-    ok = np.logical_and.reduce([m >= 0 for m in problem.constraint_margins(out, X[:, 0]).values()])
+    ok = np.logical_and.reduce([m >= 0 for m in problem.constraint_margins(out, X[:, 0], X[:, 1],
+                                                                            alpha_bounds=True).values()])
     order = np.argsort(np.where(ok, problem.J(out), np.inf))[: max(1, n_starts // 2)]
     U = np.column_stack([va.to_unit(X[order, 0]), vl.to_unit(X[order, 1])])
     rand = np.random.default_rng(seed).uniform(-1, 1, size=(n_starts - len(U), 2))
@@ -322,7 +504,10 @@ def _starts(problem, n_starts, seed=6):
 
 
 def solve(problem: DesignProblem, n_starts=8, extra=None, starts=None):
-    """Minimise J with IPOPT from several starts and keep the best converged one.
+    """Minimise J with IPOPT from several starts and keep the best converged feasible one;
+    the brute-force grid's best feasible point is a start too, and the answer when IPOPT
+    converges nowhere better (the requirements' boundaries are kinked where an output is,
+    e.g. the ringing amplitude where the finger stops overshooting).
 
     Parameters
     ----------
@@ -332,32 +517,36 @@ def solve(problem: DesignProblem, n_starts=8, extra=None, starts=None):
         Starts spread over the unit square (when ``starts`` is not given).
     extra : callable, optional
         ``extra(outputs) -> [g]``: more constraints g >= 0 on the casadi outputs (the
-        epsilon constraints of the Pareto front); without it the request is first checked
-        for feasibility on the brute-force grid.
+        epsilon constraints of the Pareto front).
     starts : sequence of array_like, optional
         Start points in unit coordinates instead of ``n_starts``.
 
     Returns
     -------
     design : Design
-        The best converged start.
+        The best design found.
     info : dict
         Solver status, iterations of the best start and in total, starts converged,
         wall time [s].
 
     Raises
     ------
-    InputError
-        The request is infeasible (on the grid, or by IPOPT from every start).
+    RequirementsUnmet
+        No point of the brute-force grid meets the requirements (without ``extra``).
     SolverError
-        No start converged for another reason.
+        No start converged to a feasible point and the grid has none either.
     """
+    va, vl = problem.surrogate.variables
+    grid_best = None
     if extra is None:
-        brute_force(problem)                                    # raises on an infeasible request
+        grid_best = brute_force(problem)                        # raises RequirementsUnmet
     t0 = time.perf_counter()
     solver, lbg, ubg = _nlp(problem, extra)
     best, total_iter, n_ok, statuses = None, 0, 0, []
-    for u0 in (_starts(problem, n_starts) if starts is None else starts):
+    u_starts = list(_starts(problem, n_starts) if starts is None else starts)
+    if grid_best is not None:
+        u_starts.append([va.to_unit(grid_best.alpha_per_s), vl.to_unit(grid_best.length_m)])
+    for u0 in u_starts:
         sol = solver(x0=u0, lbx=-1.0, ubx=1.0, lbg=lbg, ubg=ubg)
         stats = solver.stats()
         statuses.append(stats["return_status"])
@@ -367,18 +556,98 @@ def solve(problem: DesignProblem, n_starts=8, extra=None, starts=None):
         n_ok += 1
         f = float(sol["f"])
         if best is None or f < best[0]:
-            best = (f, np.clip(np.array(sol["x"]).ravel(), -1.0, 1.0), stats)
+            best = (f, np.clip(np.array(sol["x"]).ravel(), -1.0, 1.0), stats["return_status"], stats["iter_count"])
     wall = time.perf_counter() - t0
-    if best is None:
-        if all(s == "Infeasible_Problem_Detected" for s in statuses):
-            raise InputError("IPOPT found the constraints infeasible from every start: relax the bounds, "
-                             "the allowable finger stress or the contact start bounds")
+    if best is None and grid_best is None:
         raise SolverError(f"IPOPT did not converge from any of {len(statuses)} starts (statuses: "
                           f"{', '.join(sorted(set(statuses)))})")
+    if best is None or (grid_best is not None and grid_best.J < best[0] - 1e-9):
+        design, status, iters = grid_best, "grid point (IPOPT converged nowhere better)", 0
+    else:
+        alpha, L = float(va.from_unit(best[1][0])), float(vl.from_unit(best[1][1]))
+        out = {k: float(v[0]) for k, v in problem.surrogate.evaluate([[alpha, L]]).items()}
+        design, status, iters = Design(alpha, L, out, float(problem.J(out))), best[2], int(best[3])
+    info = {"status": status, "iterations": iters, "iterations_all_starts": int(total_iter),
+            "starts": len(statuses), "starts_converged": n_ok, "wall_time_s": wall}
+    return design, info
+
+
+def on_bounds(problem: DesignProblem, design: Design):
+    """The variables of ``design`` that sit on a bound (within :data:`ON_BOUND` of the
+    range), e.g. ``["alpha at its upper bound 600 1/s"]``.
+
+    Parameters
+    ----------
+    problem : DesignProblem
+    design : Design
+
+    Returns
+    -------
+    list of str
+    """
     va, vl = problem.surrogate.variables
-    alpha, L = float(va.from_unit(best[1][0])), float(vl.from_unit(best[1][1]))
-    out = {k: float(v[0]) for k, v in problem.surrogate.evaluate([[alpha, L]]).items()}
-    info = {"status": best[2]["return_status"], "iterations": int(best[2]["iter_count"]),
-            "iterations_all_starts": int(total_iter), "starts": len(statuses), "starts_converged": n_ok,
-            "wall_time_s": wall}
-    return Design(alpha, L, out, float(problem.J(out))), info
+    flags = []
+    for var, x, label, unit, show in ((va, design.alpha_per_s, "alpha", "1/s", lambda v: v),
+                                      (vl, design.length_m, "length", "in", m_to_inch)):
+        u = float(var.to_unit(x))
+        if u <= -1.0 + 2.0 * ON_BOUND:
+            flags.append(f"{label} at its lower bound {show(var.lo):.4g} {unit}")
+        elif u >= 1.0 - 2.0 * ON_BOUND:
+            flags.append(f"{label} at its upper bound {show(var.hi):.4g} {unit}")
+    return flags
+
+
+def binding(problem: DesignProblem, design: Design):
+    """The requirements that bind at ``design`` (margin below :data:`BINDING_MARGIN`).
+
+    Parameters
+    ----------
+    problem : DesignProblem
+    design : Design
+
+    Returns
+    -------
+    list of str
+    """
+    margins = problem.constraint_margins(design.outputs, design.alpha_per_s, design.length_m)
+    return [name for name, m in margins.items() if m < BINDING_MARGIN]
+
+
+def sensitivities(problem: DesignProblem, design: Design, relax=0.1, n_starts=4):
+    """What relaxing each requirement buys: the problem re-solved with that one bound
+    moved by ``relax`` of its scale (an upper limit up, a lower one down).
+
+    Parameters
+    ----------
+    problem : DesignProblem
+    design : Design
+        The optimum of ``problem``.
+    relax : float, optional
+        Relaxation, a fraction of each requirement's scale.
+    n_starts : int, optional
+        IPOPT starts per re-solve.
+
+    Returns
+    -------
+    dict
+        ``{requirement: {"binding", "relaxed_to", "objective", "objective_change",
+        "alpha_per_s", "length_in"}}``: the relaxed bound (SI), the objective there (its
+        own unit) and its change from the optimum's (negative: better).
+    """
+    base = problem.objective_value(design.outputs)
+    bind = set(binding(problem, design))
+    out = {}
+    limits = problem.limits
+    for i, lim in enumerate(limits):
+        moved = lim.bound + (relax if lim.upper else -relax) * lim.norm
+        relaxed = replace(lim, bound=moved)
+        others = limits[:i] + limits[i + 1:]
+        try:
+            d, _ = solve(replace(problem, requirements=Requirements.from_limits(others + [relaxed])), n_starts=n_starts)
+        except (RequirementsUnmet, SolverError):
+            continue
+        value = problem.objective_value(d.outputs)
+        out[lim.describe()] = {"binding": lim.describe() in bind, "relaxed_to": moved, "objective": value,
+                               "objective_change": value - base, "alpha_per_s": d.alpha_per_s,
+                               "length_in": m_to_inch(d.length_m)}
+    return out

@@ -3,8 +3,9 @@
 A contact model (:class:`ccedi.models.ContactModel`, built per finger length by a
 ``model_factory(setup)``; by default the ROM, :class:`ccedi.rom.contact_rom.ReducedContactModel`,
 :func:`rom_factory`) is run on a tensor grid of the
-design variables (:class:`Variable`: alpha log-spaced, length linear); each output of
-:data:`ccedi.design.objectives.OUTPUTS` is then interpolated by a tensor-product cubic
+design variables (:class:`Variable`: alpha log-spaced, length linear), with one damping
+kind ("relative" or "global", :data:`ccedi.models.DAMPING_KINDS`); each output of
+:data:`ccedi.design.outputs.OUTPUTS` is then interpolated by a tensor-product cubic
 B-spline (casadi ``interpolant``, "bspline") in the unit coordinates
 
     u = 2 (z - z_lo) / (z_hi - z_lo) - 1 in [-1, 1],  z = ln(alpha) or L,
@@ -18,10 +19,12 @@ measures the interpolation error (:func:`validation_errors`).
 More variables (cross-section, drum speed) only need another :class:`Variable` and a
 way to set them on the :class:`ccedi.fea.drum.DrumSetup` (:func:`run_rom`).
 """
+import hashlib
 import itertools
 import json
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 import casadi as ca
 import numpy as np
@@ -33,19 +36,17 @@ from ccedi.fea.outputs import write_csv, write_json
 from ccedi.fea.units import inch_to_m
 from ccedi.rom.contact_rom import ReducedContactModel
 
-from .objectives import (
-    FORCE_WINDOW_S,
+from . import outputs as outputs_module
+from .outputs import (
     OUTPUT_STEP_S,
     OUTPUTS,
-    RESIDUAL_WINDOW_S,
+    RECOVERY_WINDOW_S,
     design_outputs,
+    output_count,
     rom_segments,
+    run_time_s,
     setup_for_length,
 )
-
-GRID_T_END_S = 1.9
-"""Simulated time of the grid runs [s]: the latest breakaway in the default space
-(8-in finger, alpha = 7.5 1/s) is at ~1.26 s, plus the 0.5 s residual window."""
 
 
 def _is_symbolic(x):
@@ -117,11 +118,10 @@ class Variable:
 
 
 CHECKED_ALPHA_PER_S = (7.5, 600.0)
-"""The alpha range [1/s] over which the contact ROM behind the surrogate was checked
-against the full FEA (``ccedi rom-check`` at 7.5, 180 and 600 1/s, sensor-filtered peak
-force within 3 % with the face contact); below it the finger's friction stick-slip grows
-and at 3 1/s the ROM's peak force was 24 % below the FEA's
-(``benchmarks/design_low_alpha.json``). The default design space."""
+"""The default design space's alpha range [1/s]: the paper's 7.5 to 600 1/s. The contact
+ROM behind the surrogate is checked against the full FEA over 3 to 600 1/s
+(``benchmarks/design_rom_check.py``); below 7.5 1/s the finger's friction stick-slip grows
+and the ROM's peak force falls 24-28 % below the FEA's at 3 1/s."""
 
 
 def design_space(alpha_bounds_per_s=CHECKED_ALPHA_PER_S, length_bounds_in=(3.0, 8.0)):
@@ -173,7 +173,10 @@ class Surrogate:
 
     ``axes``: the grid's unit coordinates per variable; ``values[name]``: the grid values
     (shape of the grid; undefined entries, e.g. the contact start of a run without
-    contact, filled from the nearest defined grid point). :meth:`expressions` gives casadi
+    contact, filled from the nearest defined grid point). An output that is nowhere
+    negative on the grid (a force, an amplitude) is clamped at zero: the cubic B-spline
+    overshoots below zero next to a kink such as the ringing amplitude's where the
+    finger stops overshooting. :meth:`expressions` gives casadi
     expressions (exact first and second derivatives), :meth:`evaluate` numpy values.
 
     Parameters
@@ -193,14 +196,16 @@ class Surrogate:
         self.outputs = tuple(self.values)
         self.interpolants = {name: ca.interpolant(name, "bspline", self.axes, V.ravel(order="F"))
                              for name, V in self.values.items()}
+        self.nonnegative = frozenset(name for name, V in self.values.items() if np.all(V >= 0.0))
         x = ca.SX.sym("x", len(self.variables))
         y = self.expressions([x[i] for i in range(len(self.variables))])
         self.function = ca.Function("surrogate", [x], [ca.vertcat(*y.values())], ["x"], ["y"])
 
     @classmethod
     def fit(cls, variables, grid: pd.DataFrame):
-        """Interpolants of every output of :data:`OUTPUTS` through ``grid``, which must be
-        a full tensor grid of the variables (as :func:`grid_points` makes).
+        """Interpolants of every output column of ``grid`` (all but the variables and
+        ``wall_time_s``: :data:`OUTPUTS` and any user-defined ones) through ``grid``, which
+        must be a full tensor grid of the variables (as :func:`grid_points` makes).
 
         Parameters
         ----------
@@ -225,8 +230,8 @@ class Surrogate:
         order = np.lexsort([grid[v.name].to_numpy() for v in reversed(variables)])
         axes = [v.to_unit(lv) for v, lv in zip(variables, levels)]
         U = np.meshgrid(*axes, indexing="ij")
-        values = {name: _fill_undefined(grid[name].to_numpy(dtype=float)[order].reshape(shape), U)
-                  for name in OUTPUTS}
+        names = [c for c in grid.columns if c not in {v.name for v in variables} | {"wall_time_s"}]
+        values = {name: _fill_undefined(grid[name].to_numpy(dtype=float)[order].reshape(shape), U) for name in names}
         return cls(variables, axes, values)
 
     def expressions(self, xs):
@@ -258,7 +263,8 @@ class Surrogate:
         dict
         """
         u = ca.fmin(ca.fmax(ca.vertcat(*us), -1.0), 1.0)
-        return {name: f(u) for name, f in self.interpolants.items()}
+        return {name: ca.fmax(f(u), 0.0) if name in self.nonnegative else f(u)
+                for name, f in self.interpolants.items()}
 
     def evaluate(self, X):
         """{output: values} at the points ``X`` (m, n_variables), SI units.
@@ -294,8 +300,10 @@ def rom_factory(setup: DrumSetup):
     return ReducedContactModel(setup, n_segments=rom_segments(setup.finger_length_m))
 
 
-def run_rom(setup: DrumSetup, points, progress=None, model_factory=rom_factory):
-    """Design outputs of a contact model at design points (one model build per length).
+def run_rom(setup: DrumSetup, points, damping="relative", progress=None, model_factory=rom_factory,
+            extra_outputs=None):
+    """Design outputs of a contact model at design points (one model build per length);
+    each run lasts until the next object arrives (:func:`ccedi.design.outputs.run_time_s`).
 
     Parameters
     ----------
@@ -303,28 +311,35 @@ def run_rom(setup: DrumSetup, points, progress=None, model_factory=rom_factory):
         The base set-up (its finger length is replaced by each point's).
     points : list of tuple
         [(alpha [1/s], L [m]), ...].
+    damping : {"relative", "global"}, optional
+        Damping kind of every run.
     progress : callable, optional
         ``progress(done, total)`` after every run.
     model_factory : callable, optional
         ``model_factory(setup) -> ccedi.models.ContactModel`` (default :func:`rom_factory`,
         the ROM; e.g. ``lambda s: FullContactModel(s, object_stress=False)`` for the FEA).
+    extra_outputs : dict, optional
+        User-defined outputs, ``{name: function(setup, history) -> float}``
+        (:func:`ccedi.design.outputs.design_outputs`).
 
     Returns
     -------
     pandas.DataFrame
-        One row per point: alpha_per_s, length_m, :data:`OUTPUTS`, wall_time_s.
+        One row per point: alpha_per_s, length_m, :data:`OUTPUTS` (NaN where undefined),
+        the user-defined outputs, wall_time_s.
     """
     stress = ObjectStress(setup)
     rows, models = [], {}
     for alpha, L in points:
         if L not in models:
             s = setup_for_length(setup, L)
-            models[L] = (s, model_factory(s))
-        s, rom = models[L]
+            models[L] = (s, model_factory(s), run_time_s(s))
+        s, rom, t_end = models[L]
         t0 = time.perf_counter()
-        res = rom.run(alpha, t_end_s=GRID_T_END_S, n_outputs=int(round(GRID_T_END_S / OUTPUT_STEP_S)))
+        res = rom.run(alpha, damping=damping, t_end_s=t_end, n_outputs=output_count(t_end))
         row = {"alpha_per_s": float(alpha), "length_m": float(L)}
-        row.update(design_outputs(s, res.history, stress))
+        out = design_outputs(s, res.history, stress, extra=extra_outputs)
+        row.update({k: np.nan if out[k] is None else out[k] for k in (*OUTPUTS, *(extra_outputs or {}))})
         row["wall_time_s"] = time.perf_counter() - t0
         rows.append(row)
         if progress:
@@ -364,13 +379,12 @@ def validation_points(variables, n, seed=6):
     return [tuple(float(v.from_unit(u[i, j])) for j, v in enumerate(variables)) for i in range(n)]
 
 
-def cached_rom_runs(setup: DrumSetup, points, path, progress=None, model_factory=rom_factory):
+def cached_rom_runs(setup: DrumSetup, points, path, damping="relative", progress=None, model_factory=rom_factory):
     """:func:`run_rom` results, cached in a CSV file.
 
-    Read from the CSV ``path`` when its sidecar JSON records the same set-up, points and
-    model; otherwise run and written there (with the sidecar). The default model leaves
-    the sidecar as it was before the model became an argument (caches stay valid); another
-    factory adds its qualified name under ``model_factory``.
+    Read from the CSV ``path`` when its sidecar JSON records the same set-up, points,
+    damping kind, outputs (names and the source of :mod:`ccedi.design.outputs` that
+    defines them) and model; otherwise run and written there (with the sidecar).
 
     Parameters
     ----------
@@ -380,6 +394,8 @@ def cached_rom_runs(setup: DrumSetup, points, path, progress=None, model_factory
         [(alpha [1/s], L [m]), ...].
     path : pathlib.Path
         CSV file.
+    damping : {"relative", "global"}, optional
+        Damping kind of every run.
     progress : callable, optional
         ``progress(done, total)`` after every run.
     model_factory : callable, optional
@@ -390,23 +406,25 @@ def cached_rom_runs(setup: DrumSetup, points, path, progress=None, model_factory
     tuple
         (DataFrame of :func:`run_rom`, True when read from the cache).
     """
-    meta = {"setup": repr(setup), "points": [list(map(float, p)) for p in points],
-            "t_end_s": GRID_T_END_S, "output_step_s": OUTPUT_STEP_S, "outputs": list(OUTPUTS),
-            "force_window_s": FORCE_WINDOW_S, "residual_window_s": RESIDUAL_WINDOW_S}
-    if model_factory is not rom_factory:
-        meta["model_factory"] = f"{getattr(model_factory, '__module__', '')}.{getattr(model_factory, '__qualname__', repr(model_factory))}"
+    meta = {"setup": repr(setup), "points": [list(map(float, p)) for p in points], "damping": damping,
+            "output_step_s": OUTPUT_STEP_S, "outputs": list(OUTPUTS), "recovery_window_s": RECOVERY_WINDOW_S,
+            "outputs_source_sha256": hashlib.sha256(Path(outputs_module.__file__).read_bytes()).hexdigest(),
+            "model_factory": f"{getattr(model_factory, '__module__', '')}."
+                             f"{getattr(model_factory, '__qualname__', repr(model_factory))}"}
     sidecar = path.with_suffix(".json")
     if path.exists() and sidecar.exists() and json.loads(sidecar.read_text()) == meta:
         return pd.read_csv(path), True
-    frame = run_rom(setup, points, progress, model_factory)
+    frame = run_rom(setup, points, damping, progress, model_factory)
     write_csv(path, frame)
     write_json(sidecar, meta)
     return frame, False
 
 
 def validation_errors(surrogate: Surrogate, runs: pd.DataFrame):
-    """Surrogate against ROM runs off the grid, per output: max and RMS of the error
-    relative to the output's value, |s - r| / |r| (runs with r undefined or zero left out).
+    """Surrogate against model runs off the grid, per output: the largest and the RMS
+    error, in the output's unit and relative to the output's range over the grid (many
+    outputs pass through zero, e.g. the ringing of a finger that stops overshooting, so
+    an error relative to the value itself would mean nothing there).
 
     Parameters
     ----------
@@ -417,16 +435,18 @@ def validation_errors(surrogate: Surrogate, runs: pd.DataFrame):
     Returns
     -------
     dict
-        {output: {max_relative_error, rms_relative_error, n_runs}}.
+        {output: {max_abs_error, rms_abs_error, max_error_of_range, n_runs}}.
     """
     X = runs[[v.name for v in surrogate.variables]].to_numpy()
     pred = surrogate.evaluate(X)
     out = {}
     for name in surrogate.outputs:
         r = runs[name].to_numpy(dtype=float)
-        ok = np.isfinite(r) & (np.abs(r) > 0)
-        rel = np.abs(pred[name][ok] - r[ok]) / np.abs(r[ok])
-        out[name] = {"max_relative_error": float(rel.max()) if ok.any() else None,
-                     "rms_relative_error": float(np.sqrt(np.mean(rel**2))) if ok.any() else None,
+        ok = np.isfinite(r)
+        err = np.abs(pred[name][ok] - r[ok])
+        span = float(np.ptp(surrogate.values[name])) or 1.0
+        out[name] = {"max_abs_error": float(err.max()) if ok.any() else None,
+                     "rms_abs_error": float(np.sqrt(np.mean(err**2))) if ok.any() else None,
+                     "max_error_of_range": float(err.max() / span) if ok.any() else None,
                      "n_runs": int(ok.sum())}
     return out

@@ -172,10 +172,36 @@ def plot_contact_shapes(setup: DrumSetup, shapes):
     return fig
 
 
+def tip_drum_frame_displacement_m(setup: DrumSetup, history):
+    """The tip's displacement from the rigidly turning finger's tip [m], in the finger's
+    own turning directions: radial (along the undeformed finger, outward) and tangential
+    (along the drum's motion), at every row of a contact history.
+
+    Parameters
+    ----------
+    setup : DrumSetup
+    history : pandas.DataFrame
+        A contact history with the core columns time_s, tip_ux_m and tip_uy_m (the tip's
+        displacement from its initial position; any :class:`ccedi.models.ContactModel`).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n, 2): radial and tangential displacement [m] per row.
+    """
+    t = history.time_s.to_numpy()
+    r_tip = setup.drum_radius_m + setup.finger_length_m
+    th0 = setup.theta0_rad
+    th = th0 + setup.omega_rad_s * t
+    dx = r_tip * np.cos(th0) + history.tip_ux_m.to_numpy() - r_tip * np.cos(th)
+    dy = r_tip * np.sin(th0) + history.tip_uy_m.to_numpy() - r_tip * np.sin(th)
+    return np.column_stack([dx * np.cos(th) + dy * np.sin(th), -dx * np.sin(th) + dy * np.cos(th)])
+
+
 def tip_lag_series_m(setup: DrumSetup, history):
     """How far the finger tip trails the rigidly turning finger [m] (positive = behind,
-    along the drum's tangential direction) at every row of a contact history, from its
-    tip displacement columns (the displacement from the tip's initial position).
+    along the drum's tangential direction) at every row of a contact history: minus the
+    tangential part of :func:`tip_drum_frame_displacement_m`.
 
     Parameters
     ----------
@@ -189,13 +215,7 @@ def tip_lag_series_m(setup: DrumSetup, history):
     numpy.ndarray
         Lag [m] per row.
     """
-    t = history.time_s.to_numpy()
-    r_tip = setup.drum_radius_m + setup.finger_length_m
-    th0 = setup.theta0_rad
-    th = th0 + setup.omega_rad_s * t
-    ax = r_tip * np.cos(th0) + history.tip_ux_m.to_numpy()
-    ay = r_tip * np.sin(th0) + history.tip_uy_m.to_numpy()
-    return (r_tip * np.cos(th) - ax) * -np.sin(th) + (r_tip * np.sin(th) - ay) * np.cos(th)
+    return -tip_drum_frame_displacement_m(setup, history)[:, 1]
 
 
 def window_mean(t, values, window_s):

@@ -111,6 +111,11 @@ class DrumSetup:
         Elements across the finger section.
     finger_elements_along : int or None
         Elements along the finger (None: SM-A, ~4 mm).
+    objects_per_revolution : float
+        Objects the finger meets per drum revolution [-], >= 1 (:attr:`cycle_s`).
+    cycle_time_s : float or None
+        Time from one object's first contact to the next object's [s] (None: one
+        revolution over ``objects_per_revolution``, :attr:`cycle_s`).
     finger : ccedi.fea.mesh.Mesh or None
         A finger mesh of any element type (hexahedra, 4- or 10-node tetrahedra) with node
         sets ``root`` and ``tip``, length along z, bending along y (None: the generated
@@ -142,6 +147,8 @@ class DrumSetup:
     object_material: NeoHookean = AL6061
     finger_section_elements: int = 5
     finger_elements_along: int | None = None
+    objects_per_revolution: float = 2.0
+    cycle_time_s: float | None = None
     finger: Mesh | None = None
 
     def __post_init__(self):
@@ -163,6 +170,11 @@ class DrumSetup:
             n = getattr(self, name)
             if n is not None and (int(n) != n or n < 1):
                 raise InputError(f"{name} must be an integer >= 1, got {n!r}")
+        n = self.objects_per_revolution
+        if isinstance(n, bool) or not isinstance(n, (int, float)) or not 1.0 <= n <= 360.0:
+            raise InputError(f"DrumSetup objects_per_revolution = {n!r}: must be a number in 1..360")
+        if self.cycle_time_s is not None:
+            require_finite_positive("DrumSetup cycle_time_s", self.cycle_time_s)
         c = np.hypot(*self.object_center_m)
         if c - max(self.object_semi_axes_m) <= self.drum_radius_m:
             raise InputError("the object overlaps the drum: move object_center_m or shrink it")
@@ -180,6 +192,16 @@ class DrumSetup:
             raise InputError(f"DrumSetup finger_length_m = {length!r}: the finger mesh sets the length "
                              f"({own:.6g} m); leave finger_length_m unset")
         object.__setattr__(self, "finger_length_m", own)
+
+    @property
+    def cycle_s(self):
+        """Time between two objects [s]: ``cycle_time_s`` if set, else one drum revolution
+        over ``objects_per_revolution``, 2 pi / (omega n) (1.5 s for the paper's 20 rpm
+        drum meeting two objects a revolution). The finger must be back in its running
+        shape one cycle after it first touched an object."""
+        if self.cycle_time_s is not None:
+            return float(self.cycle_time_s)
+        return 2.0 * np.pi / (self.omega_rad_s * self.objects_per_revolution)
 
     @property
     def finger_thickness_m(self):
@@ -470,10 +492,32 @@ def contact_run(setup: DrumSetup, alpha, damping="global", t_end_s=1.5, n_output
     return result, model
 
 
+def front_distance_m(setup: DrumSetup, point_xy):
+    """Signed distance [m] of a point from the object's minor axis, positive on the front
+    half: the half the sweep reaches first (the finger moves along e_theta, so it comes
+    from the end of the major axis that points against e_theta at the centre).
+
+    Parameters
+    ----------
+    setup : DrumSetup
+    point_xy : array_like
+        A point (x, y) [m].
+
+    Returns
+    -------
+    float
+        Distance along the major axis [m], > 0 on the front half, < 0 on the rear half.
+    """
+    c = np.asarray(setup.object_center_m, dtype=float)
+    e_theta = np.array([-c[1], c[0]]) / np.hypot(*c)           # direction of finger motion at the object
+    u_a = np.array([np.cos(setup.object_angle_rad), np.sin(setup.object_angle_rad)])
+    along = float(np.dot(np.asarray(point_xy, dtype=float) - c, u_a))
+    return -along if np.dot(e_theta, u_a) >= 0.0 else along
+
+
 def object_side(setup: DrumSetup, point_xy):
-    """"front" or "rear": the halves of the object on either side of its minor axis; the
-    front half is the one the sweep reaches first (the finger moves along e_theta, so it
-    comes from the end of the major axis that points against e_theta at the centre).
+    """"front" or "rear": the halves of the object on either side of its minor axis
+    (:func:`front_distance_m`).
 
     Parameters
     ----------
@@ -486,11 +530,7 @@ def object_side(setup: DrumSetup, point_xy):
     str
         "front" or "rear".
     """
-    c = np.asarray(setup.object_center_m, dtype=float)
-    e_theta = np.array([-c[1], c[0]]) / np.hypot(*c)           # direction of finger motion at the object
-    u_a = np.array([np.cos(setup.object_angle_rad), np.sin(setup.object_angle_rad)])
-    along = float(np.dot(np.asarray(point_xy) - c, u_a))
-    return "front" if along * np.dot(e_theta, u_a) < 0.0 else "rear"
+    return "front" if front_distance_m(setup, point_xy) > 0.0 else "rear"
 
 
 def _max_or_none(column):

@@ -14,7 +14,7 @@ import argparse
 import sys
 import warnings
 
-from ccedi.errors import InputError, ModelInadequate, SolverError, ValidityWarning
+from ccedi.errors import InputError, ModelInadequate, RequirementsUnmet, SolverError, ValidityWarning
 from ccedi.progress import close_progress_bars
 from ccedi.study.commands import calibrate, design, fea, rom, study
 from ccedi.study.commands.arguments import check_output_paths
@@ -51,7 +51,10 @@ def main(argv=None):
         solver failure (one line on stderr), 2 no sub-command, 3 the declared model
         cannot explain a measured record (``calibrate``: its JSON, with
         ``model_adequate: false`` and the evidence, is written; one line on stderr names
-        the failed check and the record's own first-mode frequency), 130 interrupted.
+        the failed check and the record's own first-mode frequency), 4 no design meets
+        the requirements (``design``: its result and report, with the design closest to
+        meeting them, are written; one line on stderr names the requirements missed and
+        by how much), 130 interrupted.
         Output paths are checked before anything is computed. Each validity warning
         (:class:`ccedi.errors.ValidityWarning`) is printed as one line on stderr,
         ``ccedi <command>: warning: <message>``, and does not change the status.
@@ -71,6 +74,8 @@ def main(argv=None):
         return _fail(args.command, f"error: {err}", 1)
     except ModelInadequate as err:
         return _fail(args.command, str(err), 3)
+    except RequirementsUnmet as err:
+        return _fail(args.command, str(err), 4)
     except OSError as err:
         where = f"{err.filename}: " if err.filename else ""
         return _fail(args.command, f"error: {where}{err.strerror or err}", 1)

@@ -98,6 +98,42 @@ SCHEMA = {
         "friction": _key("friction", _DRUM["friction"], "Coulomb friction coefficient finger-object"),
         "contact_damping_ratio": _key("contact_damping_ratio", _DRUM["contact_damping_ratio"],
                                       "normal contact damping, fraction of each contact spring's critical damping"),
+        "objects_per_revolution": Key(float, "-", 1.0, 360.0, _DRUM["objects_per_revolution"],
+                                      "objects the finger meets per drum revolution: the next object arrives "
+                                      "2 pi / (omega n) after the first contact (1.5 s at the paper's 20 rpm)"),
+        "cycle_time_s": Key(float, "s", 1e-3, 1e3, None,
+                            "time from one object's first contact to the next one's, instead of "
+                            "objects_per_revolution"),
+    },
+    "damping": {
+        "kind": Key(str, "-", None, None, "relative",
+                    "mass-proportional damping of the design and its FEA re-check: relative (on the velocity "
+                    "relative to the turning drum; a finger turned in air) or global (on the absolute velocity, "
+                    "a drag on the whole finger: LS-DYNA's *DAMPING_GLOBAL, the paper's; the study's contact step "
+                    "reproduces the paper with it)", choices=("relative", "global")),
+    },
+    "requirements": {
+        "max_object_force_N": Key(float, "N", 0.0, 1e4, 25.0,
+                                  "largest transducer-filtered (100 Hz) force on the object (0: no limit)"),
+        "max_object_stress_Pa": Key(float, "Pa", 0.0, 1e12, 0.0, "largest object von Mises stress (0: no limit)"),
+        "allowable_root_stress_Pa": Key(float, "Pa", 0.0, 1e12, 2.0e6,
+                                        "largest finger (root) von Mises stress over the whole cycle: the rubber's "
+                                        "fatigue limit over a safety factor (0: no limit)"),
+        "max_recovery_deviation_mm": Key(float, "mm", 0.0, 1e4, 5.0,
+                                         "the tip's distance from its running position when the next object "
+                                         "arrives (0: no limit)"),
+        "max_ringing_amplitude_mm": Key(float, "mm", 0.0, 1e4, 5.0,
+                                        "residual oscillation amplitude of the tip after breakaway (0: no limit)"),
+        "front_side_first": Key(bool, "-", None, None, True, "the first contact on the object's front half"),
+        "min_patch_from_root_mm": Key(float, "mm", 0.0, 1e4, 10.0,
+                                      "closest approach of the contact to the finger's root (0: no limit)"),
+        "min_contact_impulse_N_s": Key(float, "N s", 0.0, 1e4, 2.0,
+                                       "contact impulse the task needs, integral of the force (0: no limit)"),
+        "objective": Key(str, "-", None, None, "object_force",
+                         "what the design minimises among the designs that meet the requirements: the "
+                         "transducer-filtered peak object force, the object stress, the root stress, the recovery "
+                         "deviation or the ringing", choices=("object_force", "object_stress", "root_stress",
+                                                              "recovery", "ringing")),
     },
     "study": {
         "impulse_alphas_per_s": _key("alpha_per_s", [70.0, 120.0, 160.0, 180.0, 200.0],
@@ -117,8 +153,6 @@ SCHEMA = {
         "contact_alphas_per_s": _key("alpha_per_s", [7.5, 180.0, 600.0],
                                      "alphas of the drum contact sweep (Figs. 10, 13, 14)", True),
         "contact_t_end_s": Key(float, "s", 1e-3, 5.0, 1.5, "simulated time of each contact run"),
-        "design_weights": Key(float, "-", 0.0, 1e3, [1.0, 1.0, 1.0],
-                              "design weights: peak force, contact duration, residual oscillation", True),
         "design_fea_check": Key(bool, "-", None, None, True, "re-check the recommended designs with the full FEA"),
         "measured_records": Key(str, "-", None, None, ["data/measured/tip_mass+quadratic_damping_high.csv",
                                                        "data/measured/control_fea_solid.csv"],
@@ -285,6 +319,36 @@ def configured_mesh(cfg):
     return None if spec is None else spec.load()
 
 
+def requirements(cfg):
+    """The designer's requirements of the validated inputs ``cfg`` (``[requirements]``;
+    a limit of 0 is none).
+
+    Parameters
+    ----------
+    cfg : dict
+        ``{section: {key: value}}`` as :func:`load` returns it.
+
+    Returns
+    -------
+    ccedi.design.requirements.Requirements
+    """
+    from ccedi.design.requirements import Requirements   # the design library, only for the commands that design
+
+    r = cfg["requirements"]
+
+    def limit(key, factor=1.0):
+        return r[key] * factor if r[key] > 0.0 else None
+
+    return Requirements(max_object_force_N=limit("max_object_force_N"),
+                        max_object_stress_Pa=limit("max_object_stress_Pa"),
+                        allowable_root_stress_Pa=limit("allowable_root_stress_Pa"),
+                        max_recovery_deviation_m=limit("max_recovery_deviation_mm", 1e-3),
+                        max_ringing_amplitude_m=limit("max_ringing_amplitude_mm", 1e-3),
+                        front_side_first=r["front_side_first"],
+                        min_patch_from_root_m=limit("min_patch_from_root_mm", 1e-3),
+                        min_contact_impulse_N_s=limit("min_contact_impulse_N_s"))
+
+
 def drum_setup(cfg, finger=None):
     """The :class:`ccedi.fea.drum.DrumSetup` of the validated inputs ``cfg``: the generated
     finger of ``[finger] contact_length_in``, or the mesh ``finger`` (e.g.
@@ -297,6 +361,7 @@ def drum_setup(cfg, finger=None):
         return DrumSetup(drum_radius_m=d["drum_radius_m"], omega_rad_s=d["omega_rad_s"], theta0_rad=d["theta0_rad"],
                          object_center_m=tuple(d["object_center_m"]), object_semi_axes_m=tuple(d["object_semi_axes_m"]),
                          friction=d["friction"], contact_damping_ratio=d["contact_damping_ratio"],
+                         objects_per_revolution=d["objects_per_revolution"], cycle_time_s=d["cycle_time_s"],
                          finger_length_m=length_m, finger_material=material,
                          finger_semi_axes_m=semi_axes, finger=finger)
     except InputError as err:

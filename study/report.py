@@ -11,7 +11,7 @@ import pandas as pd
 
 from ccedi.fea.outputs import write_pdf_figures, write_text
 
-UNITS = (("_per_s", "1/s"), ("_rad_s", "rad/s"), ("_m_s", "m/s"), ("_N_per_m", "N/m"), ("_us", "us"),
+UNITS = (("_per_s", "1/s"), ("_rad_s", "rad/s"), ("_m_s", "m/s"), ("_N_s", "N s"), ("_N_per_m", "N/m"), ("_us", "us"),
          ("_cm3", "cm^3"), ("_mm", "mm"), ("_Pa", "Pa"), ("_N", "N"), ("_in", "in"), ("_s", "s"), ("_m", "m"), ("_J", "J"))
 """Column/key suffix -> unit, longest match first."""
 
@@ -27,7 +27,8 @@ FIGURES = [
     ("contact/fig10_reaction_force_global.png", "Fig. 10 analogue: reaction force on the object"),
     ("contact/fig13_contact_shapes_global.png", "Fig. 13 analogue: finger at first and last contact"),
     ("contact/fig14_stresses_global.png", "Fig. 14 analogue: finger and object stresses, reaction force"),
-    ("design/pareto.png", "Design: Pareto front of the contact objectives against residual oscillation"),
+    ("design/feasible_region.png", "Design: the feasible region in (alpha, L), each requirement's boundary"),
+    ("design/pareto.png", "Design: Pareto front of the objective against the second output"),
 ]
 
 
@@ -172,25 +173,38 @@ def _contact(out):
         return _missing("contact")
     keys = ["alpha_per_s", "contact_start_s", "contact_end_s", "contact_duration_s", "first_contact_side",
             "peak_reaction_force_N", "max_finger_stress_Pa", "max_object_stress_Pa", "wall_time_s"]
-    return _table(t.to_dict("records"), [_col(k) for k in keys if k in t.columns])
+    return ("<p>The paper's reproduction: global mass damping (on the absolute velocity, LS-DYNA's "
+            "*DAMPING_GLOBAL, as the paper ran it), a drag on the whole finger that bends it back before contact. "
+            "The design uses relative damping ([damping] kind), the physical one for a finger turned in air.</p>"
+            + _table(t.to_dict("records"), [_col(k) for k in keys if k in t.columns])
+
+
+KEY_OUTPUTS = ("sensor_peak_force_N", "max_finger_stress_Pa", "recovery_deviation_m", "ringing_amplitude_m",
+               "contact_impulse_N_s")
+"""The design outputs the study's tables show."""
 
 
 def _design(out):
     d = _load(out, "design/design.json")
     if d is None:
         return _missing("design")
-    objectives = d["problem"]["objectives"]
-    keys = ["alpha_per_s", "length_in", *objectives, "contact_start_s", "max_finger_stress_Pa"]
-    parts = ["<h3>Optimum (surrogate)</h3>", _table([d["optimum"]], [_col(k) for k in keys]),
-             f"<p>weights (normalised) {', '.join(f'{w:.3g}' for w in d['problem']['weights_normalised'])}; "
-             f"surrogate built in {d['surrogate']['build_wall_time_s']:.4g} s "
+    p = d["problem"]
+    what = (f"<p>{html.escape(p['damping'])} damping; minimise {html.escape(p['objective_output'] or 'a weighted sum')}"
+            f" subject to: {html.escape('; '.join(p['requirements']))}. The decision is explained in "
+            "<code>design/design_report.md</code>.</p>")
+    if not d["feasible"]:
+        misses = "; ".join(f"{k}: {v['value']:.4g} against {v['bound']:.4g}" for k, v in d["misses"].items())
+        return what + f"<p class='missing'>No design meets the requirements; the closest misses {html.escape(misses)}.</p>"
+    keys = ["alpha_per_s", "length_in", *KEY_OUTPUTS]
+    parts = [what, "<h3>Optimum (surrogate)</h3>", _table([d["optimum"]], [_col(k) for k in keys]),
+             f"<p>binding: {html.escape(', '.join(d['binding']) or 'none')}"
+             + (f"; FLAG: {html.escape(', '.join(d['on_bounds']))}" if d["on_bounds"] else "")
+             + f"; surrogate built in {d['surrogate']['build_wall_time_s']:.4g} s "
              f"(grid from cache: {d['surrogate']['grid_from_cache']}).</p>"]
     err = d["surrogate"]["off_grid_error"]
-    if isinstance(err, dict):
-        parts.append("<h3>Surrogate error on off-grid ROM runs</h3>" + _table(
-            [{"output": k, **(v if isinstance(v, dict) else {"value": v})} for k, v in err.items()],
-            [("output", "output")] + [(f"{c} [-]", c) for c in
-                                      sorted({c for v in err.values() if isinstance(v, dict) for c in v})]))
+    parts.append("<h3>Surrogate error on off-grid ROM runs</h3>" + _table(
+        [{"output": k, **v} for k, v in err.items()],
+        [("output", "output")] + [(f"{c}", c) for c in sorted({c for v in err.values() for c in v})]))
     parts.append(_fea_check(d, "Full-FEA re-check (relative error of the surrogate against the FEA)"))
     return "".join(parts) + _calibrated_design(out, d)
 
@@ -199,12 +213,12 @@ def _fea_check(d, title):
     """The full-FEA re-check table of a design result."""
     if not d["fea_check"]:
         return "<p>FEA re-check skipped in this run.</p>"
-    checked = [*d["problem"]["objectives"], "max_finger_stress_Pa"]
     rows = [{"alpha_per_s": c["alpha_per_s"], "length_in": c["length_in"], "wall_time_s": c["wall_time_s"],
-             **{f"{k} error": c["relative_error"][k] for k in checked}} for c in d["fea_check"]]
+             "meets the requirements": c["meets_requirements"],
+             **{f"{k} error": c["relative_error"][k] for k in KEY_OUTPUTS}} for c in d["fea_check"]]
     return f"<h3>{html.escape(title)}</h3>" + _table(
-        rows, [_col("alpha_per_s"), _col("length_in")] + [(f"{k} error [-]", f"{k} error") for k in checked]
-        + [_col("wall_time_s", "FEA wall time")])
+        rows, [_col("alpha_per_s"), _col("length_in"), ("FEA meets the requirements", "meets the requirements")]
+        + [(f"{k} error [-]", f"{k} error") for k in KEY_OUTPUTS] + [_col("wall_time_s", "FEA wall time")])
 
 
 def _calibrated_design(out, declared):
@@ -219,13 +233,15 @@ def _calibrated_design(out, declared):
     if cal.get("model_adequate") is False or calibrated is None:
         why = html.escape(cal.get("adequacy", {}).get("message", "no calibrated design in this run"))
         return head + f"<p class='missing'>Not made: the declared finger cannot explain {source} ({why}).</p>"
-    objectives = declared["problem"]["objectives"]
+    objectives = list(KEY_OUTPUTS)
 
     def row(name, d, design):
         drum = d.get("drum", {})
         return {"model": name, "E_Pa": d["finger_material"]["E_Pa"], "friction": drum.get("friction"),
                 "omega_rad_s": drum.get("omega_rad_s"), **{k: design[k] for k in ["alpha_per_s", "length_in", *objectives]}}
 
+    if not declared["feasible"] or not calibrated["feasible"]:
+        return head + "<p class='missing'>No design meets the requirements with the declared or the calibrated inputs.</p>"
     rows = [row("declared model: optimum", declared, declared["optimum"]),
             row(f"calibrated on {source}: optimum", calibrated, calibrated["optimum"])]
     if calibrated.get("measured_finger"):

@@ -64,7 +64,7 @@ def steps(cfg, out, scheduler):
     list of (str, str, callable)
         (name, description, thunk) per step, in the study's order.
     """
-    from ccedi.study.commands.design import DesignOptions, write_designs
+    from ccedi.study.commands.design import options_from, write_designs
     from ccedi.study.commands.fea import contact_setup, write_contact_sweep, write_impulse, write_table1
     from ccedi.study.commands.rom import write_damping_fits
 
@@ -73,7 +73,7 @@ def steps(cfg, out, scheduler):
                "duration_s": s["impulse_duration_s"]}
     material, semi_axes = finger_inputs(cfg)
     records = [Path(r) for r in s["measured_records"]]
-    design = DesignOptions(weights=tuple(s["design_weights"]), fea_check=s["design_fea_check"])
+    design = options_from(cfg, fea_check=s["design_fea_check"])
     # The DM's stiffness is the one its dimensions were fitted to (benchmarks/dm_fit.py); its
     # nonlinear solves at 2.8 mm would take tens of minutes, so the study leaves it out.
     return [

@@ -1,0 +1,217 @@
+"""The design's figures and the report that explains the decision (``ccedi design``).
+
+* :func:`feasible_region_figure`: the (alpha, L) plane with the objective's contours, each
+  requirement's boundary (margin = 0, hatched on its failing side), the optimum, the
+  Pareto points and the FEA-checked designs;
+* :func:`pareto_figure`: the front of the objective against the second output, the
+  designer's limit on the latter as a line;
+* :func:`report_markdown`: the decision in words: the optimum, which requirements bind,
+  what relaxing each buys, a variable on its bound, the model-error margins carried, and
+  the FEA re-check output by output.
+"""
+import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
+
+from ccedi.design.outputs import UNITS
+from ccedi.fea.units import m_to_inch
+
+matplotlib.use("Agg")                       # no screen: figures go to files
+
+LABELS = {"sensor_peak_force_N": "peak object force (100 Hz transducer) [N]",
+          "max_object_stress_Pa": "peak object von Mises stress [Pa]",
+          "max_finger_stress_Pa": "peak root stress over the cycle [Pa]",
+          "root_stress_before_contact_Pa": "root stress before contact [Pa]",
+          "recovery_deviation_m": "tip deviation at the next arrival [m]",
+          "ringing_amplitude_m": "ringing amplitude after breakaway [m]",
+          "first_contact_front_m": "first contact ahead of the object's minor axis [m]",
+          "contact_patch_from_root_m": "contact patch from the root [m]",
+          "contact_impulse_N_s": "contact impulse [N s]"}
+"""Axis label of each output, with its unit."""
+
+
+def _label(name):
+    return LABELS.get(name, f"{name} [{UNITS.get(name, '-')}]")
+
+
+def feasible_region_figure(problem, optimum, front=(), checked=(), n=120):
+    """The (alpha [1/s], L [in]) plane: objective contours, each requirement's boundary.
+
+    Parameters
+    ----------
+    problem : ccedi.design.optimise.DesignProblem
+    optimum : ccedi.design.optimise.Design or None
+    front : sequence of Design, optional
+    checked : sequence of Design, optional
+        The FEA-checked designs (ringed).
+    n : int, optional
+        Evaluation points per axis.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    va, vl = problem.surrogate.variables
+    A, L = np.meshgrid(va.grid(n), vl.grid(n), indexing="ij")
+    out = problem.surrogate.evaluate(np.column_stack([A.ravel(), L.ravel()]))
+    Lin = m_to_inch(L)
+    fig, ax = plt.subplots(figsize=(8.5, 6))
+    key = next(iter(problem.weights))
+    J = (problem.J(out) if problem.objective == "weighted" else out[key]).reshape(A.shape)
+    cs = ax.contourf(A, Lin, J, levels=20, cmap="viridis", alpha=0.75)
+    fig.colorbar(cs, ax=ax, label="objective J (weighted, normalised)" if problem.objective == "weighted"
+                 else _label(key))
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    handles = []
+    for i, (name, m) in enumerate(problem.constraint_margins(out, A.ravel(), L.ravel()).items()):
+        M = np.asarray(m).reshape(A.shape)
+        if M.min() >= 0.0:
+            continue                                     # met everywhere: no boundary to draw
+        c = colours[i % len(colours)]
+        ax.contourf(A, Lin, M, levels=[M.min() - 1.0, 0.0], colors="none", hatches=["//"])
+        if M.max() > 0.0:
+            ax.contour(A, Lin, M, levels=[0.0], colors=[c], linewidths=2)
+        handles.append(plt.Line2D([], [], color=c, lw=2, label=f"{name} (hatched: missed)"))
+    for d in front:
+        ax.plot(d.alpha_per_s, m_to_inch(d.length_m), "w.", ms=6)
+    for d in checked:
+        ax.plot(d.alpha_per_s, m_to_inch(d.length_m), "o", mfc="none", mec="k", ms=12)
+    if optimum is not None:
+        ax.plot(optimum.alpha_per_s, m_to_inch(optimum.length_m), "r*", ms=18)
+    handles += [plt.Line2D([], [], color="r", marker="*", ls="", ms=12, label="optimum"),
+                plt.Line2D([], [], color="k", marker="o", mfc="none", ls="", ms=10, label="FEA re-checked"),
+                plt.Line2D([], [], color="w", marker=".", mec="k", ls="", ms=8, label="Pareto front")]
+    ax.set_xscale("log")
+    ax.set_xlabel("mass-proportional damping alpha [1/s]")
+    ax.set_ylabel("finger length L [in]")
+    ax.set_title("Feasible region on the surrogate (lines: each requirement's boundary)", fontsize=10)
+    ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(0.0, -0.12), ncol=2)
+    fig.tight_layout()
+    return fig
+
+
+def pareto_figure(problem, front, second, optimum=None, limit=None):
+    """The objective against ``second`` along the front, coloured by alpha.
+
+    Parameters
+    ----------
+    problem : ccedi.design.optimise.DesignProblem
+    front : sequence of Design
+    second : str
+        The second output.
+    optimum : Design, optional
+    limit : float, optional
+        The designer's limit on ``second`` (a dashed line).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    key = next(iter(problem.weights))
+    fig, ax = plt.subplots(figsize=(7.5, 4.8))
+    x = [d.outputs[second] for d in front]
+    y = [problem.objective_value(d.outputs) for d in front]
+    sc = ax.scatter(x, y, c=[d.alpha_per_s for d in front], cmap="plasma", norm=matplotlib.colors.LogNorm(), s=30)
+    fig.colorbar(sc, ax=ax, label="alpha [1/s]")
+    if optimum is not None:
+        ax.plot(optimum.outputs[second], problem.objective_value(optimum.outputs), "r*", ms=16, label="optimum")
+    if limit is not None:
+        ax.axvline(limit, color="k", ls="--", lw=1, label="the requirement's limit")
+    ax.set_xlabel(_label(second))
+    ax.set_ylabel("objective J" if problem.objective == "weighted" else _label(key))
+    ax.set_title("Pareto front: what less of the second output costs", fontsize=10)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def _fmt(value, unit=""):
+    if value is None:
+        return "-"
+    if unit == "m":
+        return f"{value * 1e3:.4g} mm"
+    if unit == "Pa":
+        return f"{value / 1e6:.4g} MPa"
+    return f"{value:.4g} {unit}".rstrip()
+
+
+def report_markdown(result):
+    """The decision in words (Markdown), from the result ``ccedi design`` writes.
+
+    Parameters
+    ----------
+    result : dict
+        The design result (:func:`ccedi.study.commands.design.write_design`).
+
+    Returns
+    -------
+    str
+    """
+    p = result["problem"]
+    lines = ["# Finger design", "",
+             f"Damping: **{p['damping']}** ({'on the velocity relative to the turning drum' if p['damping'] == 'relative' else 'on the absolute velocity, a drag on the whole finger (the paper, LS-DYNA *DAMPING_GLOBAL)'}). "
+             f"Design space: alpha {p['alpha_bounds_per_s'][0]:g}-{p['alpha_bounds_per_s'][1]:g} 1/s, "
+             f"L {p['length_bounds_in'][0]:g}-{p['length_bounds_in'][1]:g} in. Objective: minimise "
+             f"{p['objective_output'] or 'the weighted sum ' + str(p['weights'])}. Next object one cycle "
+             f"({result['drum']['cycle_s']:.4g} s) after the first contact.", ""]
+    if not result["feasible"]:
+        c = result["closest"]
+        lines += ["## No design meets the requirements", "",
+                  f"The closest design on the surrogate, alpha = {c['alpha_per_s']:.4g} 1/s, "
+                  f"L = {c['length_in']:.3f} in, misses:", "",
+                  "| requirement | value | bound (with model-error margin) | short by |", "|---|---|---|---|"]
+        for name, m in result["misses"].items():
+            unit = UNITS.get(m["output"], "")
+            lines.append(f"| {name} | {_fmt(m['value'], unit)} | {_fmt(m['bound'], unit)} | {_fmt(m['miss'], unit)} |")
+        lines += ["", "Relax the requirements above, widen the design space, or change the set-up."]
+        return "\n".join(lines) + "\n"
+    o = result["optimum"]
+    lines += ["## Decision", "",
+              f"**alpha = {o['alpha_per_s']:.4g} 1/s, L = {o['length_in']:.3f} in** "
+              f"({result['solver']['status']}).", ""]
+    for flag in result["on_bounds"]:
+        lines.append(f"- Flag: {flag}: the optimum may lie outside the design space; widen it to see.")
+    lines += ["", "## Requirements at the optimum", "",
+              "| requirement | surrogate | margin | binds | FEA | FEA meets |", "|---|---|---|---|---|---|"]
+    fea = result["fea_check"][0] if result["fea_check"] else None
+    for name, margin in o["margins"].items():
+        out = result["requirement_outputs"].get(name)
+        unit = UNITS.get(out, "")
+        f_row = fea["requirements"].get(name) if fea else None
+        lines.append(f"| {name} | {_fmt(o.get(out), unit)} | {margin:+.3f} | {'yes' if name in result['binding'] else ''} "
+                     f"| {_fmt(f_row['value'], unit) if f_row else '-'} | "
+                     f"{('yes' if f_row['met'] else '**no**') if f_row else '-'} |")
+    lines += ["", "Margins are normalised by each requirement's scale (its bound), >= 0 when met."]
+    if result["model_error"]:
+        lines += ["", "## Model-error margins carried", "",
+                  "The ROM strays from the full FEA by more than 10 % on these outputs "
+                  f"(`{result['model_error_source']}`); their requirements are tightened by the measured error:", ""]
+        for name, e in result["model_error"].items():
+            how = "of the FEA's value" if e["relative"] else "m"
+            here = e.get("at_optimum")
+            lines.append(f"- {name}: the ROM under-predicts by up to {e['largest_under']:.3g} {how} and over-predicts "
+                         f"by up to {e['largest_over']:.3g} {how} over the design space"
+                         + (f"; at the optimum {here['under']:.3g} and {here['over']:.3g}" if here else ""))
+    lines += ["", "## What relaxing each requirement buys", "",
+              "Each requirement relaxed alone by 10 % of its scale, the problem solved again:", "",
+              "| requirement | binds | relaxed to | objective change | new alpha [1/s] | new L [in] |",
+              "|---|---|---|---|---|---|"]
+    for name, s in result["sensitivities"].items():
+        unit = UNITS.get(result["requirement_outputs"].get(name), "")
+        lines.append(f"| {name} | {'yes' if s['binding'] else ''} | {_fmt(s['relaxed_to'], unit)} | "
+                     f"{s['objective_change']:+.4g} | {s['alpha_per_s']:.4g} | {s['length_in']:.3f} |")
+    if result["fea_check"]:
+        lines += ["", "## Full FEA re-check", ""]
+        keys = [k for k in result["fea_check"][0]["surrogate"]]
+        lines += ["| design | " + " | ".join(keys) + " |", "|---" * (len(keys) + 1) + "|"]
+        for r in result["fea_check"]:
+            name = f"alpha {r['alpha_per_s']:.4g}, L {r['length_in']:.3f} in"
+            lines.append(f"| {name}: surrogate | " + " | ".join(_fmt(r["surrogate"][k], UNITS[k]) for k in keys) + " |")
+            lines.append(f"| FEA ({'meets' if r['meets_requirements'] else 'misses'} the requirements) | "
+                         + " | ".join(_fmt(r["fea"][k], UNITS[k]) for k in keys) + " |")
+            lines.append("| error | " + " | ".join("-" if r["relative_error"][k] is None
+                                                   else f"{r['relative_error'][k]:+.1%}" for k in keys) + " |")
+    lines += ["", "Figures: `feasible_region.png` (each requirement's boundary in the (alpha, L) plane), "
+              "`pareto.png` (the objective against the second output)."]
+    return "\n".join(lines) + "\n"
+
