@@ -15,7 +15,6 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-
 N_BLOCKS = 20
 DIVERGED = 10.0
 """Residual (in record ranges) returned where the model diverges (e.g. a strongly softening

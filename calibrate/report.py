@@ -17,7 +17,6 @@ from ccedi.fea.outputs import write_csv, write_figure, write_text
 
 from .loop import Calibration
 
-
 SIGNALS = {"impulse": ("tip displacement", "tip_displacement_m", "m", 1e3, "mm"),
            "contact": ("reaction force", "reaction_force_N", "N", 1.0, "N")}
 """Per record kind: signal name, CSV column, SI unit, plot scale and plot unit."""

@@ -10,30 +10,32 @@ What a design script needs (``examples/design_script.py``)::
 * :mod:`ccedi.design.surrogate`: B-spline surrogate of the contact ROM over (alpha, L);
 * :mod:`ccedi.design.optimise`: the problem, IPOPT, brute force, infeasibility, sensitivities;
 * :mod:`ccedi.design.pareto`: the front of the objective against a second output;
-* :mod:`ccedi.design.fea_check`: the full FEA re-check;
+* :mod:`ccedi.design.recheck`: the full FEA re-check (:func:`fea_check`);
 * :mod:`ccedi.design.rubber`: the paper's rubber, alpha over length.
 
 User-defined outputs plug into :func:`run_rom` (``extra_outputs``) and get limits as
 :class:`Limit` objects in ``Requirements(extra=...)``.
 """
-from .fea_check import fea_check
-from .optimise import (
-    OBJECTIVES,
-    Design,
-    DesignProblem,
-    ModelError,
-    binding,
-    brute_force,
-    closest_design,
-    on_bounds,
-    sensitivities,
-    solve,
-)
-from .outputs import OUTPUTS, design_outputs
-from .pareto import pareto_front, recommended
-from .requirements import Limit, Requirements, met
-from .surrogate import Surrogate, design_space, grid_points, run_rom
+import importlib
 
-__all__ = ["OBJECTIVES", "OUTPUTS", "Design", "DesignProblem", "Limit", "ModelError", "Requirements", "Surrogate",
-           "binding", "brute_force", "closest_design", "design_outputs", "design_space", "fea_check", "grid_points",
-           "met", "on_bounds", "pareto_front", "recommended", "run_rom", "sensitivities", "solve"]
+_EXPORTS = {
+    "fea_check": "recheck",
+    "OBJECTIVES": "optimise", "Design": "optimise", "DesignProblem": "optimise", "ModelError": "optimise",
+    "binding": "optimise", "brute_force": "optimise", "closest_design": "optimise", "on_bounds": "optimise",
+    "sensitivities": "optimise", "solve": "optimise",
+    "OUTPUTS": "outputs", "design_outputs": "outputs",
+    "pareto_front": "pareto", "recommended": "pareto",
+    "Limit": "requirements", "Requirements": "requirements", "met": "requirements",
+    "Surrogate": "surrogate", "design_space": "surrogate", "grid_points": "surrogate", "run_rom": "surrogate",
+}
+"""Name -> the module of :mod:`ccedi.design` that defines it. Loaded on first use (PEP 562):
+importing a ccedi package imports no third-party library, so that ``import ccedi.design``
+stays light and a wheel's imports can be checked without its dependencies."""
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name):
+    if name not in _EXPORTS:
+        raise AttributeError(f"module 'ccedi.design' has no attribute {name!r}")
+    return getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)

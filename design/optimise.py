@@ -138,7 +138,7 @@ class ModelError:
         Same type as ``alpha_per_s``.
         """
         under, over = self.at(alpha_per_s, length_m)
-        b = limit.bound
+        b = limit.target
         if limit.upper:
             return b * (1.0 - under) if self.relative else b - under
         return b * (1.0 + over) if self.relative else b + over
@@ -281,7 +281,7 @@ class DesignProblem:
         float, numpy.ndarray or casadi expression
         """
         err = self.model_error.get(limit.output)
-        return limit.bound if err is None else err.tightened(limit, alpha_per_s, length_m)
+        return limit.target if err is None else err.tightened(limit, alpha_per_s, length_m)
 
     def J(self, outputs):
         """Normalised objective (numpy or casadi).

@@ -60,6 +60,11 @@ class Limit:
         How the report shows the bound: ``"N"``, ``"MPa"``, ``"mm"``, ... (default SI).
     scale : float, optional
         Normalisation of the margin, in the output's unit (default: |bound|).
+    offset : float, optional
+        A correction the surrogate's value must meet the requirement with: the margin is
+        taken against ``bound + offset`` (:attr:`target`), e.g. the surrogate's error at the
+        optimum against its own model (:func:`ccedi.design.recheck.verified_optimum`); the
+        requirement as stated (:meth:`describe`) keeps ``bound``.
 
     Raises
     ------
@@ -73,6 +78,7 @@ class Limit:
     label: str = ""
     unit: str = ""
     scale: float | None = None
+    offset: float = 0.0
 
     def __post_init__(self):
         if not np.isfinite(self.bound):
@@ -81,6 +87,11 @@ class Limit:
             raise InputError(f"requirement on {self.output}: a zero bound needs a scale")
         if self.scale is not None:
             require_finite_positive(f"requirement on {self.output}: scale", self.scale)
+
+    @property
+    def target(self):
+        """The bound the margin is taken against, ``bound + offset``."""
+        return self.bound + self.offset
 
     @property
     def norm(self):
@@ -95,17 +106,23 @@ class Limit:
         value : float, numpy.ndarray or casadi expression
             The output's value.
         bound : float, optional
-            Another bound than the requirement's (e.g. tightened by a model-error margin).
+            Another bound than :attr:`target` (e.g. tightened by a model-error margin).
 
         Returns
         -------
         Same type as ``value``.
         """
-        b = self.bound if bound is None else bound
+        b = self.target if bound is None else bound
         return ((b - value) if self.upper else (value - b)) / self.norm
 
     def describe(self):
-        """``"label <= 25 N"`` in the limit's display unit."""
+        """The requirement in words, its bound in the limit's display unit.
+
+        Returns
+        -------
+        str
+            e.g. ``"object force (transducer) <= 25 N"``.
+        """
         factor = DISPLAY_UNITS.get(self.unit, 1.0)
         sign = "<=" if self.upper else ">="
         unit = self.unit or ""
@@ -208,8 +225,9 @@ class Requirements:
 
 
 def met(limits, outputs):
-    """{limit description: (value, margin, met)} of ``outputs`` (numbers; a missing
-    output, e.g. the contact side of a run without contact, is not met).
+    """{limit description: (value, margin, met)} of ``outputs`` against each requirement
+    as stated (its ``bound``, no offset); a missing output, e.g. the contact side of a run
+    without contact, is not met.
 
     Parameters
     ----------
@@ -224,6 +242,6 @@ def met(limits, outputs):
     out = {}
     for lim in limits:
         value = outputs.get(lim.output)
-        m = None if value is None else float(lim.margin(value))
+        m = None if value is None else float(lim.margin(value, lim.bound))
         out[lim.describe()] = (value, m, m is not None and m >= 0.0)
     return out

@@ -332,7 +332,7 @@ def requirements(cfg):
     -------
     ccedi.design.requirements.Requirements
     """
-    from ccedi.design.requirements import Requirements   # the design library, only for the commands that design
+    from ccedi.design.requirements import Requirements  # the design library, only for the commands that design
 
     r = cfg["requirements"]
 

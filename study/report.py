@@ -176,7 +176,7 @@ def _contact(out):
     return ("<p>The paper's reproduction: global mass damping (on the absolute velocity, LS-DYNA's "
             "*DAMPING_GLOBAL, as the paper ran it), a drag on the whole finger that bends it back before contact. "
             "The design uses relative damping ([damping] kind), the physical one for a finger turned in air.</p>"
-            + _table(t.to_dict("records"), [_col(k) for k in keys if k in t.columns])
+            + _table(t.to_dict("records"), [_col(k) for k in keys if k in t.columns]))
 
 
 KEY_OUTPUTS = ("sensor_peak_force_N", "max_finger_stress_Pa", "recovery_deviation_m", "ringing_amplitude_m",

@@ -4,8 +4,16 @@ import numpy as np
 import pytest
 
 from ccedi.errors import InputError
-from ccedi.fea.contact import (Contact, ContactGroup, RigidEllipse, RigidPlane, _ellipse_gap, boundary_nodes,
-                               contact_damping, contact_forces)
+from ccedi.fea.contact import (
+    Contact,
+    ContactGroup,
+    RigidEllipse,
+    RigidPlane,
+    _ellipse_gap,
+    boundary_nodes,
+    contact_damping,
+    contact_forces,
+)
 from ccedi.fea.explicit import run
 from ccedi.fea.material import NeoHookean
 from ccedi.fea.mesh import elliptical_cantilever

@@ -86,7 +86,8 @@ def test_every_finger_step_of_the_study_gets_the_resolved_inputs(tmp_path, monke
         setup = calls[name][0][0]
         assert setup.finger_material.E == 5.0e6 and setup.finger_semi_axes_m == tuple(cfg["finger"]["section_semi_axes_m"])
     assert calls["write_table1"][0][1] == 3.0
-    assert calls["write_design"][0][1].weights == tuple(cfg["study"]["design_weights"])    # no digits lost
+    assert calls["write_design"][0][1].damping == cfg["damping"]["kind"] == "relative"
+    assert calls["write_design"][0][1].requirements.max_object_force_N == cfg["requirements"]["max_object_force_N"]
     material, semi_axes = mesh_args[0][-2:]
     assert material.E == 5.0e6 and semi_axes == tuple(cfg["finger"]["section_semi_axes_m"])
     # the study records its resolved inputs

@@ -281,7 +281,6 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
     import numpy as np
     import pandas as pd
 
-    from ccedi.design import fea_check as recheck
     from ccedi.design.optimise import (
         DesignProblem,
         binding,
@@ -292,6 +291,8 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
         solve,
     )
     from ccedi.design.pareto import pareto_front, recommended
+    from ccedi.design.recheck import fea_check as recheck
+    from ccedi.design.recheck import verified_optimum
     from ccedi.design.requirements import Requirements
     from ccedi.design.surrogate import (
         CHECKED_ALPHA_PER_S,
@@ -351,6 +352,7 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
     }
     try:
         optimum, info = solve(problem, n_starts=o.starts)
+        optimum, problem, verification = verified_optimum(problem, setup, damping=o.damping, n_starts=o.starts)
     except RequirementsUnmet as err:
         closest, misses = closest_design(problem)
         for name, miss in misses.items():
@@ -388,6 +390,7 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
         "binding": binding(problem, optimum),
         "on_bounds": on_bounds(problem, optimum),
         "sensitivities": sensitivities(problem, optimum),
+        "rom_verification": verification,
         "measured_finger": measured,
         "pareto": [d.as_dict(problem) for d in front],
         "pareto_output": o.pareto_output,

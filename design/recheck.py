@@ -49,15 +49,15 @@ def relative_error(model, full):
     return (model - full) / abs(full)
 
 
-def _check_one(d, setup, damping, limits, model_factory):
+def _check_one(d, setup, damping, limits, model_factory, extra_outputs):
     """The full-model row of :func:`fea_check` for design ``d`` (the object stress solver
     is built here: its factorisation cannot be sent to a worker)."""
     stress = ObjectStress(setup)
     s = setup_for_length(setup, d.length_m)
     t_end = run_time_s(s)
     res = model_factory(s).run(d.alpha_per_s, damping=damping, t_end_s=t_end, n_outputs=output_count(t_end))
-    full = design_outputs(s, res.history, stress)
-    keys = [k for k in OUTPUTS if k in d.outputs]
+    full = design_outputs(s, res.history, stress, extra=extra_outputs)
+    keys = [k for k in (*OUTPUTS, *(extra_outputs or {})) if k in d.outputs]
     return {"alpha_per_s": d.alpha_per_s, "length_in": m_to_inch(d.length_m), "damping": damping,
             "surrogate": {k: d.outputs[k] for k in keys}, "fea": full,
             "relative_error": {k: relative_error(d.outputs[k], full[k]) for k in keys},
@@ -67,7 +67,7 @@ def _check_one(d, setup, damping, limits, model_factory):
 
 
 def fea_check(setup: DrumSetup, designs, *, damping="relative", limits=(), model_factory=full_fea_factory,
-              progress=print, scheduler="serial"):
+              progress=print, scheduler="serial", extra_outputs=None):
     """Re-run designs with a (full) contact model and compare with the surrogate.
 
     For each design: run ``model_factory(setup at its length)`` at its alpha until the
@@ -93,6 +93,9 @@ def fea_check(setup: DrumSetup, designs, *, damping="relative", limits=(), model
         Called with one line per design.
     scheduler : str, optional
         :func:`ccedi.fea.distributed.map_runs` scheduler.
+    extra_outputs : dict, optional
+        User-defined outputs (:func:`ccedi.design.outputs.design_outputs`); module-level
+        functions when the scheduler is not serial.
 
     Returns
     -------
@@ -109,7 +112,8 @@ def fea_check(setup: DrumSetup, designs, *, damping="relative", limits=(), model
     """
     for d in designs:                       # every length before the first run (a finger mesh has one)
         setup_for_length(setup, d.length_m)
-    check = partial(_check_one, setup=setup, damping=damping, limits=tuple(limits), model_factory=model_factory)
+    check = partial(_check_one, setup=setup, damping=damping, limits=tuple(limits), model_factory=model_factory,
+                    extra_outputs=extra_outputs)
     rows = map_runs(check, designs, scheduler, label="FEA re-check")
     for r in rows if progress else ():
         missed = [name for name, q in r["requirements"].items() if not q["met"]]
@@ -118,3 +122,74 @@ def fea_check(setup: DrumSetup, designs, *, damping="relative", limits=(), model
                                                     else "misses " + "; ".join(missed)) + "; surrogate error "
                  + ", ".join(f"{k} {v:+.1%}" for k, v in r["relative_error"].items() if v is not None))
     return rows
+
+
+def verified_optimum(problem, setup: DrumSetup, *, damping="relative", model_factory=None, iterations=4,
+                     n_starts=8, extra_outputs=None):
+    """The optimum re-solved until the surrogate's own model, run at it, meets every
+    requirement: where the model misses a requirement at the optimum, the requirement's
+    bound is shifted by the surrogate's error there, b' = b + (s - m) (s the surrogate's
+    value, m the model's), and the problem solved again; at most ``iterations`` times. The
+    surrogate interpolates between grid runs and a requirement that binds lands where it
+    errs: this puts the binding requirement where the model itself meets it.
+
+    Parameters
+    ----------
+    problem : ccedi.design.optimise.DesignProblem
+        The problem on the surrogate.
+    setup : DrumSetup
+        The base set-up the surrogate was built on.
+    damping : {"relative", "global"}, optional
+        Damping kind of the surrogate's runs.
+    model_factory : callable, optional
+        The surrogate's model, ``model_factory(setup) -> ContactModel`` (default: the
+        design ROM, :func:`ccedi.design.surrogate.rom_factory`).
+    iterations : int, optional
+        Re-solves at most.
+    n_starts : int, optional
+        IPOPT starts per solve.
+    extra_outputs : dict, optional
+        The user-defined outputs of the surrogate (:func:`ccedi.design.surrogate.run_rom`).
+
+    Returns
+    -------
+    design : ccedi.design.optimise.Design
+        The last optimum (its ``outputs`` the surrogate's).
+    problem : ccedi.design.optimise.DesignProblem
+        The problem with the offsets (its requirements read as stated).
+    steps : list of dict
+        Per solve: alpha [1/s], L [in], the model's outputs and the requirements it
+        missed.
+
+    Raises
+    ------
+    ccedi.errors.RequirementsUnmet
+        No design meets the (shifted) requirements.
+    """
+    from dataclasses import replace
+
+    from .optimise import solve
+    from .requirements import Requirements
+    from .surrogate import rom_factory
+
+    factory = model_factory or rom_factory
+    stress = ObjectStress(setup)
+    steps = []
+    design, _ = solve(problem, n_starts=n_starts)
+    for _ in range(iterations):
+        s = setup_for_length(setup, design.length_m)
+        t_end = run_time_s(s)
+        res = factory(s).run(design.alpha_per_s, damping=damping, t_end_s=t_end, n_outputs=output_count(t_end))
+        model = design_outputs(s, res.history, stress, extra=extra_outputs)
+        missed = [lim for lim in problem.limits if model.get(lim.output) is None
+                  or lim.margin(model[lim.output], problem.bound(lim, design.alpha_per_s, design.length_m)) < 0.0]
+        steps.append({"alpha_per_s": design.alpha_per_s, "length_in": m_to_inch(design.length_m),
+                      "model": {k: model[k] for k in (*OUTPUTS, *(extra_outputs or {}))},
+                      "missed": [lim.describe() for lim in missed]})
+        if not missed:
+            break
+        shifted = [replace(lim, offset=lim.offset + design.outputs[lim.output] - model[lim.output])
+                   if lim in missed and model.get(lim.output) is not None else lim for lim in problem.limits]
+        problem = replace(problem, requirements=Requirements.from_limits(shifted))
+        design, _ = solve(problem, n_starts=n_starts)
+    return design, problem, steps
