@@ -55,7 +55,7 @@ models' common methods (``parameters``, ``predict``, ``baseline_starts``, ``asse
    ``UNEXPLAINED_EXCESS`` above the noise, the result is flagged ``unexplained_residual``,
    with the best sparse force term found on the residual (:mod:`ccedi.calibrate.sparse`).
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -153,6 +153,9 @@ class Calibration:
         The full FE model's run of the last correction against the record, read as the
         final model reads (``model.fea_check``), or None when the base model was not
         corrected.
+    damping_kind : dict or None
+        Which mass-damping kind a contact record supports (:func:`damping_kind_support`);
+        None for an impulse record.
     """
 
     experiment: Experiment
@@ -167,6 +170,7 @@ class Calibration:
     rejected: Fit | None = None
     chain_baseline: Fit | None = None
     fea_check: dict | None = None
+    damping_kind: dict | None = None
 
     @property
     def unexplained_residual(self):
@@ -313,6 +317,46 @@ def _ambiguity(model, current, best, runner, tried, sigma):
             "why": why, "separating_measurement": separating_measurement(model, fa, fb)}
 
 
+DAMPING_KIND_BIC = 10.0
+"""BIC difference above which a record is said to support one damping kind over the other
+("very strong" on Kass and Raftery's scale; the white-noise likelihood overstates it when
+the residuals are correlated, so a margin this wide)."""
+
+
+def damping_kind_support(exp: Experiment, baseline: Fit):
+    """Which mass-damping kind a contact record supports: the baseline (alpha, E) fitted
+    with the other kind as well, the two compared by BIC. Under global damping the drag
+    bends the finger back before contact and moves the contact start with alpha; under
+    relative damping the finger reaches the object undeformed, so the record's contact
+    start and rise tell the two apart.
+
+    Parameters
+    ----------
+    exp : Experiment
+        The experiment (its sidecar's ``damping`` is the declared kind).
+    baseline : Fit
+        The baseline fitted with the declared kind.
+
+    Returns
+    -------
+    dict or None
+        ``declared``, ``supported`` ("global", "relative" or "either" when the BIC differs
+        by less than :data:`DAMPING_KIND_BIC`), ``delta_bic`` (the other kind's BIC minus
+        the declared one's) and per kind the baseline's ``nrmse``, ``bic`` and
+        ``alpha_per_s``; None for an impulse record (a clamped finger that does not
+        turn: the two kinds are the same).
+    """
+    if exp.kind != "contact":
+        return None
+    other = "relative" if exp.damping == "global" else "global"
+    alt = fit_baseline(calibration_model(replace(exp, damping=other)))
+    fits = {exp.damping: baseline, other: alt}
+    delta = alt.bic - baseline.bic
+    supported = "either" if abs(delta) < DAMPING_KIND_BIC else (exp.damping if delta > 0 else other)
+    return {"declared": exp.damping, "supported": supported, "delta_bic": float(delta),
+            **{k: {"nrmse": f.nrmse, "bic": f.bic, "alpha_per_s": f.values["alpha_per_s"]} for k, f in fits.items()}}
+
+
 def calibration_model(exp: Experiment):
     """The calibration model of an experiment: :class:`FingerModel` for an impulse
     record, :class:`ccedi.calibrate.contact_model.DrumContactModel` for a contact record.
@@ -374,6 +418,7 @@ def calibrate(exp: Experiment, candidates=None, progress=None, fea_correction=Fa
                          f"({', '.join(model.catalogue)})")
     n = len(exp.time_s)
     current = baseline = fit_baseline(model)
+    kind = damping_kind_support(exp, baseline)
     chain_baseline = None
     if fea_correction and model.correct_at(baseline.values) is not None:
         chain_baseline = baseline
@@ -446,7 +491,7 @@ def calibrate(exp: Experiment, candidates=None, progress=None, fea_correction=Fa
     fea_check = model.fea_check(current.values, sigma) if chain_baseline is not None else None
     return Calibration(experiment=exp, model=model, baseline=baseline, final=current, rounds=rounds,
                        noise_std_m=sigma, adequacy=adequacy, ambiguous=ambiguous, unexplained=unexplained,
-                       rejected=rejected, chain_baseline=chain_baseline, fea_check=fea_check)
+                       rejected=rejected, chain_baseline=chain_baseline, fea_check=fea_check, damping_kind=kind)
 
 
 def summary(cal: Calibration):
@@ -476,7 +521,8 @@ def summary(cal: Calibration):
         measurement), ``rejected_effects`` (None, or the effects added that left the
         residual above the noise, with their parameters, NRMSE and RMS over the noise
         std), ``unexplained_residual`` (bool) and ``sparse_term`` (None, or the
-        best sparse force term on the residual, :meth:`ccedi.calibrate.sparse.SparseTerm.summary`).
+        best sparse force term on the residual, :meth:`ccedi.calibrate.sparse.SparseTerm.summary`),
+        ``damping_kind`` (:func:`damping_kind_support`; None for an impulse record).
     """
     found = []
     fin = cal.final
@@ -515,6 +561,7 @@ def summary(cal: Calibration):
             "chain_baseline": None if cal.chain_baseline is None else {
                 "nrmse": cal.chain_baseline.nrmse, "params": cal.chain_baseline.values},
             "fea_check": cal.fea_check,
+            "damping_kind": cal.damping_kind,
             "unexplained_residual": cal.unexplained_residual,
             "sparse_term": cal.unexplained.summary() if cal.unexplained is not None else None}
 

@@ -90,6 +90,14 @@ def _markdown(summary):
         lines.append(f"| + {e['name']} | {e['nrmse_after']:.4%} | {e['max_error_after_m']:.4g} |")
     lines += ["", "Baseline parameters: " + ", ".join(f"{k} = {v:.5g} +- {b['stderr'][k]:.2g}"
                                                      for k, v in b["params"].items()), ""]
+    kind = summary.get("damping_kind")
+    if kind:
+        other = "relative" if kind["declared"] == "global" else "global"
+        lines += [f"Damping kind: the record supports **{kind['supported']}** damping (declared {kind['declared']}; "
+                  f"baseline NRMSE {kind[kind['declared']]['nrmse']:.4%} at alpha "
+                  f"{kind[kind['declared']]['alpha_per_s']:.4g} 1/s, with {other} damping "
+                  f"{kind[other]['nrmse']:.4%} at {kind[other]['alpha_per_s']:.4g} 1/s; BIC difference "
+                  f"{kind['delta_bic']:+.1f}).", ""]
     if not summary["effects_found"]:
         lines += ["No effect added: " + summary["stop_reason"] + ".", ""]
     for e in summary["effects_found"]:

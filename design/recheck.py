@@ -1,8 +1,9 @@
 """Re-check of designs with a full model run (by default the explicit FEA,
 :class:`ccedi.fea.drum.FullContactModel`): the same design outputs
 (:func:`ccedi.design.outputs.design_outputs`) from the full model beside the surrogate's,
-output by output, with the error (surrogate - full) / |full| and whether the full model
-meets each requirement.
+output by output, with the error of the surrogate (:func:`ccedi.design.model_error.output_error`:
+(surrogate - full) / |full|, lengths at the 5 mm scale of their requirements) and whether
+the full model meets each requirement.
 
 Any finger: a set-up whose finger is a given mesh (``DrumSetup(finger=mesh)``, hexahedra or
 tetrahedra) is re-checked with that mesh on the drum, at its own length; a design of
@@ -13,6 +14,7 @@ from ccedi.fea.distributed import map_runs
 from ccedi.fea.drum import DrumSetup, FullContactModel, ObjectStress
 from ccedi.fea.units import m_to_inch
 
+from .model_error import output_error
 from .outputs import OUTPUTS, design_outputs, output_count, run_time_s, setup_for_length
 from .requirements import met
 
@@ -33,22 +35,6 @@ def full_fea_factory(setup: DrumSetup):
     return FullContactModel(setup, object_stress=False)
 
 
-def relative_error(model, full):
-    """(model - full) / |full|, None where either is undefined or full is zero.
-
-    Parameters
-    ----------
-    model, full : float or None
-
-    Returns
-    -------
-    float or None
-    """
-    if model is None or full is None or full == 0.0:
-        return None
-    return (model - full) / abs(full)
-
-
 def _check_one(d, setup, damping, limits, model_factory, extra_outputs):
     """The full-model row of :func:`fea_check` for design ``d`` (the object stress solver
     is built here: its factorisation cannot be sent to a worker)."""
@@ -60,7 +46,7 @@ def _check_one(d, setup, damping, limits, model_factory, extra_outputs):
     keys = [k for k in (*OUTPUTS, *(extra_outputs or {})) if k in d.outputs]
     return {"alpha_per_s": d.alpha_per_s, "length_in": m_to_inch(d.length_m), "damping": damping,
             "surrogate": {k: d.outputs[k] for k in keys}, "fea": full,
-            "relative_error": {k: relative_error(d.outputs[k], full[k]) for k in keys},
+            "relative_error": {k: output_error(k, d.outputs[k], full[k]) for k in keys},
             "requirements": {name: {"value": v, "margin": m, "met": ok} for name, (v, m, ok) in met(limits, full).items()},
             "meets_requirements": all(ok for _, _, ok in met(limits, full).values()),
             "warnings": list(res.summary["warnings"]), "wall_time_s": res.summary["wall_time_s"]}
@@ -101,8 +87,8 @@ def fea_check(setup: DrumSetup, designs, *, damping="relative", limits=(), model
     -------
     list of dict
         ``alpha_per_s`` [1/s], ``length_in`` [in], ``damping``, ``surrogate`` and ``fea``
-        (the full model's outputs), ``relative_error`` (surrogate - full) / |full| per
-        output, ``requirements`` ({requirement: value, margin, met} on the full model),
+        (the full model's outputs), ``relative_error`` of the surrogate per output
+        (:func:`ccedi.design.model_error.output_error`), ``requirements`` ({requirement: value, margin, met} on the full model),
         ``meets_requirements``, ``warnings``, ``wall_time_s`` [s].
 
     Raises

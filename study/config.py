@@ -296,6 +296,28 @@ def finger_mesh(cfg):
     return FingerMeshSpec(f["mesh"], f["mesh_unit"], f["clamp"], f["tip"], f["bending_direction"])
 
 
+def refuse_mesh(cfg, command, why):
+    """Stop ``command`` in one line when ``[finger] mesh`` is set and it works only on the
+    generated finger (it would otherwise drop the mesh without a word).
+
+    Parameters
+    ----------
+    cfg : dict
+        ``{section: {key: value}}`` as :func:`load` returns it.
+    command : str
+        The command, as the user typed it.
+    why : str
+        Why it needs the generated finger, and what to run instead.
+
+    Raises
+    ------
+    InputError
+        ``[finger] mesh`` is set.
+    """
+    if cfg["finger"]["mesh"] is not None:
+        raise InputError(f"[finger] mesh = {brief_repr(cfg['finger']['mesh'])}: {command} {why}")
+
+
 def configured_mesh(cfg):
     """The imported finger mesh of the validated inputs ``cfg``, read now (so that a bad
     mesh stops a command before any run), or None when ``[finger] mesh`` is not set.

@@ -184,8 +184,9 @@ def report_markdown(result):
     lines += ["", "Margins are normalised by each requirement's scale (its bound), >= 0 when met."]
     if result["model_error"]:
         lines += ["", "## Model-error margins carried", "",
-                  "The ROM strays from the full FEA by more than 10 % on these outputs "
-                  f"(`{result['model_error_source']}`); their requirements are tightened by the measured error:", ""]
+                  "The ROM's measured error against the full FEA "
+                  f"(`{result['model_error_source']}`, interpolated between the checked cases) tightens every "
+                  "requirement on these outputs where the design lands:", ""]
         for name, e in result["model_error"].items():
             how = "of the FEA's value" if e["relative"] else "m"
             here = e.get("at_optimum")

@@ -212,3 +212,16 @@ def test_whole_quick_study_on_an_imported_finger(tmp_path):
     summary = pd.read_csv(out / "contact" / "contact_summary_global.csv")
     assert (summary.energy_balance_error < 0.02).all()
     assert (out / "index.html").exists() and "given mesh" in (out / "contact" / "contact_report.md").read_text()
+
+
+@pytest.mark.parametrize("command", [["design", "--json", "d.json"], ["rom-check", "--json", "r.json"],
+                                     ["damping-fits", "--out", "fits"]])
+def test_commands_of_the_generated_finger_refuse_the_mesh(finger, tmp_path, capsys, command):
+    """A command that works on the generated finger only says so in one line instead of
+    running the prism without a word about the configured mesh."""
+    toml, _ = finger
+    args = [command[0], "--config", str(toml), command[1], str(tmp_path / command[2])]
+    assert main(args) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "[finger] mesh" in err[0] and command[0] in err[0]
+    assert not (tmp_path / command[2]).exists()

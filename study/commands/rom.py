@@ -272,7 +272,12 @@ def cmd_identify(args):
 
 def cmd_damping_fits(args):
     """``ccedi damping-fits``: :func:`write_damping_fits` of the parsed arguments."""
-    write_damping_fits(load_config(args), args.lengths_in, args.out, scheduler=args.scheduler)
+    from ccedi.study.config import refuse_mesh
+
+    cfg = load_config(args)
+    refuse_mesh(cfg, "damping-fits", "varies the generated finger's length and the mesh has one; its alpha_cr: "
+                "ccedi identify --alpha-cr --config FILE")
+    write_damping_fits(cfg, args.lengths_in, args.out, scheduler=args.scheduler)
 
 
 def write_damping_fits(cfg, lengths_in, out, scheduler="local"):
@@ -380,11 +385,13 @@ def cmd_rom_check(args):
     if args.n_outputs < 1:
         raise InputError(f"--n-outputs must be >= 1, got {args.n_outputs}")
     from ccedi.rom.sensor import DEFAULT_DAMPING_RATIO, DEFAULT_NATURAL_FREQUENCY_HZ, Transducer
-    from ccedi.study.config import drum_setup, finger_inputs
+    from ccedi.study.config import drum_setup, finger_inputs, refuse_mesh
 
     sensor = Transducer(DEFAULT_NATURAL_FREQUENCY_HZ if args.sensor_hz is None else args.sensor_hz,
                         DEFAULT_DAMPING_RATIO if args.sensor_damping_ratio is None else args.sensor_damping_ratio)
     cfg = load_config(args)
+    refuse_mesh(cfg, "rom-check", "compares the ROMs of the generated elliptical finger with its FEA; the contact ROM "
+                "is not built on an imported mesh (run its full FEA: ccedi contact --config FILE)")
     material, semi_axes = finger_inputs(cfg)
     cases = impulse_cases(args.impulse_alphas, n_modes=args.modes, material=material,
                           semi_axes_m=semi_axes) if args.impulse_alphas else []
