@@ -8,7 +8,9 @@ design of least h (h_min). The k-th front point solves
 
     min f  subject to  h <= eps_k  (and every other requirement),
 
-for eps_k evenly spaced between h_min and h_f. Every point is Pareto-optimal in (f, h);
+for eps_k evenly spaced between h_min and h_f (the least-h design itself is rarely unique,
+e.g. every over-damped finger rings 0 mm, so eps = h_min is solved too and the dominated
+ones dropped). Every point is Pareto-optimal in (f, h);
 the designer's own limit on h is one vertical line across the front.
 """
 from dataclasses import replace
@@ -51,7 +53,7 @@ def pareto_front(problem: DesignProblem, second=DEFAULT_SECOND, n_points=24, n_s
         return []
     lo, hi = best_h.outputs[second], best_f.outputs[second]
     designs = [best_h, best_f]
-    for eps in np.linspace(lo, hi, n_points)[1:-1]:
+    for eps in np.linspace(lo, hi, n_points)[:-1]:      # from lo: the least-h design is rarely unique
         def cap(out, eps=eps):
             return [(eps - out[second]) / max(hi - lo, 1e-12)]
         try:
