@@ -28,7 +28,7 @@ import numpy as np
 from ccedi.errors import InputError, RequirementsUnmet, SolverError
 from ccedi.fea.units import m_to_inch
 
-from .requirements import DISPLAY_UNITS, Limit, Requirements
+from .requirements import Limit, Requirements
 from .rubber import alpha_of_length
 from .surrogate import Surrogate
 
@@ -454,18 +454,12 @@ def unmet(problem: DesignProblem):
     va, vl = problem.surrogate.variables
     where = (f"alpha {va.lo:g}-{va.hi:g} 1/s, L {m_to_inch(vl.lo):g}-{m_to_inch(vl.hi):g} in"
              + ("" if problem.alpha_of_length == "free" else f" on alpha = alpha(L) ({problem.alpha_of_length})"))
-    said = "; ".join(f"{name}: {_shown(name, m['value'])} against {_shown(name, m['bound'])}"
-                     for name, m in misses.items())
+    said = "; ".join(f"{lim.describe()}: {lim.shown(misses[lim.describe()]['value'])} against "
+                     f"{lim.shown(misses[lim.describe()]['bound'])}" for lim in problem.limits if lim.describe() in misses)
     err = RequirementsUnmet(f"no design meets the requirements ({where}); the closest, alpha = "
                             f"{design.alpha_per_s:.4g} 1/s, L = {m_to_inch(design.length_m):.3g} in, misses {said}")
     err.design, err.misses = design, misses
     return err
-
-
-def _shown(description, value):
-    """``value`` in the display unit the requirement ``description`` ends with."""
-    unit = next((u for u in sorted(DISPLAY_UNITS, key=len, reverse=True) if description.endswith(" " + u)), "")
-    return f"{value / DISPLAY_UNITS.get(unit, 1.0):.4g} {unit}".rstrip()
 
 
 def _nlp(problem: DesignProblem, extra=None):

@@ -111,7 +111,7 @@ def fea_check(setup: DrumSetup, designs, *, damping="relative", limits=(), model
 
 
 def verified_optimum(problem, setup: DrumSetup, *, damping="relative", model_factory=None, iterations=4,
-                     n_starts=8, extra_outputs=None):
+                     n_starts=8, extra_outputs=None, start=None):
     """The optimum re-solved until the surrogate's own model, run at it, meets every
     requirement: where the model misses a requirement at the optimum, the requirement's
     bound is shifted by the surrogate's error there, b' = b + (s - m) (s the surrogate's
@@ -136,6 +136,8 @@ def verified_optimum(problem, setup: DrumSetup, *, damping="relative", model_fac
         IPOPT starts per solve.
     extra_outputs : dict, optional
         The user-defined outputs of the surrogate (:func:`ccedi.design.surrogate.run_rom`).
+    start : ccedi.design.optimise.Design, optional
+        The optimum of ``problem`` when already solved (else it is solved here).
 
     Returns
     -------
@@ -161,7 +163,7 @@ def verified_optimum(problem, setup: DrumSetup, *, damping="relative", model_fac
     factory = model_factory or rom_factory
     stress = ObjectStress(setup)
     steps = []
-    design, _ = solve(problem, n_starts=n_starts)
+    design = start if start is not None else solve(problem, n_starts=n_starts)[0]
     for _ in range(iterations):
         s = setup_for_length(setup, design.length_m)
         t_end = run_time_s(s)

@@ -123,10 +123,22 @@ class Limit:
         str
             e.g. ``"object force (transducer) <= 25 N"``.
         """
-        factor = DISPLAY_UNITS.get(self.unit, 1.0)
         sign = "<=" if self.upper else ">="
-        unit = self.unit or ""
-        return f"{self.label or self.output} {sign} {self.bound / factor:.4g} {unit}".rstrip()
+        return f"{self.label or self.output} {sign} {self.shown(self.bound)}"
+
+    def shown(self, value):
+        """``value`` (the output's SI unit) in the limit's display unit.
+
+        Parameters
+        ----------
+        value : float
+
+        Returns
+        -------
+        str
+            e.g. ``"25 N"``, ``"4.2 mm"``.
+        """
+        return f"{value / DISPLAY_UNITS.get(self.unit, 1.0):.4g} {self.unit}".rstrip()
 
 
 DISPLAY_UNITS = {"mm": 1e-3, "MPa": 1e6, "kPa": 1e3, "N": 1.0, "N s": 1.0, "m": 1.0, "Pa": 1.0, "s": 1.0}

@@ -361,7 +361,8 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
     }
     try:
         optimum, info = solve(problem, n_starts=o.starts)
-        optimum, problem, verification = verified_optimum(problem, setup, damping=o.damping, n_starts=o.starts)
+        optimum, problem, verification = verified_optimum(problem, setup, damping=o.damping, n_starts=o.starts,
+                                                          start=optimum)
     except RequirementsUnmet as err:
         closest, misses = closest_design(problem)
         for name, miss in misses.items():
