@@ -1,4 +1,5 @@
-"""Design of a compliant finger: damping and length that meet a designer's requirements.
+"""Design of a compliant finger: damping and length (or drum speed) that meet a designer's
+requirements.
 
 What a design script needs (``examples/design_script.py``)::
 
@@ -7,10 +8,12 @@ What a design script needs (``examples/design_script.py``)::
 
 * :mod:`ccedi.design.outputs`: what a run is judged on (:data:`OUTPUTS`, :func:`design_outputs`);
 * :mod:`ccedi.design.requirements`: the designer's limits (:class:`Requirements`, :class:`Limit`);
-* :mod:`ccedi.design.surrogate`: B-spline surrogate of the contact ROM over (alpha, L);
+* :mod:`ccedi.design.surrogate`: B-spline surrogate of the contact ROM over (alpha, L)
+  (:func:`design_space`) or (alpha, drum speed) (:func:`speed_space`);
 * :mod:`ccedi.design.optimise`: the problem, IPOPT, brute force, infeasibility, sensitivities;
 * :mod:`ccedi.design.pareto`: the front of the objective against a second output;
-* :mod:`ccedi.design.recheck`: the full FEA re-check (:func:`fea_check`);
+* :mod:`ccedi.design.recheck`: the full FEA re-check (:func:`fea_check`) and the optimum
+  verified by a model run (:func:`verified_optimum`);
 * :mod:`ccedi.design.rubber`: the paper's rubber, alpha over length.
 
 User-defined outputs plug into :func:`run_rom` (``extra_outputs``) and get limits as
@@ -19,14 +22,15 @@ User-defined outputs plug into :func:`run_rom` (``extra_outputs``) and get limit
 import importlib
 
 _EXPORTS = {
-    "fea_check": "recheck",
+    "fea_check": "recheck", "verified_optimum": "recheck",
     "OBJECTIVES": "optimise", "Design": "optimise", "DesignProblem": "optimise", "ModelError": "optimise",
     "binding": "optimise", "brute_force": "optimise", "closest_design": "optimise", "on_bounds": "optimise",
     "sensitivities": "optimise", "solve": "optimise",
-    "OUTPUTS": "outputs", "design_outputs": "outputs",
+    "OUTPUTS": "outputs", "design_outputs": "outputs", "setup_at": "outputs",
     "pareto_front": "pareto", "recommended": "pareto",
     "Limit": "requirements", "Requirements": "requirements", "met": "requirements",
     "Surrogate": "surrogate", "design_space": "surrogate", "grid_points": "surrogate", "run_rom": "surrogate",
+    "speed_space": "surrogate",
 }
 """Name -> the module of :mod:`ccedi.design` that defines it. Loaded on first use (PEP 562):
 importing a ccedi package imports no third-party library, so that ``import ccedi.design``

@@ -34,8 +34,9 @@ from .surrogate import Surrogate
 
 OBJECTIVES = {"object_force": "sensor_peak_force_N", "object_stress": "max_object_stress_Pa",
               "root_stress": "max_finger_stress_Pa", "recovery": "recovery_deviation_m",
-              "ringing": "ringing_amplitude_m"}
-"""Objective name -> the output it minimises ("weighted": a weighted sum of outputs)."""
+              "ringing": "ringing_amplitude_m", "throughput": "cycle_time_s"}
+"""Objective name -> the output it minimises ("weighted": a weighted sum of outputs);
+"throughput" minimises the time between objects, so it needs the drum speed as a variable."""
 
 BINDING_MARGIN = 1e-3
 """A requirement whose margin at the optimum is below this (normalised) binds."""
@@ -130,8 +131,8 @@ class ModelError:
         Parameters
         ----------
         limit : Limit
-        alpha_per_s, length_m : float, numpy.ndarray or casadi expression
-            The design(s).
+        alpha_per_s, x : float, numpy.ndarray or casadi expression
+            The design(s): alpha [1/s] and the second variable [SI].
 
         Returns
         -------
@@ -161,8 +162,9 @@ class Design:
     ----------
     alpha_per_s : float
         Mass-proportional damping [1/s].
-    length_m : float
-        Finger length [m].
+    x : float
+        The second design variable (the problem's ``surrogate.variables[1]``) [SI]: the
+        finger length [m] or the drum speed [rad/s].
     outputs : dict
         Surrogate outputs at the design, by name (SI units).
     J : float
@@ -170,14 +172,29 @@ class Design:
     """
 
     alpha_per_s: float
-    length_m: float
+    x: float
     outputs: dict
     J: float
 
+    def describe(self, variables):
+        """``"alpha = 234.9 1/s, L = 4.183 in"``.
+
+        Parameters
+        ----------
+        variables : tuple of ccedi.design.surrogate.Variable
+            The problem's variables.
+
+        Returns
+        -------
+        str
+        """
+        return ", ".join(v.describe(x) for v, x in zip(variables, (self.alpha_per_s, self.x)))
+
     def as_dict(self, problem):
-        """JSON form: ``alpha_per_s``, ``length_in``, J, every output, and each
-        requirement's margin (``margins``, normalised, >= 0 when met by the surrogate
-        with the model-error margin).
+        """JSON form: ``alpha_per_s``, the second variable in its shown unit
+        (``length_in`` or ``drum_speed_rpm``), J, every output, and each requirement's
+        margin (``margins``, normalised, >= 0 when met by the surrogate with the
+        model-error margin).
 
         Parameters
         ----------
@@ -187,10 +204,11 @@ class Design:
         -------
         dict
         """
-        d = {"alpha_per_s": self.alpha_per_s, "length_in": m_to_inch(self.length_m), "J": self.J}
+        v = problem.surrogate.variables[1]
+        d = {"alpha_per_s": self.alpha_per_s, v.key: float(v.shown(self.x)), "J": self.J}
         d.update({k: float(v) for k, v in self.outputs.items()})
         d["margins"] = {k: float(v) for k, v in
-                        problem.constraint_margins(self.outputs, self.alpha_per_s, self.length_m).items()}
+                        problem.constraint_margins(self.outputs, self.alpha_per_s, self.x).items()}
         return d
 
 
@@ -225,7 +243,9 @@ class DesignProblem:
     ------
     InputError
         Unknown objective, bad weights, a requirement on an output the surrogate lacks,
-        or an unknown alpha-of-length mode.
+        an unknown alpha-of-length mode, a choice the problem's variables do not allow
+        ("throughput" without the drum speed; alpha tied to the length or a model error
+        without the length), or an objective whose output is the same everywhere.
     """
 
     surrogate: Surrogate
@@ -243,11 +263,24 @@ class DesignProblem:
         self.weights = self._checked_weights()
         if self.alpha_of_length != "free":
             alpha_of_length(self.alpha_of_length, 6.0)            # validates the mode
+        second = self.surrogate.variables[1]
+        if self.objective == "throughput" and second.name != "drum_speed_rad_s":
+            raise InputError(f"objective 'throughput' needs the drum speed as a design variable; this problem varies "
+                             f"{second.label} (a finger mesh's design varies the drum speed)")
+        if second.name != "length_m" and (self.alpha_of_length != "free" or self.model_error):
+            raise InputError(f"alpha tied to the length and the ROM's model error (measured over alpha and length) "
+                             f"need the length as a design variable; this problem varies {second.label}")
         missing = sorted({lim.output for lim in self.limits} - set(self.surrogate.outputs))
         if missing:
             raise InputError(f"requirements on outputs the surrogate lacks: {', '.join(missing)} "
                              f"(it has {', '.join(self.surrogate.outputs)})")
         values = self.surrogate.evaluate(self.candidates(self.n_check))
+        if self.objective != "weighted" and np.ptp(values[OBJECTIVES[self.objective]]) == 0.0:
+            output = OBJECTIVES[self.objective]
+            raise InputError(f"objective {self.objective!r}: {output} is {float(values[output][0]):.4g} everywhere in "
+                             f"the design space, nothing to minimise"
+                             + (" (a fixed [drum] cycle_time_s does not follow the drum speed)"
+                                if output == "cycle_time_s" else ""))
         self.scale = {k: (float(values[k].min()), float(np.ptp(values[k])) or 1.0) for k in self.weights}
 
     def _checked_weights(self):
@@ -266,22 +299,22 @@ class DesignProblem:
         """The requirements as :class:`ccedi.design.requirements.Limit` objects."""
         return self.requirements.limits()
 
-    def bound(self, limit, alpha_per_s, length_m):
+    def bound(self, limit, alpha_per_s, x):
         """The bound the surrogate must meet for ``limit`` at the design(s): tightened by
         the output's model error there when one is given.
 
         Parameters
         ----------
         limit : Limit
-        alpha_per_s, length_m : float, numpy.ndarray or casadi expression
-            The design(s).
+        alpha_per_s, x : float, numpy.ndarray or casadi expression
+            The design(s): alpha [1/s] and the second variable [SI].
 
         Returns
         -------
         float, numpy.ndarray or casadi expression
         """
         err = self.model_error.get(limit.output)
-        return limit.target if err is None else err.tightened(limit, alpha_per_s, length_m)
+        return limit.target if err is None else err.tightened(limit, alpha_per_s, x)
 
     def J(self, outputs):
         """Normalised objective (numpy or casadi).
@@ -331,7 +364,7 @@ class DesignProblem:
         L = vl.grid(n * n)
         return np.column_stack([alpha_of_length(self.alpha_of_length, m_to_inch(L)), L])
 
-    def constraint_margins(self, outputs, alpha_per_s, length_m, alpha_bounds=False):
+    def constraint_margins(self, outputs, alpha_per_s, x, alpha_bounds=False):
         """{requirement: normalised margin}, >= 0 when met (numpy or casadi); with
         ``alpha_bounds``, also the alpha bounds (for the alpha-of-length designs).
 
@@ -339,8 +372,8 @@ class DesignProblem:
         ----------
         outputs : dict
             Surrogate outputs at the design(s).
-        alpha_per_s, length_m : float, numpy.ndarray or casadi expression
-            The design(s) [1/s], [m].
+        alpha_per_s, x : float, numpy.ndarray or casadi expression
+            The design(s): alpha [1/s] and the second variable [SI].
         alpha_bounds : bool, optional
             Add the margin of alpha to its bounds.
 
@@ -348,7 +381,7 @@ class DesignProblem:
         -------
         dict
         """
-        g = {lim.describe(): lim.margin(outputs[lim.output], self.bound(lim, alpha_per_s, length_m))
+        g = {lim.describe(): lim.margin(outputs[lim.output], self.bound(lim, alpha_per_s, x))
              for lim in self.limits}
         if alpha_bounds:
             va = self.surrogate.variables[0]
@@ -432,7 +465,7 @@ def closest_design(problem: DesignProblem, n=None):
     design = _design_at(problem, X, k, out)
     misses = {}
     for lim in problem.limits:
-        value, b = design.outputs[lim.output], float(problem.bound(lim, design.alpha_per_s, design.length_m))
+        value, b = design.outputs[lim.output], float(problem.bound(lim, design.alpha_per_s, design.x))
         if lim.margin(value, b) < 0:
             misses[lim.describe()] = {"value": value, "bound": b, "miss": abs(value - b)}
     return design, misses
@@ -451,13 +484,12 @@ def unmet(problem: DesignProblem):
     RequirementsUnmet
     """
     design, misses = closest_design(problem)
-    va, vl = problem.surrogate.variables
-    where = (f"alpha {va.lo:g}-{va.hi:g} 1/s, L {m_to_inch(vl.lo):g}-{m_to_inch(vl.hi):g} in"
+    where = (", ".join(f"{v.label} {v.shown(v.lo):.4g}-{v.shown(v.hi):.4g} {v.unit}" for v in problem.surrogate.variables)
              + ("" if problem.alpha_of_length == "free" else f" on alpha = alpha(L) ({problem.alpha_of_length})"))
     said = "; ".join(f"{lim.describe()}: {lim.shown(misses[lim.describe()]['value'])} against "
                      f"{lim.shown(misses[lim.describe()]['bound'])}" for lim in problem.limits if lim.describe() in misses)
-    err = RequirementsUnmet(f"no design meets the requirements ({where}); the closest, alpha = "
-                            f"{design.alpha_per_s:.4g} 1/s, L = {m_to_inch(design.length_m):.3g} in, misses {said}")
+    err = RequirementsUnmet(f"no design meets the requirements ({where}); the closest, "
+                            f"{design.describe(problem.surrogate.variables)}, misses {said}")
     err.design, err.misses = design, misses
     return err
 
@@ -539,7 +571,7 @@ def solve(problem: DesignProblem, n_starts=8, extra=None, starts=None):
     best, total_iter, n_ok, statuses = None, 0, 0, []
     u_starts = list(_starts(problem, n_starts) if starts is None else starts)
     if grid_best is not None:
-        u_starts.append([va.to_unit(grid_best.alpha_per_s), vl.to_unit(grid_best.length_m)])
+        u_starts.append([va.to_unit(grid_best.alpha_per_s), vl.to_unit(grid_best.x)])
     for u0 in u_starts:
         sol = solver(x0=u0, lbx=-1.0, ubx=1.0, lbg=lbg, ubg=ubg)
         stats = solver.stats()
@@ -579,15 +611,13 @@ def on_bounds(problem: DesignProblem, design: Design):
     -------
     list of str
     """
-    va, vl = problem.surrogate.variables
     flags = []
-    for var, x, label, unit, show in ((va, design.alpha_per_s, "alpha", "1/s", lambda v: v),
-                                      (vl, design.length_m, "length", "in", m_to_inch)):
+    for var, x in zip(problem.surrogate.variables, (design.alpha_per_s, design.x)):
         u = float(var.to_unit(x))
         if u <= -1.0 + 2.0 * ON_BOUND:
-            flags.append(f"{label} at its lower bound {show(var.lo):.4g} {unit}")
+            flags.append(f"{var.label} at its lower bound {var.shown(var.lo):.4g} {var.unit}")
         elif u >= 1.0 - 2.0 * ON_BOUND:
-            flags.append(f"{label} at its upper bound {show(var.hi):.4g} {unit}")
+            flags.append(f"{var.label} at its upper bound {var.shown(var.hi):.4g} {var.unit}")
     return flags
 
 
@@ -603,7 +633,7 @@ def binding(problem: DesignProblem, design: Design):
     -------
     list of str
     """
-    margins = problem.constraint_margins(design.outputs, design.alpha_per_s, design.length_m)
+    margins = problem.constraint_margins(design.outputs, design.alpha_per_s, design.x)
     return [name for name, m in margins.items() if m < BINDING_MARGIN]
 
 
@@ -625,8 +655,9 @@ def sensitivities(problem: DesignProblem, design: Design, relax=0.1, n_starts=4)
     -------
     dict
         ``{requirement: {"binding", "relaxed_to", "objective", "objective_change",
-        "alpha_per_s", "length_in"}}``: the relaxed bound (SI), the objective there (its
-        own unit) and its change from the optimum's (negative: better).
+        "alpha_per_s", and the second variable's key}}``: the relaxed bound (SI), the
+        objective there (its own unit) and its change from the optimum's (negative:
+        better).
     """
     base = problem.objective_value(design.outputs)
     bind = set(binding(problem, design))
@@ -641,7 +672,8 @@ def sensitivities(problem: DesignProblem, design: Design, relax=0.1, n_starts=4)
         except (RequirementsUnmet, SolverError):
             continue
         value = problem.objective_value(d.outputs)
+        v = problem.surrogate.variables[1]
         out[lim.describe()] = {"binding": lim.describe() in bind, "relaxed_to": moved, "objective": value,
                                "objective_change": value - base, "alpha_per_s": d.alpha_per_s,
-                               "length_in": m_to_inch(d.length_m)}
+                               v.key: float(v.shown(d.x))}
     return out

@@ -39,11 +39,16 @@ after the first contact. :func:`design_outputs` reads from its history (SI units
 * ``contact_impulse_N_s`` [N s]: integral of the contact force magnitude over the run;
 * ``contact_start_s``, ``contact_duration_s`` [s]: first output with contact, and the
   last minus the first;
+* ``cycle_time_s`` [s]: time between two objects (:attr:`ccedi.fea.drum.DrumSetup.cycle_s`),
+  whose inverse is the throughput; it moves with the drum speed when that is a design
+  variable;
 * ``settling_time_s`` [s] (not in :data:`OUTPUTS`; None when it does not settle within
   the run): time from breakaway until the tip stays within ``settle_tolerance_m`` of its
   running position.
 
-Lengths enter the CLI/JSON in inches (``length_in``); everything here is SI.
+The design variables (:data:`VARIABLES`) are set on a :class:`ccedi.fea.drum.DrumSetup` by
+:func:`setup_at`. Lengths enter the CLI/JSON in inches (``length_in``), drum speeds in rpm
+(``drum_speed_rpm``); everything here is SI.
 """
 from dataclasses import replace
 
@@ -53,6 +58,7 @@ from ccedi.errors import InputError
 from ccedi.fea.contact_study import tip_drum_frame_displacement_m
 from ccedi.fea.drum import DrumSetup, ObjectStress, first_contact_angle, front_distance_m
 from ccedi.fea.mesh import sm_a_elements_along
+from ccedi.fea.units import INCH, RPM
 from ccedi.models import contact_timing
 from ccedi.rom.sensor import Transducer
 
@@ -75,13 +81,13 @@ finger's validated 17-segment chain."""
 
 OUTPUTS = ("sensor_peak_force_N", "max_object_stress_Pa", "root_stress_before_contact_Pa", "max_finger_stress_Pa",
            "recovery_deviation_m", "ringing_amplitude_m", "first_contact_front_m", "contact_patch_from_root_m",
-           "contact_impulse_N_s", "contact_start_s", "contact_duration_s")
+           "contact_impulse_N_s", "contact_start_s", "contact_duration_s", "cycle_time_s")
 """The design outputs of one run, in the order of the surrogate."""
 
 UNITS = {"sensor_peak_force_N": "N", "max_object_stress_Pa": "Pa", "root_stress_before_contact_Pa": "Pa",
          "max_finger_stress_Pa": "Pa", "recovery_deviation_m": "m", "ringing_amplitude_m": "m",
          "first_contact_front_m": "m", "contact_patch_from_root_m": "m", "contact_impulse_N_s": "N s",
-         "contact_start_s": "s", "contact_duration_s": "s", "settling_time_s": "s"}
+         "contact_start_s": "s", "contact_duration_s": "s", "cycle_time_s": "s", "settling_time_s": "s"}
 """SI unit of every output."""
 
 OBJECT_STRESS_SAMPLES = 12
@@ -102,6 +108,46 @@ def rom_segments(length_m):
     int
     """
     return int(min(sm_a_elements_along(length_m), max(1, round(length_m / SEGMENT_LENGTH_M))))
+
+
+VARIABLES = {"alpha_per_s": ("alpha", "1/s", "alpha_per_s", 1.0),
+             "length_m": ("L", "in", "length_in", INCH),
+             "drum_speed_rad_s": ("drum speed", "rpm", "drum_speed_rpm", RPM)}
+"""Design variables: SI name -> (label, unit shown, JSON key of the shown value, one shown
+unit in SI). alpha is not a set-up quantity (it is the run's damping)."""
+
+
+def setup_at(base: DrumSetup, names, point):
+    """``base`` with the design variables ``names`` set to the values ``point`` (SI); alpha
+    is skipped (it is the run's argument, not the set-up's).
+
+    Parameters
+    ----------
+    base : DrumSetup
+    names : sequence of str
+        Variable names (keys of :data:`VARIABLES`).
+    point : sequence of float
+        Their values [SI].
+
+    Returns
+    -------
+    DrumSetup
+
+    Raises
+    ------
+    InputError
+        An unknown variable, or a length other than a finger mesh's own
+        (:func:`setup_for_length`).
+    """
+    setup = base
+    for name, x in zip(names, point):
+        if name == "length_m":
+            setup = setup_for_length(setup, x)
+        elif name == "drum_speed_rad_s":
+            setup = replace(setup, omega_rad_s=float(x))
+        elif name != "alpha_per_s":
+            raise InputError(f"design variable {name!r}: must be one of {', '.join(VARIABLES)}")
+    return setup
 
 
 def setup_for_length(base: DrumSetup, length_m):
@@ -341,6 +387,7 @@ def design_outputs(setup: DrumSetup, history, object_stress: ObjectStress, *, tr
            "contact_impulse_N_s": float(np.trapezoid(force[cycle], t[cycle])),
            "contact_start_s": start,
            "contact_duration_s": timing["contact_duration_s"] or 0.0,
+           "cycle_time_s": setup.cycle_s,
            "contact_end_s": end,
            "next_arrival_s": arrival,
            "settling_time_s": None if end is None else settling_time_s(t[cycle], dev[cycle], end, settle_tolerance_m)}

@@ -109,7 +109,7 @@ def recommended(front, optimum, second=DEFAULT_SECOND):
         target = h.min() + frac * np.ptp(h)
         for k in np.argsort(np.abs(h - target)):
             d = front[k]
-            if all(abs(d.alpha_per_s - p.alpha_per_s) > 1e-3 * p.alpha_per_s or abs(d.length_m - p.length_m) > 1e-5
+            if all(abs(d.alpha_per_s - p.alpha_per_s) > 1e-3 * p.alpha_per_s or abs(d.x - p.x) > 1e-4 * abs(p.x)
                    for p in picks):
                 picks.append(d)
                 break

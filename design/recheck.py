@@ -6,17 +6,21 @@ output by output, with the error of the surrogate (:func:`ccedi.design.model_err
 the full model meets each requirement.
 
 Any finger: a set-up whose finger is a given mesh (``DrumSetup(finger=mesh)``, hexahedra or
-tetrahedra) is re-checked with that mesh on the drum, at its own length; a design of
-another length is refused in one line (:func:`ccedi.design.outputs.setup_for_length`)."""
+tetrahedra) is re-checked with that mesh on the drum, at its own length and the design's
+drum speed; a design of another length is refused in one line
+(:func:`ccedi.design.outputs.setup_for_length`)."""
+from dataclasses import replace
 from functools import partial
 
+from ccedi.errors import RequirementsUnmet
 from ccedi.fea.distributed import map_runs
 from ccedi.fea.drum import DrumSetup, FullContactModel, ObjectStress
-from ccedi.fea.units import m_to_inch
 
 from .model_error import output_error
-from .outputs import OUTPUTS, design_outputs, output_count, run_time_s, setup_for_length
-from .requirements import met
+from .optimise import solve
+from .outputs import OUTPUTS, design_outputs, output_count, run_time_s, setup_at
+from .requirements import Requirements, met
+from .surrogate import design_space, rom_factory
 
 
 def full_fea_factory(setup: DrumSetup):
@@ -35,25 +39,59 @@ def full_fea_factory(setup: DrumSetup):
     return FullContactModel(setup, object_stress=False)
 
 
-def _check_one(d, setup, damping, limits, model_factory, extra_outputs):
-    """The full-model row of :func:`fea_check` for design ``d`` (the object stress solver
-    is built here: its factorisation cannot be sent to a worker)."""
-    stress = ObjectStress(setup)
-    s = setup_for_length(setup, d.length_m)
+def model_run(d, setup, *, damping, model_factory, extra_outputs=None, variables=None, stress=None):
+    """Run ``model_factory`` at design ``d`` until the next object arrives and take its
+    design outputs.
+
+    Parameters
+    ----------
+    d : ccedi.design.optimise.Design
+        The design (alpha and the second variable).
+    setup : DrumSetup
+        The base set-up.
+    damping : {"relative", "global"}
+        Damping kind of the run.
+    model_factory : callable
+        ``model_factory(setup) -> ccedi.models.ContactModel``.
+    extra_outputs : dict, optional
+        User-defined outputs (:func:`ccedi.design.outputs.design_outputs`).
+    variables : tuple of ccedi.design.surrogate.Variable, optional
+        The design's variables (default :func:`ccedi.design.surrogate.design_space`).
+    stress : ObjectStress, optional
+        The object's static solver (built here when not given).
+
+    Returns
+    -------
+    dict
+        ``outputs`` (:func:`ccedi.design.outputs.design_outputs`), ``warnings`` (the
+        model's validity warnings), ``wall_time_s`` [s].
+    """
+    variables = tuple(variables or design_space())
+    s = setup_at(setup, [v.name for v in variables], (d.alpha_per_s, d.x))
     t_end = run_time_s(s)
     res = model_factory(s).run(d.alpha_per_s, damping=damping, t_end_s=t_end, n_outputs=output_count(t_end))
-    full = design_outputs(s, res.history, stress, extra=extra_outputs)
+    return {"outputs": design_outputs(s, res.history, stress or ObjectStress(setup), extra=extra_outputs),
+            "warnings": list(res.summary["warnings"]), "wall_time_s": res.summary["wall_time_s"]}
+
+
+def _check_one(d, setup, damping, limits, model_factory, extra_outputs, variables, done):
+    """The full-model row of :func:`fea_check` for design ``d``: a run of ``done`` at the
+    same design, else a new one (the object stress solver is built in the worker: its
+    factorisation cannot be sent to it)."""
+    run = next((r for r in done if r["alpha_per_s"] == d.alpha_per_s and r["x"] == d.x), None) or model_run(
+        d, setup, damping=damping, model_factory=model_factory, extra_outputs=extra_outputs, variables=variables)
+    full = run["outputs"]
     keys = [k for k in (*OUTPUTS, *(extra_outputs or {})) if k in d.outputs]
-    return {"alpha_per_s": d.alpha_per_s, "length_in": m_to_inch(d.length_m), "damping": damping,
+    return {"alpha_per_s": d.alpha_per_s, variables[1].key: float(variables[1].shown(d.x)), "damping": damping,
             "surrogate": {k: d.outputs[k] for k in keys}, "fea": full,
             "relative_error": {k: output_error(k, d.outputs[k], full[k]) for k in keys},
             "requirements": {name: {"value": v, "margin": m, "met": ok} for name, (v, m, ok) in met(limits, full).items()},
             "meets_requirements": all(ok for _, _, ok in met(limits, full).values()),
-            "warnings": list(res.summary["warnings"]), "wall_time_s": res.summary["wall_time_s"]}
+            "warnings": run["warnings"], "wall_time_s": run["wall_time_s"]}
 
 
 def fea_check(setup: DrumSetup, designs, *, damping="relative", limits=(), model_factory=full_fea_factory,
-              progress=print, scheduler="serial", extra_outputs=None):
+              progress=print, scheduler="serial", extra_outputs=None, variables=None, done=()):
     """Re-run designs with a (full) contact model and compare with the surrogate.
 
     For each design: run ``model_factory(setup at its length)`` at its alpha until the
@@ -82,11 +120,19 @@ def fea_check(setup: DrumSetup, designs, *, damping="relative", limits=(), model
     extra_outputs : dict, optional
         User-defined outputs (:func:`ccedi.design.outputs.design_outputs`); module-level
         functions when the scheduler is not serial.
+    variables : tuple of ccedi.design.surrogate.Variable, optional
+        The designs' variables (default: alpha and the finger length,
+        :func:`ccedi.design.surrogate.design_space`).
+    done : sequence of dict, optional
+        Runs of the same model already made (:func:`model_run` results with the design's
+        ``alpha_per_s`` and ``x``, as :func:`verified_optimum` keeps them in its steps'
+        ``run``): a design among them is not run again.
 
     Returns
     -------
     list of dict
-        ``alpha_per_s`` [1/s], ``length_in`` [in], ``damping``, ``surrogate`` and ``fea``
+        ``alpha_per_s`` [1/s], the second variable (``length_in`` [in] or
+        ``drum_speed_rpm`` [rpm]), ``damping``, ``surrogate`` and ``fea``
         (the full model's outputs), ``relative_error`` of the surrogate per output
         (:func:`ccedi.design.model_error.output_error`), ``requirements`` ({requirement: value, margin, met} on the full model),
         ``meets_requirements``, ``warnings``, ``wall_time_s`` [s].
@@ -96,14 +142,16 @@ def fea_check(setup: DrumSetup, designs, *, damping="relative", limits=(), model
     InputError
         A design's length is not that of a finger mesh.
     """
+    variables = tuple(variables or design_space())
     for d in designs:                       # every length before the first run (a finger mesh has one)
-        setup_for_length(setup, d.length_m)
+        setup_at(setup, [v.name for v in variables], (d.alpha_per_s, d.x))
     check = partial(_check_one, setup=setup, damping=damping, limits=tuple(limits), model_factory=model_factory,
-                    extra_outputs=extra_outputs)
+                    extra_outputs=extra_outputs, variables=variables, done=tuple(done))
     rows = map_runs(check, designs, scheduler, label="FEA re-check")
     for r in rows if progress else ():
         missed = [name for name, q in r["requirements"].items() if not q["met"]]
-        progress(f"FEA check alpha = {r['alpha_per_s']:.4g} 1/s, L = {r['length_in']:.3g} in "
+        progress(f"FEA check alpha = {r['alpha_per_s']:.4g} 1/s, {variables[1].label} = "
+                 f"{r[variables[1].key]:.4g} {variables[1].unit} "
                  f"({r['wall_time_s']:.0f} s): " + ("meets every requirement" if not missed
                                                     else "misses " + "; ".join(missed)) + "; surrogate error "
                  + ", ".join(f"{k} {v:+.1%}" for k, v in r["relative_error"].items() if v is not None))
@@ -146,38 +194,39 @@ def verified_optimum(problem, setup: DrumSetup, *, damping="relative", model_fac
     problem : ccedi.design.optimise.DesignProblem
         The problem with the offsets (its requirements read as stated).
     steps : list of dict
-        Per solve: alpha [1/s], L [in], the model's outputs and the requirements it
-        missed.
+        Per solve: alpha [1/s], the second variable in its shown unit, the model's
+        outputs, the requirements it missed, and ``run`` (the :func:`model_run`, for
+        :func:`fea_check`'s ``done``).
 
     Raises
     ------
     ccedi.errors.RequirementsUnmet
-        No design meets the (shifted) requirements.
+        No design meets the (shifted) requirements; when shifted, its ``problem`` and
+        ``steps`` attributes are the shifted problem and the runs that led to it.
     """
-    from dataclasses import replace
-
-    from .optimise import solve
-    from .requirements import Requirements
-    from .surrogate import rom_factory
-
     factory = model_factory or rom_factory
     stress = ObjectStress(setup)
+    variables = problem.surrogate.variables
     steps = []
     design = start if start is not None else solve(problem, n_starts=n_starts)[0]
     for _ in range(iterations):
-        s = setup_for_length(setup, design.length_m)
-        t_end = run_time_s(s)
-        res = factory(s).run(design.alpha_per_s, damping=damping, t_end_s=t_end, n_outputs=output_count(t_end))
-        model = design_outputs(s, res.history, stress, extra=extra_outputs)
+        run = model_run(design, setup, damping=damping, model_factory=factory, extra_outputs=extra_outputs,
+                        variables=variables, stress=stress)
+        model = run["outputs"]
         missed = [lim for lim in problem.limits if model.get(lim.output) is None
-                  or lim.margin(model[lim.output], problem.bound(lim, design.alpha_per_s, design.length_m)) < 0.0]
-        steps.append({"alpha_per_s": design.alpha_per_s, "length_in": m_to_inch(design.length_m),
+                  or lim.margin(model[lim.output], problem.bound(lim, design.alpha_per_s, design.x)) < 0.0]
+        steps.append({"alpha_per_s": design.alpha_per_s, variables[1].key: float(variables[1].shown(design.x)),
                       "model": {k: model[k] for k in (*OUTPUTS, *(extra_outputs or {}))},
-                      "missed": [lim.describe() for lim in missed]})
+                      "missed": [lim.describe() for lim in missed],
+                      "run": {"alpha_per_s": design.alpha_per_s, "x": design.x, **run}})
         if not missed:
             break
         shifted = [replace(lim, offset=lim.offset + design.outputs[lim.output] - model[lim.output])
                    if lim in missed and model.get(lim.output) is not None else lim for lim in problem.limits]
         problem = replace(problem, requirements=Requirements.from_limits(shifted))
-        design, _ = solve(problem, n_starts=n_starts)
+        try:
+            design, _ = solve(problem, n_starts=n_starts)
+        except RequirementsUnmet as err:
+            err.problem, err.steps = problem, steps
+            raise
     return design, problem, steps

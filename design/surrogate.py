@@ -33,19 +33,20 @@ import pandas as pd
 from ccedi.errors import InputError
 from ccedi.fea.drum import DrumSetup, ObjectStress
 from ccedi.fea.outputs import write_csv, write_json
-from ccedi.fea.units import inch_to_m
 from ccedi.rom.contact_rom import ReducedContactModel
+from ccedi.rom.superelement import fitting_segments
 
 from . import outputs as outputs_module
 from .outputs import (
     OUTPUT_STEP_S,
     OUTPUTS,
     RECOVERY_WINDOW_S,
+    VARIABLES,
     design_outputs,
     output_count,
     rom_segments,
     run_time_s,
-    setup_for_length,
+    setup_at,
 )
 
 
@@ -60,7 +61,8 @@ class Variable:
     Parameters
     ----------
     name : str
-        Name with its unit (``alpha_per_s``, ``length_m``).
+        Name with its SI unit, one of :data:`ccedi.design.outputs.VARIABLES`
+        (``alpha_per_s``, ``length_m``, ``drum_speed_rad_s``).
     lo, hi : float
         Bounds in SI units, lo < hi.
     log : bool, optional
@@ -71,6 +73,47 @@ class Variable:
     lo: float
     hi: float
     log: bool = False
+
+    @property
+    def label(self):
+        """Name in reports (``alpha``, ``L``, ``drum speed``)."""
+        return VARIABLES[self.name][0]
+
+    @property
+    def unit(self):
+        """Unit shown in reports, the CLI and JSON (``1/s``, ``in``, ``rpm``)."""
+        return VARIABLES[self.name][1]
+
+    @property
+    def key(self):
+        """JSON key of the shown value (``alpha_per_s``, ``length_in``, ``drum_speed_rpm``)."""
+        return VARIABLES[self.name][2]
+
+    def shown(self, x):
+        """The value(s) ``x`` (SI) in :attr:`unit`.
+
+        Parameters
+        ----------
+        x : float or numpy.ndarray
+
+        Returns
+        -------
+        Same type as ``x``.
+        """
+        return x / VARIABLES[self.name][3]
+
+    def describe(self, x):
+        """``"L = 4.183 in"`` for the value ``x`` (SI).
+
+        Parameters
+        ----------
+        x : float
+
+        Returns
+        -------
+        str
+        """
+        return f"{self.label} = {self.shown(x):.4g} {self.unit}"
 
     def to_unit(self, x):
         """u in [-1, 1] for the value(s) ``x`` (numpy or casadi).
@@ -117,11 +160,24 @@ class Variable:
         return self.from_unit(np.linspace(-1.0, 1.0, n))
 
 
+DRUM_SPEED_BOUNDS_RPM = (10.0, 40.0)
+"""Default drum speed range of a design over the drum speed [rpm]: half to twice the
+paper's 20 rpm."""
+
 CHECKED_ALPHA_PER_S = (7.5, 600.0)
 """The default design space's alpha range [1/s]: the paper's 7.5 to 600 1/s. The contact
 ROM behind the surrogate is checked against the full FEA over 3 to 600 1/s
 (``benchmarks/design_rom_check.py``); below 7.5 1/s the finger's friction stick-slip grows
 and the ROM's peak force falls 24-28 % below the FEA's at 3 1/s."""
+
+
+def _variable(name, bounds, log=False):
+    """The variable ``name`` between ``bounds`` given in its shown unit (0 < lo < hi)."""
+    lo, hi = bounds
+    label, unit, _, si = VARIABLES[name]
+    if not 0.0 < lo < hi:
+        raise InputError(f"{label} bounds must satisfy 0 < lo < hi [{unit}], got {tuple(bounds)}")
+    return Variable(name, lo * si, hi * si, log=log)
 
 
 def design_space(alpha_bounds_per_s=CHECKED_ALPHA_PER_S, length_bounds_in=(3.0, 8.0)):
@@ -143,13 +199,30 @@ def design_space(alpha_bounds_per_s=CHECKED_ALPHA_PER_S, length_bounds_in=(3.0, 
     InputError
         Bounds not 0 < lo < hi.
     """
-    (a_lo, a_hi), (l_lo, l_hi) = alpha_bounds_per_s, length_bounds_in
-    if not 0.0 < a_lo < a_hi:
-        raise InputError(f"alpha bounds must satisfy 0 < lo < hi [1/s], got {alpha_bounds_per_s}")
-    if not 0.0 < l_lo < l_hi:
-        raise InputError(f"length bounds must satisfy 0 < lo < hi [in], got {length_bounds_in}")
-    return (Variable("alpha_per_s", a_lo, a_hi, log=True),
-            Variable("length_m", inch_to_m(l_lo), inch_to_m(l_hi)))
+    return _variable("alpha_per_s", alpha_bounds_per_s, log=True), _variable("length_m", length_bounds_in)
+
+
+def speed_space(alpha_bounds_per_s=CHECKED_ALPHA_PER_S, speed_bounds_rpm=DRUM_SPEED_BOUNDS_RPM):
+    """The (alpha [1/s], drum speed [rad/s]) design variables (speeds given in rpm): the
+    design of a finger whose geometry is given (a mesh).
+
+    Parameters
+    ----------
+    alpha_bounds_per_s : tuple, optional
+        (lo, hi) [1/s] (default :data:`CHECKED_ALPHA_PER_S`).
+    speed_bounds_rpm : tuple, optional
+        (lo, hi) [rpm] (default :data:`DRUM_SPEED_BOUNDS_RPM`).
+
+    Returns
+    -------
+    tuple of Variable
+
+    Raises
+    ------
+    InputError
+        Bounds not 0 < lo < hi.
+    """
+    return _variable("alpha_per_s", alpha_bounds_per_s, log=True), _variable("drum_speed_rad_s", speed_bounds_rpm)
 
 
 def _fill_undefined(V, U):
@@ -285,8 +358,9 @@ class Surrogate:
 
 
 def rom_factory(setup: DrumSetup):
-    """The design's default contact model: the ROM with :func:`ccedi.design.objectives.rom_segments`
-    superelements for the set-up's finger length.
+    """The design's default contact model: the ROM with :func:`ccedi.design.outputs.rom_segments`
+    superelements for the set-up's finger length (on a finger mesh, as many of them as
+    its elements allow, :func:`ccedi.rom.superelement.fitting_segments`).
 
     Parameters
     ----------
@@ -297,20 +371,22 @@ def rom_factory(setup: DrumSetup):
     -------
     ccedi.rom.contact_rom.ReducedContactModel
     """
-    return ReducedContactModel(setup, n_segments=rom_segments(setup.finger_length_m))
+    n = rom_segments(setup.finger_length_m)
+    return ReducedContactModel(setup, n_segments=n if setup.finger is None else fitting_segments(setup.finger, n))
 
 
 def run_rom(setup: DrumSetup, points, damping="relative", progress=None, model_factory=rom_factory,
-            extra_outputs=None):
-    """Design outputs of a contact model at design points (one model build per length);
+            extra_outputs=None, variables=None):
+    """Design outputs of a contact model at design points (one model build per finger);
     each run lasts until the next object arrives (:func:`ccedi.design.outputs.run_time_s`).
 
     Parameters
     ----------
     setup : DrumSetup
-        The base set-up (its finger length is replaced by each point's).
+        The base set-up (each point's variables are set on it,
+        :func:`ccedi.design.outputs.setup_at`).
     points : list of tuple
-        [(alpha [1/s], L [m]), ...].
+        [(alpha [1/s], second variable [SI]), ...].
     damping : {"relative", "global"}, optional
         Damping kind of every run.
     progress : callable, optional
@@ -321,23 +397,29 @@ def run_rom(setup: DrumSetup, points, damping="relative", progress=None, model_f
     extra_outputs : dict, optional
         User-defined outputs, ``{name: function(setup, history) -> float}``
         (:func:`ccedi.design.outputs.design_outputs`).
+    variables : tuple of Variable, optional
+        The design variables the points hold (default: alpha and the finger length,
+        :func:`design_space`).
 
     Returns
     -------
     pandas.DataFrame
-        One row per point: alpha_per_s, length_m, :data:`OUTPUTS` (NaN where undefined),
-        the user-defined outputs, wall_time_s.
+        One row per point: the variables (``alpha_per_s``, ``length_m`` or
+        ``drum_speed_rad_s``), :data:`OUTPUTS` (NaN where undefined), the user-defined
+        outputs, wall_time_s.
     """
+    names = [v.name for v in (variables or design_space())]
     stress = ObjectStress(setup)
     rows, models = [], {}
-    for alpha, L in points:
-        if L not in models:
-            s = setup_for_length(setup, L)
-            models[L] = (s, model_factory(s), run_time_s(s))
-        s, rom, t_end = models[L]
+    for point in points:
+        key = tuple(float(x) for x in point[1:])
+        if key not in models:
+            s = setup_at(setup, names, point)
+            models[key] = (s, _model_on(models, s, model_factory), run_time_s(s))
+        s, rom, t_end = models[key]
         t0 = time.perf_counter()
-        res = rom.run(alpha, damping=damping, t_end_s=t_end, n_outputs=output_count(t_end))
-        row = {"alpha_per_s": float(alpha), "length_m": float(L)}
+        res = rom.run(point[0], damping=damping, t_end_s=t_end, n_outputs=output_count(t_end))
+        row = {name: float(x) for name, x in zip(names, point)}
         out = design_outputs(s, res.history, stress, extra=extra_outputs)
         row.update({k: np.nan if out[k] is None else out[k] for k in (*OUTPUTS, *(extra_outputs or {}))})
         row["wall_time_s"] = time.perf_counter() - t0
@@ -345,6 +427,16 @@ def run_rom(setup: DrumSetup, points, damping="relative", progress=None, model_f
         if progress:
             progress(len(rows), len(points))
     return pd.DataFrame(rows).astype(float)
+
+
+def _model_on(models, setup, model_factory):
+    """The contact model for ``setup``: one already built for the same finger moved onto
+    the new drum set-up (its ``on``, e.g. the ROM at another drum speed), else a new one."""
+    for _, model, _ in models.values():
+        if hasattr(model, "on") and model.setup.finger is setup.finger \
+                and model.setup.finger_length_m == setup.finger_length_m:
+            return model.on(setup)
+    return model_factory(setup)
 
 
 def grid_points(variables, shape):
@@ -379,19 +471,21 @@ def validation_points(variables, n, seed=6):
     return [tuple(float(v.from_unit(u[i, j])) for j, v in enumerate(variables)) for i in range(n)]
 
 
-def cached_rom_runs(setup: DrumSetup, points, path, damping="relative", progress=None, model_factory=rom_factory):
+def cached_rom_runs(setup: DrumSetup, points, path, damping="relative", progress=None, model_factory=rom_factory,
+                    variables=None):
     """:func:`run_rom` results, cached in a CSV file.
 
-    Read from the CSV ``path`` when its sidecar JSON records the same set-up, points,
-    damping kind, outputs (names and the source of :mod:`ccedi.design.outputs` that
-    defines them) and model; otherwise run and written there (with the sidecar).
+    Read from the CSV ``path`` when its sidecar JSON records the same set-up (a finger
+    mesh by the SHA-256 of its nodes and elements), variables, points, damping kind,
+    outputs (names and the source of :mod:`ccedi.design.outputs` that defines them) and
+    model; otherwise run and written there (with the sidecar).
 
     Parameters
     ----------
     setup : DrumSetup
         The base set-up.
     points : list of tuple
-        [(alpha [1/s], L [m]), ...].
+        [(alpha [1/s], second variable [SI]), ...].
     path : pathlib.Path
         CSV file.
     damping : {"relative", "global"}, optional
@@ -400,13 +494,20 @@ def cached_rom_runs(setup: DrumSetup, points, path, damping="relative", progress
         ``progress(done, total)`` after every run.
     model_factory : callable, optional
         ``model_factory(setup) -> ccedi.models.ContactModel`` (default :func:`rom_factory`).
+    variables : tuple of Variable, optional
+        The variables the points hold (default :func:`design_space`).
 
     Returns
     -------
     tuple
         (DataFrame of :func:`run_rom`, True when read from the cache).
     """
-    meta = {"setup": repr(setup), "points": [list(map(float, p)) for p in points], "damping": damping,
+    variables = tuple(variables or design_space())
+    mesh = setup.finger
+    finger = None if mesh is None else hashlib.sha256(b"".join(
+        np.ascontiguousarray(a).tobytes() for a in (mesh.nodes, mesh.hexes, mesh.tets4, mesh.tets10))).hexdigest()
+    meta = {"setup": repr(setup), "finger_mesh_sha256": finger, "variables": [v.name for v in variables],
+            "points": [list(map(float, p)) for p in points], "damping": damping,
             "output_step_s": OUTPUT_STEP_S, "outputs": list(OUTPUTS), "recovery_window_s": RECOVERY_WINDOW_S,
             "outputs_source_sha256": hashlib.sha256(Path(outputs_module.__file__).read_bytes()).hexdigest(),
             "model_factory": f"{getattr(model_factory, '__module__', '')}."
@@ -414,7 +515,7 @@ def cached_rom_runs(setup: DrumSetup, points, path, damping="relative", progress
     sidecar = path.with_suffix(".json")
     if path.exists() and sidecar.exists() and json.loads(sidecar.read_text()) == meta:
         return pd.read_csv(path), True
-    frame = run_rom(setup, points, damping, progress, model_factory)
+    frame = run_rom(setup, points, damping, progress, model_factory, variables=variables)
     write_csv(path, frame)
     write_json(sidecar, meta)
     return frame, False

@@ -54,7 +54,7 @@ def main(grid=(8, 6), fea=False):
                                              unit="mm"),))
     problem = DesignProblem(surrogate, requirements=requirements, objective="object_force")
     optimum, problem, steps = verified_optimum(problem, setup, damping="relative", extra_outputs=extra)
-    print(f"optimum: alpha = {optimum.alpha_per_s:.4g} 1/s, L = {m_to_inch(optimum.length_m):.3f} in, "
+    print(f"optimum: alpha = {optimum.alpha_per_s:.4g} 1/s, L = {m_to_inch(optimum.x):.3f} in, "
           f"object force {optimum.outputs['sensor_peak_force_N']:.3f} N ({len(steps)} ROM verification runs)")
     print("binding:", ", ".join(binding(problem, optimum)) or "none")
     front = pareto_front(problem, "ringing_amplitude_m", n_points=8)

@@ -1,5 +1,7 @@
 """Unit conversions. Everything inside ccedi is SI (m, kg, s, N, Pa); the paper
-quotes finger lengths in inches, so conversions live here and nowhere else."""
+quotes finger lengths in inches and drum speeds in rpm, so conversions live here and
+nowhere else."""
+import numpy as np
 
 INCH = 0.0254
 """One inch in metres (exact)."""
@@ -35,3 +37,23 @@ def m_to_inch(length_m):
         ``length_m / 0.0254`` [in].
     """
     return length_m / INCH
+
+
+RPM = 2.0 * np.pi / 60.0
+"""One revolution per minute [rad/s]."""
+
+
+def rpm_to_rad_s(speed_rpm):
+    """Convert a rotation speed in revolutions per minute to rad/s.
+
+    Parameters
+    ----------
+    speed_rpm : float or numpy.ndarray
+        Speed [rpm].
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``speed_rpm * 2 pi / 60`` [rad/s].
+    """
+    return speed_rpm * RPM

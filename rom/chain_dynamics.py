@@ -207,7 +207,8 @@ Kn : (n-1, 3, 3) ndarray
     e = [l - l0 [m], theta_a - psi [rad], theta_b - psi [rad]] to the section forces
     s = [N [N], M_a [N m], M_b [N m]].
 h : float
-    Half thickness of the section (face offset of the contact points) [m].
+    Largest face offset of the contact points [m] (the reach that culls segments far
+    from the object).
 nonlinear : bool
     True: co-rotational (large rotation) kinematics; False: linear kinematics frozen
     at the straight finger.
@@ -226,7 +227,7 @@ alpha : float
 relative : bool
     True: damping of the velocity in the drum frame; False: of the absolute velocity.
 """
-ContactPoints = namedtuple("ContactPoints", "seg xi k zeta mu obj")
+ContactPoints = namedtuple("ContactPoints", "seg xi h k zeta mu obj")
 ContactPoints.__doc__ = """Contact points along the chain (each on both faces) and the object.
 
 Attributes
@@ -235,6 +236,9 @@ seg : (p,) int ndarray
     Segment of each point (stations seg and seg + 1).
 xi : (p,) ndarray
     Fraction of the segment length at which the point sits [-], in [0, 1].
+h : (p, 2) ndarray
+    Offsets of the point's +y and -y face from the chain's centre line [m] (the
+    section's half thickness there, :attr:`ccedi.rom.superelement.FingerChain.face_offsets_m`).
 k : (p,) ndarray
     Penalty stiffness of each point [N/m].
 zeta : float
@@ -371,7 +375,7 @@ def _penalty_contact(state, chain, drum, points, cp, sp, work):
         for j in range(2):
             pt = 2 * p + j
             side = 1.0 if j == 0 else -1.0
-            qx, qy = _face_point(P, TH, a, points.xi[p], side, chain.h, chain.nonlinear, J)
+            qx, qy = _face_point(P, TH, a, points.xi[p], side, points.h[p, j], chain.nonlinear, J)
             gx, gy, u, w = drum_to_object(qx, qy, cp, sp, obj)
             if (u / obj[2]) ** 2 + (w / obj[3]) ** 2 >= 1.0:
                 continue
@@ -466,7 +470,7 @@ def _coulomb_friction(state, chain, drum, points, cp, sp, work, dt, damp_hi, fx_
             if fn[pt] == 0.0:
                 continue
             side = 1.0 if j == 0 else -1.0
-            qx, qy = _face_point(P, TH, a, points.xi[p], side, chain.h, chain.nonlinear, J)
+            qx, qy = _face_point(P, TH, a, points.xi[p], side, points.h[p, j], chain.nonlinear, J)
             tx = -work.ny[pt]
             ty = work.nx[pt]
             # absolute tangential velocity of the point (drum-frame components),
@@ -690,14 +694,14 @@ def chain_run_numpy(state, chain, drum, points, dt, outputs):
             w = -sa * mid[:, 0] + ca * mid[:, 1]
             r = 0.75 * chain.l0 + 2.0 * chain.h
             far = (u / (oa + r)) ** 2 + (w / (ob + r)) ** 2 >= 1.0
-            active = []                                     # (segment, xi, side, f_n, drum-frame normal)
+            active = []                                     # (segment, xi, side, offset, f_n, drum-frame normal)
             f_obj = np.zeros(2)
             moment, f_sum, pen, n_act = np.zeros(2), 0.0, 0.0, 0
-            for a, xi, kp in zip(points.seg, points.xi, points.k):
+            for a, xi, kp, hp in zip(points.seg, points.xi, points.k, points.h):
                 if far[a]:
                     continue
-                for side in (1.0, -1.0):
-                    q = np.array(face_point(P, TH, a, xi, side, chain.h, chain.nonlinear, Jp))
+                for side, h in zip((1.0, -1.0), hp):
+                    q = np.array(face_point(P, TH, a, xi, side, h, chain.nonlinear, Jp))
                     g = rot @ q - [cx, cy]
                     u, w = ca * g[0] + sa * g[1], -sa * g[0] + ca * g[1]
                     if (u / oa) ** 2 + (w / ob) ** 2 >= 1.0:
@@ -721,7 +725,7 @@ def chain_run_numpy(state, chain, drum, points, dt, outputs):
                     gen = Jp.T @ (f * n_drum)                   # on [Pa, theta_a, Pb, theta_b]
                     F[a:a + 2] += gen.reshape(2, 3)[:, :2]
                     Mo[a:a + 2] += gen.reshape(2, 3)[:, 2]
-                    active.append((a, xi, side, f, n_drum))
+                    active.append((a, xi, side, h, f, n_drum))
                     f_obj -= f * n_glob
                     moment += f * (g + [cx, cy])
                     f_sum += f
@@ -739,8 +743,8 @@ def chain_run_numpy(state, chain, drum, points, dt, outputs):
             V[1:, 1] = (damp_lo * V[1:, 1] + dt * fy / m) / damp_hi
             W[1:] = (damp_lo * W[1:] + dt * mz / I) / damp_hi
             if points.mu > 0.0:
-                for a, xi, side, f, n_drum in active:
-                    q = np.array(face_point(P, TH, a, xi, side, chain.h, chain.nonlinear, Jp))
+                for a, xi, side, h, f, n_drum in active:
+                    q = np.array(face_point(P, TH, a, xi, side, h, chain.nonlinear, Jp))
                     tang = np.array([-n_drum[1], n_drum[0]])
                     g = (tang @ Jp).reshape(2, 3)                # J^T t per end station
                     vt = om * (q[0] * tang[1] - q[1] * tang[0])
@@ -809,8 +813,8 @@ def contact_point_stiffness(mass, inertia, half_thickness_m, omega_max):
         Station masses [kg].
     inertia : float or (n,) ndarray
         Station rotary inertias [kg m^2].
-    half_thickness_m : float
-        Half thickness h of the section [m].
+    half_thickness_m : float or (n,) ndarray
+        Lever arm h of the face point from the station centre [m].
     omega_max : float
         Highest natural frequency of the chain [rad/s].
 
@@ -861,7 +865,7 @@ def face_points(station_z_m, plane_z_m, nonlinear=True):
     return seg.astype(np.int64), xi, trib
 
 
-def contact_omega(K, M, pt_seg, pt_xi, pt_k, half_thickness_m, station_z_m, nonlinear=True):
+def contact_omega(K, M, pt_seg, pt_xi, pt_k, pt_h, station_z_m, nonlinear=True):
     """Highest frequency of the clamped chain with one face's contact springs engaged.
 
     Every contact spring of one face acts across the finger (normal along the
@@ -883,8 +887,8 @@ def contact_omega(K, M, pt_seg, pt_xi, pt_k, half_thickness_m, station_z_m, nonl
         Fraction of the segment length of each point [-].
     pt_k : (p,) array_like
         Penalty stiffness of each point [N/m].
-    half_thickness_m : float
-        Half thickness h of the section [m].
+    pt_h : float or (p,) array_like
+        Offset of each point's face from the centre line [m].
     station_z_m : (n,) array_like
         Station positions along the straight finger [m].
     nonlinear : bool, optional
@@ -900,8 +904,8 @@ def contact_omega(K, M, pt_seg, pt_xi, pt_k, half_thickness_m, station_z_m, nonl
     P = np.column_stack([station_z_m, np.zeros(n)])
     TH = np.zeros(n)
     J = np.zeros((2, 6))
-    for a, xi, k in zip(pt_seg, pt_xi, pt_k):
-        _face_point(P, TH, int(a), float(xi), 1.0, half_thickness_m, nonlinear, J)
+    for a, xi, k, h in zip(pt_seg, pt_xi, pt_k, np.broadcast_to(pt_h, np.shape(pt_k))):
+        _face_point(P, TH, int(a), float(xi), 1.0, float(h), nonlinear, J)
         row = J[1]
         Kc[3 * a:3 * a + 6, 3 * a:3 * a + 6] += k * np.outer(row, row)
     w2 = eigh(K + Kc[3:, 3:], M, eigvals_only=True)

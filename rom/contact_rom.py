@@ -12,13 +12,15 @@ swaps one for the other with one argument.
 ``nonlinear=True`` is the co-rotational chain (large rotations exact, the nonlinear
 enhancement); ``nonlinear=False`` the linear Craig-Bampton model in the drum frame.
 
-Which fingers: the generated elliptical finger of :class:`ccedi.fea.drum.DrumSetup` only.
-The superelements are cut at node planes z = const of its structured hexahedral mesh, their
-sections move as rigid sections, and the contact points sit on the faces at +-b. A finger
-mesh given as ``DrumSetup(finger=...)`` (any imported or Gmsh finger, e.g. tetrahedra) has no
-such planes, and a tapered or holed finger no single section to put the contact points on,
-so :func:`require_generated_finger` refuses it in one line; its contact run is the full
-FEA, :class:`ccedi.fea.drum.FullContactModel`.
+Which fingers: any straight finger along z with a clamped root face and a flat tip face.
+The generated elliptical finger of :class:`ccedi.fea.drum.DrumSetup` is cut at node planes
+z = const of its structured hexahedral mesh; a finger mesh given as ``DrumSetup(finger=...)``
+(an imported or Gmsh finger, tetrahedra) at evenly spaced stations, the nodes its
+neighbouring segments share moving as a rigid section
+(:func:`ccedi.rom.superelement.chain_cuts`). The contact points sit on the faces at each
+station's own half thickness (a tapered finger's follow its taper). The "face" contact
+(points at every FE node plane, stiffness per length fitted on the FE face) needs the
+node planes of the generated finger (:func:`require_generated_finger`).
 """
 import copy
 import time
@@ -45,7 +47,6 @@ from ccedi.rom.chain_dynamics import (
     ChainState,
     ContactPoints,
     DrumFrame,
-    _internal_forces,
     chain_run,
     contact_omega,
     contact_point_stiffness,
@@ -75,9 +76,31 @@ load is 51.5 / 30.6 / 54.7 / 52.2 / 68.6 um/N for 1 / 3 / 5 / 7 / 9 loaded nodes
 FE's contact patch is 3 nodes, 8 mm, in the median at alpha = 7.5, 180 and 600 1/s)."""
 
 
+def point_offsets(chain, seg, xi):
+    """Face offsets [m] (+y, -y) of contact points at fractions ``xi`` of segments ``seg``:
+    the chain's station offsets (:attr:`ccedi.rom.superelement.FingerChain.face_offsets_m`)
+    interpolated linearly along the segment.
+
+    Parameters
+    ----------
+    chain : ccedi.rom.superelement.FingerChain
+    seg : (p,) int array_like
+        Segment of each point.
+    xi : (p,) array_like
+        Fraction along the segment [-].
+
+    Returns
+    -------
+    (p, 2) ndarray
+    """
+    seg, xi = np.asarray(seg, dtype=np.int64), np.asarray(xi, dtype=float)[:, None]
+    h = chain.face_offsets_m
+    return (1.0 - xi) * h[seg] + xi * h[seg + 1]
+
+
 def require_generated_finger(setup: DrumSetup):
-    """Refuse a set-up whose finger is a given mesh (module docstring: the chain is cut at
-    the node planes of the generated finger).
+    """Refuse a set-up whose finger is a given mesh for the "face" contact (module
+    docstring: its points sit at the node planes of the generated finger).
 
     Parameters
     ----------
@@ -90,9 +113,9 @@ def require_generated_finger(setup: DrumSetup):
         ``setup.finger`` is set.
     """
     if setup.finger is not None:
-        raise InputError(f"the contact ROM needs the generated elliptical finger (its superelements are cut at "
-                         f"the node planes of a structured hexahedral mesh); this finger is a given "
-                         f"{setup.finger.element_type} mesh: run the full FEA (FullContactModel, ccedi contact)")
+        raise InputError(f"the ROM's 'face' contact needs the generated elliptical finger (its points sit at the "
+                         f"node planes of a structured hexahedral mesh); this finger is a given "
+                         f"{setup.finger.element_type} mesh: use contact='stations'")
 
 
 def fe_face_stiffness_per_length(setup: DrumSetup, patch_nodes=FACE_PATCH_NODES):
@@ -192,8 +215,9 @@ class ReducedContactModel:
     Raises
     ------
     InputError
-        ``contact`` neither "face" nor "stations", or ``setup`` has a finger mesh
-        (:func:`require_generated_finger`: the ROM is built on the generated finger only).
+        ``contact`` neither "face" nor "stations", "face" on a finger mesh
+        (:func:`require_generated_finger`), or a mesh the chain cannot cut
+        (:func:`ccedi.rom.superelement.chain_cuts`).
 
     Notes
     -----
@@ -217,7 +241,11 @@ class ReducedContactModel:
 
     def __init__(self, setup: DrumSetup, n_segments=DEFAULT_SEGMENTS, nonlinear=True, fit=True, contact=None,
                  k_per_length=None):
-        require_generated_finger(setup)
+        contact = DEFAULT_CONTACT if contact is None else contact
+        if contact not in ("face", "stations"):
+            raise InputError(f"contact must be 'face' or 'stations', got {contact!r}")
+        if contact == "face":
+            require_generated_finger(setup)
         self.setup = setup
         self.nonlinear = bool(nonlinear)
         self.name = "rom-corotational" if self.nonlinear else "rom-linear"
@@ -228,13 +256,10 @@ class ReducedContactModel:
         self.chain = chain
         self.stress = stress_recovery(chain, setup.finger_material)
         self.omega_max_rad_s = float(chain_frequencies(chain)[-1])
-        contact = DEFAULT_CONTACT if contact is None else contact
-        if contact not in ("face", "stations"):
-            raise InputError(f"contact must be 'face' or 'stations', got {contact!r}")
         self.contact = contact
         if contact == "stations":
             self.pt_seg, self.pt_xi, _ = face_points(chain.station_z_m, chain.station_z_m, nonlinear=False)
-            self.pt_k = contact_point_stiffness(chain.mass_kg, chain.inertia_kg_m2, chain.half_thickness_m,
+            self.pt_k = contact_point_stiffness(chain.mass_kg, chain.inertia_kg_m2, chain.face_offsets_m.max(axis=1),
                                                 self.omega_max_rad_s)[1:]
             self.dt_s = stable_step(self.omega_max_rad_s)
             self.k_per_length = None
@@ -244,8 +269,10 @@ class ReducedContactModel:
             self.pt_k = self.k_per_length * trib
             K, M = linear_matrices(chain)
             self.omega_contact_rad_s = contact_omega(K, M, self.pt_seg, self.pt_xi, self.pt_k,
-                                                     chain.half_thickness_m, chain.station_z_m, self.nonlinear)
+                                                     point_offsets(chain, self.pt_seg, self.pt_xi)[:, 0],
+                                                     chain.station_z_m, self.nonlinear)
             self.dt_s = TSSFAC * 2.0 / self.omega_contact_rad_s
+        self.pt_h = point_offsets(chain, self.pt_seg, self.pt_xi)
 
     def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
         """Integrate the chain over the object.
@@ -327,12 +354,15 @@ class ReducedContactModel:
         Raises
         ------
         InputError
-            ``setup``'s finger differs from this model's.
+            ``setup``'s finger (its mesh or its generator's inputs) or drum radius differs
+        from this model's.
         """
         keys = ("finger_length_m", "finger_material", "finger_semi_axes_m", "finger_section_elements",
                 "finger_elements_along", "drum_radius_m")
         changed = [k for k in keys if getattr(setup, k) != getattr(self.setup, k)]
-        if changed or setup.finger is not None:
+        if setup.finger is not self.setup.finger:
+            changed.append("finger mesh")
+        if changed:
             raise InputError(f"the reduced model's finger and drum radius are fixed; the new set-up changes "
                              f"{', '.join(changed) or 'finger'}: build a new ReducedContactModel")
         other = copy.copy(self)
@@ -392,7 +422,7 @@ class ReducedContactModel:
         obj_params = np.array([c[0], c[1], obj.a_m, obj.b_m, np.cos(obj.angle_rad), np.sin(obj.angle_rad)])
         status, steps = chain_run(ChainState(P, TH, V, W), self._chain_group(E_factor),
                                   DrumFrame(s.omega_rad_s, s.theta0_rad, float(alpha), damping == "relative"),
-                                  ContactPoints(self.pt_seg, self.pt_xi, E_factor * self.pt_k,
+                                  ContactPoints(self.pt_seg, self.pt_xi, self.pt_h, E_factor * self.pt_k,
                                                 float(obj.damping_ratio), float(obj.mu), obj_params),
                                   self.dt_s / np.sqrt(E_factor), ChainOutputs(t_out, P_out, TH_out, C_out))
         if status:
@@ -407,10 +437,5 @@ class ReducedContactModel:
 
     def _max_von_mises(self, P_out, TH_out):
         """Finger stress [Pa] per output from the station states, zone by zone."""
-        st = self.stress.stations
-        l0 = np.diff(self.chain.station_z_m[st])
-        e = np.zeros((len(P_out), len(l0), 3))
-        f, m = np.zeros((len(st), 2)), np.zeros(len(st))
-        for k in range(len(P_out)):
-            _internal_forces(P_out[k, st], TH_out[k, st], l0, np.zeros((len(l0), 3, 3)), self.nonlinear, f, m, e[k])
+        e = self.stress.deformations(P_out, TH_out, self.chain.station_z_m, self.nonlinear)
         return self.stress.max_von_mises(e, nonlinear=self.nonlinear)

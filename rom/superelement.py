@@ -67,10 +67,12 @@ class FingerChain:
         Natural stiffness K_n of each segment [N/m, N, N m], acting on
         e = [elongation [m], end rotations theta_a, theta_b relative to the chord [rad]].
     half_thickness_m : float
-        Half thickness of the section [m]: the contact points sit at
-        +-half_thickness_m across each station.
+        Largest half thickness of the finger [m] (the reach of its contact points).
     stress_zones : tuple of StressZone
         The stress recovery zones of :func:`finger_chain`.
+    face_offsets_m : (n+1, 2) ndarray
+        Distances of the +y and -y faces from the axis at each station [m] (columns in
+        that order): the contact points sit there.
     stiffness_scale : float, optional
         The fitted bending factor kappa [-] (1 before fitting, default).
     """
@@ -81,6 +83,7 @@ class FingerChain:
     natural_stiffness: np.ndarray
     half_thickness_m: float
     stress_zones: tuple
+    face_offsets_m: np.ndarray
     stiffness_scale: float = 1.0
 
     @property
@@ -149,29 +152,159 @@ def natural_stiffness(K_e, l0):
     return 0.5 * (K_n + K_n.T)
 
 
-def _section_transform(nodes, face_a, face_b, clamp_a):
+def _section_transform(nodes, faces, clamp_a, symmetric):
     """Sparse map from [d (6), interior DOFs] to all 3 N DOFs of a segment whose end
-    faces are ``face_a`` and ``face_b`` (node ids): face nodes move as rigid sections in
-    the y-z plane (u_z = U - theta y, u_y = V), u_x = 0 on the mid-plane x = 0 (symmetry)
-    and, with ``clamp_a``, on face a (the finger's clamped root face); everything else is
-    interior."""
+    faces are ``faces = ((z_a, node ids), (z_b, node ids))`` (local z): face nodes move as
+    rigid sections in the y-z plane about the station (u_z = U - theta y,
+    u_y = V + theta (z - z_face), the second term zero on a node plane); everything else
+    is interior. The out-of-plane rigid motion a planar interface cannot hold is removed
+    by u_x = 0 on the mid-plane x = 0 of a ``symmetric`` finger (an exact symmetry
+    condition), else by u_x = 0 at one node of face a (a determinate support: no in-plane
+    load reaches it); with ``clamp_a``, u_x = 0 on face a (the finger's clamped root face)."""
     n = len(nodes)
     tied = np.zeros((n, 3), dtype=bool)
-    tied[np.abs(nodes[:, 0]) < 1e-9 * np.ptp(nodes[:, 0]), 0] = True
+    if symmetric:
+        tied[np.abs(nodes[:, 0]) < 1e-9 * np.ptp(nodes[:, 0]), 0] = True
+    face_a = faces[0][1]
     if clamp_a:
         tied[face_a, 0] = True
+    elif not symmetric:
+        tied[face_a[np.argmin(np.abs(nodes[face_a, 0] - nodes[face_a, 0].mean()))], 0] = True
     rows, cols, vals = [], [], []
-    for k, face in enumerate((face_a, face_b)):
+    tol = 1e-12 * np.ptp(nodes[:, 2])
+    for k, (z_face, face) in enumerate(faces):
         for node in face:
             rows += [3 * node + 2, 3 * node + 2, 3 * node + 1]
             cols += [3 * k, 3 * k + 2, 3 * k + 1]
             vals += [1.0, -nodes[node, 1], 1.0]
+            if abs(nodes[node, 2] - z_face) > tol:
+                rows.append(3 * node + 1)
+                cols.append(3 * k + 2)
+                vals.append(nodes[node, 2] - z_face)
             tied[node, 1:] = True
     interior = np.flatnonzero(~tied.ravel())
     rows += list(interior)
     cols += list(6 + np.arange(len(interior)))
     vals += [1.0] * len(interior)
     return sp.csr_matrix((vals, (rows, cols)), shape=(3 * n, 6 + len(interior)))
+
+
+ELEMENT_ARRAYS = ("hexes", "tets4", "tets10")
+"""The solid element arrays of :class:`ccedi.fea.mesh.Mesh`, in the order the chain keeps
+per-element data (stress recovery)."""
+
+
+def _element_centroid_z(mesh: Mesh):
+    """{element array name: centroid z of each element [m]}."""
+    return {name: mesh.nodes[getattr(mesh, name), 2].mean(axis=1) for name in ELEMENT_ARRAYS}
+
+
+def _is_layered(mesh: Mesh):
+    """Every element of ``mesh`` is a hexahedron spanning two node planes z = const (the
+    generated, structured finger)."""
+    if mesh.element_type != "hex8":
+        return False
+    z = mesh.nodes[mesh.hexes, 2]
+    tol = 1e-9 * np.ptp(mesh.nodes[:, 2])
+    return bool(np.all(np.abs(z[:, :4] - z[:, :1]) < tol) and np.all(np.abs(z[:, 4:] - z[:, 4:5]) < tol))
+
+
+def _is_mirror_symmetric(nodes):
+    """The node cloud maps onto itself under x -> -x (to 1e-9 of its size)."""
+    q = np.round(nodes / (1e-9 * np.ptp(nodes, axis=0).max())).astype(np.int64)
+    m = q * np.array([-1, 1, 1])
+    return bool(np.array_equal(q[np.lexsort(q.T)], m[np.lexsort(m.T)]))
+
+
+@dataclass(frozen=True)
+class Cuts:
+    """Where a chain cuts a finger mesh (:func:`chain_cuts`).
+
+    Parameters
+    ----------
+    z : (n+1,) ndarray
+        Station positions along the finger [m], root 0 to tip.
+    faces : tuple of ndarray
+        Node ids of each station's interface: the root node set, the nodes shared by the
+        elements of neighbouring segments, the tip face.
+    centroid_z : dict
+        ``{element array name: centroid z [m]}``: an element belongs to the segment
+        (z_i, z_{i+1}] holding its centroid.
+    symmetric : bool
+        The mesh is mirror-symmetric about x = 0 (:func:`_section_transform`).
+    planes : bool
+        The interfaces are node planes (a structured hexahedral finger), not bands.
+    """
+
+    z: np.ndarray
+    faces: tuple
+    centroid_z: dict
+    symmetric: bool
+    planes: bool
+
+
+def chain_cuts(mesh: Mesh, n_segments):
+    """Cut a straight finger mesh (along z, root at z = 0, node sets ``root`` and ``tip``)
+    into ``n_segments`` segments.
+
+    A structured hexahedral finger is cut at its node planes (:func:`station_planes`); any
+    other mesh (tetrahedra, an imported or Gmsh finger) at evenly spaced stations, its
+    elements assigned to segments by their centroids, and the interface of two segments
+    is the set of nodes their elements share (a jagged band one element thick, moved as a
+    rigid section). The tip station is the tip face: the nodes at the largest z.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        Straight finger mesh along z with a ``root`` node set.
+    n_segments : int
+        Number of segments.
+
+    Returns
+    -------
+    Cuts
+
+    Raises
+    ------
+    InputError
+        Bad ``n_segments`` (more segments than element layers, or segments shorter than
+        an element: two interfaces share a node, or a segment has no elements), a mesh
+        without a ``root`` node set, or a tip face that is not a section (fewer than three
+        nodes, or all at one height y).
+    """
+    if "root" not in mesh.node_sets:
+        raise InputError("the finger mesh has no 'root' node set (the clamped face): the chain is clamped there")
+    L = float(mesh.nodes[:, 2].max())
+    planes = _is_layered(mesh)
+    if planes:
+        z = station_planes(mesh, n_segments)
+    else:
+        if int(n_segments) != n_segments or n_segments < 1:
+            raise InputError(f"n_segments must be an integer >= 1, got {n_segments!r}")
+        z = np.linspace(0.0, L, int(n_segments) + 1)
+    centroid_z = _element_centroid_z(mesh)
+    segment_nodes = []
+    for a, b in zip(z[:-1], z[1:]):
+        used = [getattr(mesh, k)[(zc > a) & (zc <= b)] for k, zc in centroid_z.items()]
+        nodes = np.unique(np.concatenate([u.ravel() for u in used]))
+        if not len(nodes):
+            raise InputError(f"n_segments = {n_segments}: the segment from z = {a:.4g} to {b:.4g} m holds no "
+                             f"element centroid; use fewer segments")
+        segment_nodes.append(nodes)
+    tip = np.flatnonzero(mesh.nodes[:, 2] > L - 1e-6 * L)
+    if len(tip) < 3 or np.ptp(mesh.nodes[tip, 1]) <= 1e-6 * L:
+        raise InputError(f"the finger's tip at z = {L:.4g} m is not a flat face across its thickness ({len(tip)} "
+                         f"nodes there): the reduced model ends in a section; run the full FEA")
+    faces = [np.asarray(mesh.node_sets["root"])]
+    faces += [np.intersect1d(segment_nodes[i - 1], segment_nodes[i]) for i in range(1, len(z) - 1)]
+    faces.append(tip)
+    for i in range(len(faces) - 1):
+        if np.intersect1d(faces[i], faces[i + 1]).size:
+            raise InputError(f"n_segments = {n_segments}: segments of {np.diff(z).min() * 1e3:.3g} mm are shorter "
+                             f"than this mesh's elements (the interfaces at z = {z[i]:.4g} and {z[i + 1]:.4g} m "
+                             f"share nodes); use fewer segments")
+    return Cuts(z=z, faces=tuple(faces), centroid_z=centroid_z, symmetric=_is_mirror_symmetric(mesh.nodes),
+                planes=planes)
 
 
 @dataclass(frozen=True)
@@ -196,11 +329,42 @@ class Segment:
     mesh: Mesh
 
 
-def reduce_segment(mesh: Mesh, material: NeoHookean, z_a, z_b, clamp_a=False):
-    """Craig-Bampton (Guyan) reduction of the elements of ``mesh`` between two planes.
+def fitting_segments(mesh: Mesh, n_max):
+    """The most segments, at most ``n_max``, that :func:`chain_cuts` can cut ``mesh`` into
+    (segments longer than the mesh's elements).
 
-    The end faces move as rigid sections in the y-z plane (module docstring), the
-    interior is condensed statically (no fixed-interface modes):
+    Parameters
+    ----------
+    mesh : Mesh
+        Straight finger mesh along z.
+    n_max : int
+        Largest number of segments wanted, >= 1.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    InputError
+        Not even one segment fits (from :func:`chain_cuts`: no root set, no tip face).
+    """
+    for n in range(int(n_max), 1, -1):
+        try:
+            chain_cuts(mesh, n)
+            return n
+        except InputError:
+            continue
+    chain_cuts(mesh, 1)
+    return 1
+
+
+def reduce_segment(mesh: Mesh, material: NeoHookean, cuts: Cuts, a, b):
+    """Craig-Bampton (Guyan) reduction of the elements of ``mesh`` between stations a and b.
+
+    The interfaces at stations a and b move as rigid sections in the y-z plane (module
+    docstring; station 0 is the clamped root), the interior, stations between a and b
+    included, is condensed statically (no fixed-interface modes):
     ``K_e = T^T K T``, ``M_e = T^T M T``.
 
     Parameters
@@ -209,33 +373,59 @@ def reduce_segment(mesh: Mesh, material: NeoHookean, z_a, z_b, clamp_a=False):
         Straight finger mesh along z.
     material : NeoHookean
         Finger material (linearised at the reference state).
-    z_a : float
-        Position of face a, a node plane of ``mesh`` [m].
-    z_b : float
-        Position of face b, a node plane of ``mesh`` beyond z_a [m].
-    clamp_a : bool, optional
-        Face a is the clamped root (its u_x fixed too). Default False.
+    cuts : Cuts
+        The chain's cut of ``mesh`` (:func:`chain_cuts`).
+    a, b : int
+        First and last station, a < b.
 
     Returns
     -------
     Segment
         Reduced matrices, displacement recovery and sub-mesh.
     """
-    z = mesh.nodes[:, 2]
-    zc = z[mesh.hexes].mean(axis=1)
-    hexes = mesh.hexes[(zc > z_a) & (zc < z_b)]
-    used, local = np.unique(hexes, return_inverse=True)
+    z_a, z_b = cuts.z[a], cuts.z[b]
+    kept = {k: getattr(mesh, k)[(zc > z_a) & (zc <= z_b)] for k, zc in cuts.centroid_z.items()}
+    used = np.unique(np.concatenate([c.ravel() for c in kept.values()]))
+    local = np.full(mesh.n_nodes, -1, dtype=np.int64)
+    local[used] = np.arange(len(used))
     nodes = mesh.nodes[used] - [0.0, 0.0, z_a]
-    sub = Mesh(nodes=nodes, hexes=local.reshape(hexes.shape).astype(np.int64))
+    sub = Mesh(nodes=nodes, **{k: local[c] for k, c in kept.items()})
     model = Model(mesh=sub, material=material)
-    tol = 1e-9 * (z_b - z_a)
-    face_a = np.flatnonzero(np.abs(nodes[:, 2]) < tol)
-    face_b = np.flatnonzero(np.abs(nodes[:, 2] - (z_b - z_a)) < tol)
-    T_c = _section_transform(nodes, face_a, face_b, clamp_a)
+    faces = ((0.0, local[cuts.faces[a]]), (z_b - z_a, local[cuts.faces[b]]))
+    T_c = _section_transform(nodes, faces, a == 0, cuts.symmetric)
     K = (T_c.T @ tangent_stiffness(model) @ T_c).tocsc()
     M = (T_c.T @ sp.diags(np.repeat(model.mass, 3)) @ T_c).tocsc()
     cb = craig_bampton(K, M, np.arange(K.shape[0]), np.arange(6), 0)
     return Segment(K_e=cb.K_r, M_e=cb.M_r, field=T_c @ cb.T, mesh=sub)
+
+
+def centre_gradients(mesh: Mesh, u):
+    """Displacement gradient at the centre of every element (hexahedra, then 4-node, then
+    10-node tetrahedra): the hexahedron's uniform gradient, a tetrahedron's from its four
+    corners (a 10-node tetrahedron's mid-edge nodes are left out: the gradient of its
+    linear part, exact for a linear field).
+
+    Parameters
+    ----------
+    mesh : Mesh
+    u : (n, 3) ndarray
+        Nodal displacements [m].
+
+    Returns
+    -------
+    (e, 3, 3) ndarray
+        du_i / dX_j [-].
+    """
+    out = []
+    if len(mesh.hexes):
+        out.append(deformation_gradient(u[mesh.hexes], element_geometry(mesh.nodes, mesh.hexes)))
+    for conn in (mesh.tets4, mesh.tets10):
+        if len(conn):
+            c = conn[:, :4]
+            D = (mesh.nodes[c[:, 1:]] - mesh.nodes[c[:, :1]]).swapaxes(1, 2)      # columns X_k - X_0
+            dU = (u[c[:, 1:]] - u[c[:, :1]]).swapaxes(1, 2)
+            out.append(np.linalg.solve(D.swapaxes(1, 2), dU.swapaxes(1, 2)).swapaxes(1, 2))
+    return np.concatenate(out)
 
 
 def _gradient_modes(segment: Segment):
@@ -245,8 +435,7 @@ def _gradient_modes(segment: Segment):
     d = np.zeros((6, 3))
     d[3, 0] = d[2, 1] = d[5, 2] = 1.0
     u = (segment.field @ d).reshape(-1, 3, 3)                 # (nodes, xyz, mode)
-    g = element_geometry(segment.mesh.nodes, segment.mesh.hexes)
-    return np.stack([deformation_gradient(u[segment.mesh.hexes, :, j], g) for j in range(3)], axis=1)
+    return np.stack([centre_gradients(segment.mesh, u[:, :, j]) for j in range(3)], axis=1)
 
 
 def station_planes(mesh: Mesh, n_segments):
@@ -309,30 +498,36 @@ class StressZone:
     stiffness: np.ndarray
 
 
-def _stress_zone(mesh, material, z, a, b):
-    seg = reduce_segment(mesh, material, z[a], z[b], clamp_a=(a == 0))
-    l0 = z[b] - z[a]
+def _stress_zone(mesh, material, cuts, a, b):
+    seg = reduce_segment(mesh, material, cuts, a, b)
+    l0 = cuts.z[b] - cuts.z[a]
     return seg, StressZone(a=a, b=b, gradients=_gradient_modes(seg), stiffness=natural_stiffness(seg.K_e, l0))
 
 
 def finger_chain(mesh: Mesh, material: NeoHookean, n_segments=17):
     """Reduce a straight, clamped finger mesh to a chain of superelements (unfitted).
 
-    The contact points sit on the mesh's faces, at +-max |y| of its nodes (the section
-    semi-axis b). Stresses are recovered per zone: the root zone (stations 0..r, at
-    least ``ROOT_ZONE_DEPTHS`` section depths long, its root face clamped like the FE
-    model's) and every segment beyond it, so the clamp's stress does not depend on
-    where the segments are cut. Fit the bending stiffness with
-    :func:`fit_tip_stiffness`.
+    The mesh is cut by :func:`chain_cuts` (node planes of a structured hexahedral finger,
+    evenly spaced stations otherwise). The contact points sit on the mesh's faces: each
+    station's half thicknesses (:attr:`FingerChain.face_offsets_m`) are the largest +y and
+    -y of the nodes within half a segment of it (+-b on the elliptical prism; a tapered
+    finger's faces follow its taper). Stresses are recovered per zone: the root zone
+    (stations 0..r, at least ``ROOT_ZONE_DEPTHS`` section depths long, its root face
+    clamped like the FE model's) and every segment beyond it, so the clamp's stress does
+    not depend on where the segments are cut. An interface that is a band of elements
+    (any mesh but the structured one) moves rigidly and holds no stress, so there every
+    pair of segments beyond the root zone is a zone too, with the band in its middle: a
+    hole or notch at a station keeps its stress concentration. Fit the bending stiffness
+    with :func:`fit_tip_stiffness`.
 
     Parameters
     ----------
     mesh : Mesh
-        Straight finger mesh along z, root at z = 0 (clamped).
+        Straight finger mesh along z, root at z = 0 (clamped, node set ``root``).
     material : NeoHookean
         Finger material.
     n_segments : int, optional
-        Number of superelements (see :func:`station_planes`). Default 17.
+        Number of superelements (see :func:`chain_cuts`). Default 17.
 
     Returns
     -------
@@ -342,26 +537,42 @@ def finger_chain(mesh: Mesh, material: NeoHookean, n_segments=17):
     Raises
     ------
     InputError
-        From :func:`station_planes` (bad ``n_segments``) or :func:`natural_stiffness`.
+        From :func:`chain_cuts` (bad ``n_segments``, no root set, no tip face) or
+        :func:`natural_stiffness`.
     """
-    z = station_planes(mesh, n_segments)
-    half_thickness_m = float(np.abs(mesh.nodes[:, 1]).max())
+    cuts = chain_cuts(mesh, n_segments)
+    z = cuts.z
+    offsets = _face_offsets(mesh.nodes, z)
+    half_thickness_m = float(offsets.max())
     rigid_u = np.array([1.0, 0.0, 0.0, 1.0, 0.0, 0.0])
     mass, inertia = np.zeros(len(z)), np.zeros(len(z))
     K_n, zones = [], []
-    root_end = int(np.searchsorted(z, ROOT_ZONE_DEPTHS * 2.0 * half_thickness_m))
+    root_end = int(np.searchsorted(z, ROOT_ZONE_DEPTHS * offsets[0].sum()))
     root_end = min(max(root_end, 1), len(z) - 1)
-    zones.append(_stress_zone(mesh, material, z, 0, root_end)[1])
+    zones.append(_stress_zone(mesh, material, cuts, 0, root_end)[1])
     for s in range(len(z) - 1):
-        seg, zone = _stress_zone(mesh, material, z, s, s + 1)
+        seg, zone = _stress_zone(mesh, material, cuts, s, s + 1)
         K_n.append(zone.stiffness)
         if s >= root_end:
             zones.append(zone)
+        if not cuts.planes and root_end <= s < len(z) - 2:      # a zone across the band at station s + 1
+            zones.append(_stress_zone(mesh, material, cuts, s, s + 2)[1])
         for end, (u, th) in enumerate(((0, 2), (3, 5))):
             mass[s + end] += (seg.M_e @ rigid_u)[u]
             inertia[s + end] += seg.M_e[th, th]
     return FingerChain(station_z_m=z, mass_kg=mass, inertia_kg_m2=inertia, natural_stiffness=np.array(K_n),
-                       half_thickness_m=half_thickness_m, stress_zones=tuple(zones))
+                       half_thickness_m=half_thickness_m, stress_zones=tuple(zones), face_offsets_m=offsets)
+
+
+def _face_offsets(nodes, z):
+    """(n+1, 2) distances [m] of the +y and -y faces from the finger's axis at each
+    station: the largest +y and -y of the nodes within half a segment of it."""
+    half = 0.5 * np.diff(z).min()
+    out = np.zeros((len(z), 2))
+    for i, zi in enumerate(z):
+        near = nodes[np.abs(nodes[:, 2] - zi) <= half * (1.0 + 1e-9), 1]
+        out[i] = near.max(), -near.min()
+    return out
 
 
 def _assembled_stiffness(chain: FingerChain, a, b):
@@ -526,8 +737,8 @@ class StressRecovery:
 
     Parameters
     ----------
-    stations : (z+1,) int ndarray
-        Zone boundary stations (a_0 = 0, b_0 = a_1, ...) of the z zones.
+    zone_a, zone_b : (z,) int ndarray
+        First and last station of each zone (zones may overlap).
     zone_of_element : (n_elem,) int ndarray
         Zone of each recovery element.
     gradients : (n_elem, 3, 3, 3) ndarray
@@ -537,10 +748,43 @@ class StressRecovery:
         The finger material.
     """
 
-    stations: np.ndarray
+    zone_a: np.ndarray
+    zone_b: np.ndarray
     zone_of_element: np.ndarray
     gradients: np.ndarray
     material: NeoHookean
+
+    def deformations(self, P, TH, station_z_m, nonlinear=True):
+        """Natural deformations of every zone's chord from station states.
+
+        ``e = [l - l0, theta_a - psi, theta_b - psi]`` of the chord from station a to b
+        (length l, angle psi; linear: ``l - l0 = dx - l0``, ``psi = dy / l0``), as
+        :func:`ccedi.rom.chain_dynamics._internal_forces` takes them per segment.
+
+        Parameters
+        ----------
+        P : (t, n+1, 2) ndarray
+            Station centres at t times [m].
+        TH : (t, n+1) ndarray
+            Station rotations [rad].
+        station_z_m : (n+1,) ndarray
+            Station positions along the straight finger [m].
+        nonlinear : bool, optional
+            Co-rotational (default) or linear chords.
+
+        Returns
+        -------
+        (t, z, 3) ndarray
+            [m, rad, rad] per zone.
+        """
+        a, b = self.zone_a, self.zone_b
+        l0 = station_z_m[b] - station_z_m[a]
+        dx, dy = P[:, b, 0] - P[:, a, 0], P[:, b, 1] - P[:, a, 1]
+        if nonlinear:
+            e1, psi = np.sqrt(dx * dx + dy * dy) - l0, np.arctan2(dy, dx)
+        else:
+            e1, psi = dx - l0, dy / l0
+        return np.stack([e1, TH[:, a] - psi, TH[:, b] - psi], axis=-1)
 
     def max_von_mises(self, e, nonlinear=True, backend="numba"):
         """Largest von Mises stress over the elements at each time.
@@ -642,6 +886,6 @@ def stress_recovery(chain: FingerChain, material: NeoHookean):
         C = np.linalg.solve(z.stiffness, zone_stiffness(chain, z.a, z.b))
         gradients.append(np.einsum("ejab,jm->emab", z.gradients, C))
         zone_of.append(np.full(len(z.gradients), k))
-    stations = np.array([chain.stress_zones[0].a] + [z.b for z in chain.stress_zones])
-    return StressRecovery(stations=stations, zone_of_element=np.concatenate(zone_of),
+    return StressRecovery(zone_a=np.array([z.a for z in chain.stress_zones]),
+                          zone_b=np.array([z.b for z in chain.stress_zones]), zone_of_element=np.concatenate(zone_of),
                           gradients=np.concatenate(gradients), material=material)

@@ -132,8 +132,9 @@ SCHEMA = {
         "objective": Key(str, "-", None, None, "object_force",
                          "what the design minimises among the designs that meet the requirements: the "
                          "transducer-filtered peak object force, the object stress, the root stress, the recovery "
-                         "deviation or the ringing", choices=("object_force", "object_stress", "root_stress",
-                                                              "recovery", "ringing")),
+                         "deviation, the ringing, or the throughput (the time between objects, with the drum speed "
+                         "as a design variable)", choices=("object_force", "object_stress", "root_stress",
+                                                           "recovery", "ringing", "throughput")),
     },
     "study": {
         "impulse_alphas_per_s": _key("alpha_per_s", [70.0, 120.0, 160.0, 180.0, 200.0],

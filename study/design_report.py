@@ -1,6 +1,7 @@
 """The design's figures and the report that explains the decision (``ccedi design``).
 
-* :func:`feasible_region_figure`: the (alpha, L) plane with the objective's contours, each
+* :func:`feasible_region_figure`: the plane of the two design variables (alpha and the
+  finger length, or alpha and the drum speed) with the objective's contours, each
   requirement's boundary (margin = 0, hatched on its failing side), the optimum, the
   Pareto points and the FEA-checked designs;
 * :func:`pareto_figure`: the front of the objective against the second output, the
@@ -14,7 +15,6 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ccedi.design.outputs import UNITS
-from ccedi.fea.units import m_to_inch
 
 matplotlib.use("Agg")                       # no screen: figures go to files
 
@@ -26,7 +26,8 @@ LABELS = {"sensor_peak_force_N": "peak object force (100 Hz transducer) [N]",
           "ringing_amplitude_m": "ringing amplitude after breakaway [m]",
           "first_contact_front_m": "first contact ahead of the object's minor axis [m]",
           "contact_patch_from_root_m": "contact patch from the root [m]",
-          "contact_impulse_N_s": "contact impulse [N s]"}
+          "contact_impulse_N_s": "contact impulse [N s]",
+          "cycle_time_s": "time between objects [s]"}
 """Axis label of each output, with its unit."""
 
 
@@ -35,7 +36,8 @@ def _label(name):
 
 
 def feasible_region_figure(problem, optimum, front=(), checked=(), n=120):
-    """The (alpha [1/s], L [in]) plane: objective contours, each requirement's boundary.
+    """The plane of the design variables (alpha [1/s] and L [in] or drum speed [rpm]):
+    objective contours, each requirement's boundary.
 
     Parameters
     ----------
@@ -54,7 +56,7 @@ def feasible_region_figure(problem, optimum, front=(), checked=(), n=120):
     va, vl = problem.surrogate.variables
     A, L = np.meshgrid(va.grid(n), vl.grid(n), indexing="ij")
     out = problem.surrogate.evaluate(np.column_stack([A.ravel(), L.ravel()]))
-    Lin = m_to_inch(L)
+    Lin = vl.shown(L)
     fig, ax = plt.subplots(figsize=(8.5, 6))
     key = next(iter(problem.weights))
     J = (problem.J(out) if problem.objective == "weighted" else out[key]).reshape(A.shape)
@@ -73,17 +75,17 @@ def feasible_region_figure(problem, optimum, front=(), checked=(), n=120):
             ax.contour(A, Lin, M, levels=[0.0], colors=[c], linewidths=2)
         handles.append(plt.Line2D([], [], color=c, lw=2, label=f"{name} (hatched: missed)"))
     for d in front:
-        ax.plot(d.alpha_per_s, m_to_inch(d.length_m), "w.", ms=6)
+        ax.plot(d.alpha_per_s, vl.shown(d.x), "w.", ms=6)
     for d in checked:
-        ax.plot(d.alpha_per_s, m_to_inch(d.length_m), "o", mfc="none", mec="k", ms=12)
+        ax.plot(d.alpha_per_s, vl.shown(d.x), "o", mfc="none", mec="k", ms=12)
     if optimum is not None:
-        ax.plot(optimum.alpha_per_s, m_to_inch(optimum.length_m), "r*", ms=18)
+        ax.plot(optimum.alpha_per_s, vl.shown(optimum.x), "r*", ms=18)
     handles += [plt.Line2D([], [], color="r", marker="*", ls="", ms=12, label="optimum"),
                 plt.Line2D([], [], color="k", marker="o", mfc="none", ls="", ms=10, label="FEA re-checked"),
                 plt.Line2D([], [], color="w", marker=".", mec="k", ls="", ms=8, label="Pareto front")]
     ax.set_xscale("log")
     ax.set_xlabel("mass-proportional damping alpha [1/s]")
-    ax.set_ylabel("finger length L [in]")
+    ax.set_ylabel({"length_m": "finger length L", "drum_speed_rad_s": "drum speed"}[vl.name] + f" [{vl.unit}]")
     ax.set_title("Feasible region on the surrogate (lines: each requirement's boundary)", fontsize=10)
     ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(0.0, -0.12), ncol=2)
     fig.tight_layout()
@@ -135,6 +137,28 @@ def _fmt(value, unit=""):
     return f"{value:.4g} {unit}".rstrip()
 
 
+def _design(d, second):
+    """``"alpha = 234.9 1/s, L = 4.183 in"`` of a design's JSON ``d``; ``second``: the
+    problem's second variable (``result["problem"]["variables"][1]``)."""
+    return f"alpha = {d['alpha_per_s']:.4g} 1/s, {second['label']} = {d[second['key']]:.4g} {second['unit']}"
+
+
+def _verification(result, second):
+    """Lines on the runs that verified the surrogate's optimum (:func:`ccedi.design.recheck.verified_optimum`):
+    where the model run at a design missed a requirement, its bound was shifted by the
+    surrogate's error there and the problem solved again."""
+    steps = result.get("rom_verification") or []
+    if not any(s["missed"] for s in steps):
+        return []
+    lines = ["", f"## Verification by the {result['problem'].get('verified_by', 'ROM')}", "",
+             "The surrogate's optimum was run by the model; where it missed a requirement, that requirement's bound "
+             "was shifted by the surrogate's error there and the problem solved again:", ""]
+    for s in steps:
+        lines.append(f"- {_design(s, second)}: " + ("meets every requirement" if not s["missed"]
+                                                   else "misses " + "; ".join(s["missed"])))
+    return lines
+
+
 def report_markdown(result):
     """The decision in words (Markdown), from the result ``ccedi design`` writes.
 
@@ -148,29 +172,36 @@ def report_markdown(result):
     str
     """
     p = result["problem"]
+    v = p["variables"][1]
     lines = ["# Finger design", "",
              f"Damping: **{p['damping']}** ({'on the velocity relative to the turning drum' if p['damping'] == 'relative' else 'on the absolute velocity, a drag on the whole finger (the paper, LS-DYNA *DAMPING_GLOBAL)'}). "
              f"Design space: alpha {p['alpha_bounds_per_s'][0]:g}-{p['alpha_bounds_per_s'][1]:g} 1/s, "
-             f"L {p['length_bounds_in'][0]:g}-{p['length_bounds_in'][1]:g} in. Objective: minimise "
+             f"{v['label']} {v['lo']:.4g}-{v['hi']:.4g} {v['unit']}. Objective: minimise "
              f"{p['objective_output'] or 'the weighted sum ' + str(p['weights'])}. Next object one cycle "
-             f"({result['drum']['cycle_s']:.4g} s) after the first contact.", ""]
+             f"({result['drum']['cycle_s']:.4g} s at the set-up's drum speed) after the first contact.", ""]
+    if result.get("finger_mesh"):
+        lines += [f"Finger: the given {result['finger_mesh']['element_type']} mesh `{result['finger_mesh']['path']}` "
+                  f"({result['finger_mesh']['length_m'] * 1e3:.4g} mm long): its geometry is fixed, the design varies "
+                  f"alpha and the drum speed on the contact ROM built on that mesh; the optimum is verified by "
+                  f"the {p['verified_by']}.", ""]
     if not result["feasible"]:
         c = result["closest"]
         lines += ["## No design meets the requirements", "",
-                  f"The closest design on the surrogate, alpha = {c['alpha_per_s']:.4g} 1/s, "
-                  f"L = {c['length_in']:.3f} in, misses:", "",
+                  f"The closest design on the surrogate, {_design(c, v)}, misses:", "",
                   "| requirement | value | bound (with model-error margin) | short by |", "|---|---|---|---|"]
         for name, m in result["misses"].items():
             unit = UNITS.get(m["output"], "")
             lines.append(f"| {name} | {_fmt(m['value'], unit)} | {_fmt(m['bound'], unit)} | {_fmt(m['miss'], unit)} |")
+        lines += _verification(result, v)
         lines += ["", "Relax the requirements above, widen the design space, or change the set-up."]
         return "\n".join(lines) + "\n"
     o = result["optimum"]
     lines += ["## Decision", "",
-              f"**alpha = {o['alpha_per_s']:.4g} 1/s, L = {o['length_in']:.3f} in** "
+              f"**{_design(o, v)}** "
               f"({result['solver']['status']}).", ""]
     for flag in result["on_bounds"]:
         lines.append(f"- Flag: {flag}: the optimum may lie outside the design space; widen it to see.")
+    lines += _verification(result, v)
     lines += ["", "## Requirements at the optimum", "",
               "| requirement | surrogate | margin | binds | FEA | FEA meets |", "|---|---|---|---|---|---|"]
     fea = result["fea_check"][0] if result["fea_check"] else None
@@ -195,24 +226,24 @@ def report_markdown(result):
                          + (f"; at the optimum {here['under']:.3g} and {here['over']:.3g}" if here else ""))
     lines += ["", "## What relaxing each requirement buys", "",
               "Each requirement relaxed alone by 10 % of its scale, the problem solved again:", "",
-              "| requirement | binds | relaxed to | objective change | new alpha [1/s] | new L [in] |",
+              f"| requirement | binds | relaxed to | objective change | new alpha [1/s] | new {v['label']} [{v['unit']}] |",
               "|---|---|---|---|---|---|"]
     for name, s in result["sensitivities"].items():
         unit = UNITS.get(result["requirement_outputs"].get(name), "")
         lines.append(f"| {name} | {'yes' if s['binding'] else ''} | {_fmt(s['relaxed_to'], unit)} | "
-                     f"{s['objective_change']:+.4g} | {s['alpha_per_s']:.4g} | {s['length_in']:.3f} |")
+                     f"{s['objective_change']:+.4g} | {s['alpha_per_s']:.4g} | {s[v['key']]:.4g} |")
     if result["fea_check"]:
         lines += ["", "## Full FEA re-check", ""]
         keys = [k for k in result["fea_check"][0]["surrogate"]]
         lines += ["| design | " + " | ".join(keys) + " |", "|---" * (len(keys) + 1) + "|"]
         for r in result["fea_check"]:
-            name = f"alpha {r['alpha_per_s']:.4g}, L {r['length_in']:.3f} in"
+            name = _design(r, v)
             lines.append(f"| {name}: surrogate | " + " | ".join(_fmt(r["surrogate"][k], UNITS[k]) for k in keys) + " |")
             lines.append(f"| FEA ({'meets' if r['meets_requirements'] else 'misses'} the requirements) | "
                          + " | ".join(_fmt(r["fea"][k], UNITS[k]) for k in keys) + " |")
             lines.append("| error | " + " | ".join("-" if r["relative_error"][k] is None
                                                    else f"{r['relative_error'][k]:+.1%}" for k in keys) + " |")
-    lines += ["", "Figures: `feasible_region.png` (each requirement's boundary in the (alpha, L) plane), "
+    lines += ["", f"Figures: `feasible_region.png` (each requirement's boundary in the (alpha, {v['label']}) plane), "
               "`pareto.png` (the objective against the second output)."]
     return "\n".join(lines) + "\n"
 

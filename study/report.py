@@ -12,7 +12,7 @@ import pandas as pd
 from ccedi.fea.outputs import write_pdf_figures, write_text
 
 UNITS = (("_per_s", "1/s"), ("_rad_s", "rad/s"), ("_m_s", "m/s"), ("_N_s", "N s"), ("_N_per_m", "N/m"), ("_us", "us"),
-         ("_cm3", "cm^3"), ("_mm", "mm"), ("_Pa", "Pa"), ("_N", "N"), ("_in", "in"), ("_s", "s"), ("_m", "m"), ("_J", "J"))
+         ("_cm3", "cm^3"), ("_rpm", "rpm"), ("_mm", "mm"), ("_Pa", "Pa"), ("_N", "N"), ("_in", "in"), ("_s", "s"), ("_m", "m"), ("_J", "J"))
 """Column/key suffix -> unit, longest match first."""
 
 FIGURES = [
@@ -27,7 +27,8 @@ FIGURES = [
     ("contact/fig10_reaction_force_global.png", "Fig. 10 analogue: reaction force on the object"),
     ("contact/fig13_contact_shapes_global.png", "Fig. 13 analogue: finger at first and last contact"),
     ("contact/fig14_stresses_global.png", "Fig. 14 analogue: finger and object stresses, reaction force"),
-    ("design/feasible_region.png", "Design: the feasible region in (alpha, L), each requirement's boundary"),
+    ("design/feasible_region.png", "Design: the feasible region in (alpha, L or drum speed), each requirement's "
+     "boundary"),
     ("design/pareto.png", "Design: Pareto front of the objective against the second output"),
 ]
 
@@ -195,7 +196,7 @@ def _design(out):
     if not d["feasible"]:
         misses = "; ".join(f"{k}: {v['value']:.4g} against {v['bound']:.4g}" for k, v in d["misses"].items())
         return what + f"<p class='missing'>No design meets the requirements; the closest misses {html.escape(misses)}.</p>"
-    keys = ["alpha_per_s", "length_in", *KEY_OUTPUTS]
+    keys = ["alpha_per_s", _second(d), *KEY_OUTPUTS]
     parts = [what, "<h3>Optimum (surrogate)</h3>", _table([d["optimum"]], [_col(k) for k in keys]),
              f"<p>binding: {html.escape(', '.join(d['binding']) or 'none')}"
              + (f"; FLAG: {html.escape(', '.join(d['on_bounds']))}" if d["on_bounds"] else "")
@@ -209,15 +210,21 @@ def _design(out):
     return "".join(parts) + _calibrated_design(out, d)
 
 
+def _second(d):
+    """JSON key of a design result's second variable (``length_in`` or ``drum_speed_rpm``)."""
+    return d["problem"]["variables"][1]["key"]
+
+
 def _fea_check(d, title):
     """The full-FEA re-check table of a design result."""
     if not d["fea_check"]:
         return "<p>FEA re-check skipped in this run.</p>"
-    rows = [{"alpha_per_s": c["alpha_per_s"], "length_in": c["length_in"], "wall_time_s": c["wall_time_s"],
+    second = _second(d)
+    rows = [{"alpha_per_s": c["alpha_per_s"], second: c[second], "wall_time_s": c["wall_time_s"],
              "meets the requirements": c["meets_requirements"],
              **{f"{k} error": c["relative_error"][k] for k in KEY_OUTPUTS}} for c in d["fea_check"]]
     return f"<h3>{html.escape(title)}</h3>" + _table(
-        rows, [_col("alpha_per_s"), _col("length_in"), ("FEA meets the requirements", "meets the requirements")]
+        rows, [_col("alpha_per_s"), _col(second), ("FEA meets the requirements", "meets the requirements")]
         + [(f"{k} error [-]", f"{k} error") for k in KEY_OUTPUTS] + [_col("wall_time_s", "FEA wall time")])
 
 
@@ -235,10 +242,12 @@ def _calibrated_design(out, declared):
         return head + f"<p class='missing'>Not made: the declared finger cannot explain {source} ({why}).</p>"
     objectives = list(KEY_OUTPUTS)
 
+    second = _second(declared)
+
     def row(name, d, design):
         drum = d.get("drum", {})
         return {"model": name, "E_Pa": d["finger_material"]["E_Pa"], "friction": drum.get("friction"),
-                "omega_rad_s": drum.get("omega_rad_s"), **{k: design[k] for k in ["alpha_per_s", "length_in", *objectives]}}
+                "omega_rad_s": drum.get("omega_rad_s"), **{k: design[k] for k in ["alpha_per_s", second, *objectives]}}
 
     if not declared["feasible"] or not calibrated["feasible"]:
         return head + "<p class='missing'>No design meets the requirements with the declared or the calibrated inputs.</p>"
@@ -256,7 +265,7 @@ def _calibrated_design(out, declared):
             f"-> {cal['final_nrmse']:.3%}, noise floor {cal['noise_floor_nrmse']:.3%}); its inputs "
             "(<code>design/calibrated/calibrated.toml</code>) re-ran the design.</p>")
     table = _table(rows, [("model", "model"), _col("E_Pa"), ("friction [-]", "friction"), _col("omega_rad_s"),
-                          _col("alpha_per_s"), _col("length_in"), *[_col(k) for k in objectives]])
+                          _col("alpha_per_s"), _col(second), *[_col(k) for k in objectives]])
     return head + text + table + _fea_check(calibrated, "Full-FEA re-check of the calibrated design")
 
 

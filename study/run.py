@@ -118,9 +118,10 @@ def skipped_steps(cfg):
                     "mesh is one mesh (its stable step and stiffness are in Table 1)",
             "damping_fits": "Fig. 8 needs the finger at several lengths, and the [finger] mesh has one; its "
                             "alpha_cr: ccedi identify --alpha-cr --config FILE",
-            "design": "the design varies the finger length on the contact ROM, which is built on the generated "
-                      "finger only (ccedi.rom.contact_rom); the [finger] mesh runs the full FEA on the drum "
-                      "(the contact step)"}
+            "design": "design this finger with ccedi design --config FILE (alpha and the drum speed on the contact "
+                      "ROM built on the mesh, the optimum verified by the mesh's full FEA, minutes per FE run); the "
+                      "study's design step also re-designs with the calibrated inputs of a record of the generated "
+                      "finger, which do not apply to this mesh"}
 
 
 def calibrate_records(records, out):

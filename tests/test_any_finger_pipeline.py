@@ -1,6 +1,6 @@
 """The pipeline on a finger that is not a prism (the tapered finger with a hole, written by
 Gmsh into a .msh file and given as ``[finger] mesh``): contact on the drum, export, the
-design re-check, the contact ROM's refusal and ``ccedi study``."""
+design re-check, ``ccedi design`` on it and ``ccedi study``."""
 import json
 from dataclasses import replace
 
@@ -138,7 +138,7 @@ def test_fea_check_runs_the_given_finger_at_its_length(contact):
     setup, summary, h, _ = contact
     setup = replace(setup, cycle_time_s=T_END_S - 2 * LEAD_S)         # the next object within the short run
     outputs = design_outputs(setup, h, ObjectStress(setup))
-    design = Design(alpha_per_s=7.5, length_m=setup.finger_length_m, outputs=outputs, J=0.0)
+    design = Design(alpha_per_s=7.5, x=setup.finger_length_m, outputs=outputs, J=0.0)
     _Replay.built.clear()
     rows = fea_check(setup, [design], model_factory=lambda s: _Replay(s, h, summary), progress=None)
     assert _Replay.built[0].finger is setup.finger
@@ -147,17 +147,17 @@ def test_fea_check_runs_the_given_finger_at_its_length(contact):
     assert set(OUTPUTS) <= set(outputs)
 
 
-def test_another_length_and_the_contact_rom_are_refused_for_a_given_finger(finger, tmp_path):
+def test_another_length_and_the_face_contact_rom_are_refused_for_a_given_finger(finger, tmp_path):
     _, mesh = finger
     setup = DrumSetup(finger=mesh)
     with pytest.raises(InputError, match="only the generated finger takes another length"):
         setup_for_length(setup, 0.2032)
     assert setup_for_length(setup, setup.finger_length_m) is setup
-    design = Design(alpha_per_s=180.0, length_m=0.1, outputs={}, J=0.0)
+    design = Design(alpha_per_s=180.0, x=0.1, outputs={}, J=0.0)
     with pytest.raises(InputError, match="only the generated finger"):
         fea_check(setup, [design], model_factory=lambda s: pytest.fail("ran"), progress=None)
-    with pytest.raises(InputError, match="the contact ROM needs the generated elliptical finger") as err:
-        ReducedContactModel(setup)
+    with pytest.raises(InputError, match="'face' contact needs the generated elliptical finger") as err:
+        ReducedContactModel(setup, contact="face")
     assert "\n" not in str(err.value)
 
 
@@ -194,7 +194,7 @@ def test_quick_study_with_a_mesh_states_why_it_skips_steps(finger, tmp_path, cap
     record = json.loads((out / "study.json").read_text())
     assert set(record["skipped"]) == {"mesh", "damping_fits", "design"} and set(record["wall_time_s"]) == {"table1"}
     page = (out / "index.html").read_text()
-    assert "Steps skipped for this finger" in page and "contact ROM" in page
+    assert "Steps skipped for this finger" in page and "ccedi design --config FILE" in page
     row = json.loads((out / "table1.json").read_text())["finger"]
     assert (row["element_type"], row["nodes"]) == ("tet10", mesh.n_nodes)
     assert "design skipped" in capsys.readouterr().out
@@ -214,8 +214,7 @@ def test_whole_quick_study_on_an_imported_finger(tmp_path):
     assert (out / "index.html").exists() and "given mesh" in (out / "contact" / "contact_report.md").read_text()
 
 
-@pytest.mark.parametrize("command", [["design", "--json", "d.json"], ["rom-check", "--json", "r.json"],
-                                     ["damping-fits", "--out", "fits"]])
+@pytest.mark.parametrize("command", [["rom-check", "--json", "r.json"], ["damping-fits", "--out", "fits"]])
 def test_commands_of_the_generated_finger_refuse_the_mesh(finger, tmp_path, capsys, command):
     """A command that works on the generated finger only says so in one line instead of
     running the prism without a word about the configured mesh."""
@@ -225,3 +224,28 @@ def test_commands_of_the_generated_finger_refuse_the_mesh(finger, tmp_path, caps
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "[finger] mesh" in err[0] and command[0] in err[0]
     assert not (tmp_path / command[2]).exists()
+
+
+@pytest.mark.slow
+def test_design_of_an_imported_tetrahedral_finger_is_checked_by_its_fea(tmp_path, capsys):
+    """``ccedi design --config`` with the tapered finger of 4-node tetrahedra: the contact ROM
+    is built on the mesh, the design varies alpha and the drum speed (its length is its
+    own), the optimum is verified by the full FEA of the mesh, and that FEA meets every
+    requirement at the design (the throughput objective: the fastest drum that does)."""
+    toml, mesh = _toml(tmp_path, order=1)
+    toml.write_text(toml.read_text() + '\n[requirements]\nallowable_root_stress_Pa = 4e6\nobjective = "throughput"\n')
+    out = tmp_path / "design.json"
+    rc = main(["design", "--config", str(toml), "--drum-speed-bounds-rpm", "20", "40", "--grid", "5", "4",
+               "--validation-runs", "2", "--pareto-points", "4", "--starts", "2", "--fea-check-designs", "1",
+               "--scheduler", "serial", "--out", str(tmp_path / "design"), "--json", str(out)])
+    assert rc == 0, capsys.readouterr().err
+    d = json.loads(out.read_text())
+    assert d["finger_mesh"]["element_type"] == "tet4" and d["finger_mesh"]["elements"] == mesh.n_elements
+    assert [v["name"] for v in d["problem"]["variables"]] == ["alpha_per_s", "drum_speed_rad_s"]
+    assert d["problem"]["verified_by"] == "full FEA" and d["model_error"] == {}
+    check = d["fea_check"][0]
+    assert check["meets_requirements"] and all(r["met"] for r in check["requirements"].values())
+    assert check["drum_speed_rpm"] == pytest.approx(d["optimum"]["drum_speed_rpm"], rel=1e-12)
+    assert check["fea"]["cycle_time_s"] == pytest.approx(30.0 / d["optimum"]["drum_speed_rpm"], rel=1e-9)
+    assert d["rom_verification"][-1]["missed"] == []
+    assert "drum speed" in (tmp_path / "design" / "design_report.md").read_text()

@@ -25,7 +25,7 @@ def _run(model, alpha, damping, n_steps, n_outputs, backend):
     t_out = np.linspace(0.0, n_steps * model.dt_s, n_outputs + 1)[1:]
     out = ChainOutputs(t_out, np.zeros((n_outputs, n, 2)), np.zeros((n_outputs, n)), np.zeros((n_outputs, 6)))
     obj = s.object_surface
-    points = ContactPoints(model.pt_seg, model.pt_xi, model.pt_k, float(obj.damping_ratio), float(obj.mu),
+    points = ContactPoints(model.pt_seg, model.pt_xi, model.pt_h, model.pt_k, float(obj.damping_ratio), float(obj.mu),
                            obj.params()[1][:6])
     drum = DrumFrame(s.omega_rad_s, s.theta0_rad, float(alpha), damping == "relative")
     status, steps = chain_run(state, model._chain_group(), drum, points, model.dt_s, out, backend=backend)

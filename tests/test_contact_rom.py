@@ -65,12 +65,24 @@ def test_natural_stiffness_needs_rigid_motion_invariance():
 
 def _zone_deformations(chain, P, TH, nonlinear):
     rec = stress_recovery(chain, RUBBER)
-    st = rec.stations
-    l0 = np.diff(chain.station_z_m[st])
-    e = np.zeros((1, len(l0), 3))
-    _internal_forces(P[st], TH[st], l0, np.zeros((len(l0), 3, 3)), nonlinear, np.zeros((len(st), 2)),
-                     np.zeros(len(st)), e[0])
-    return rec, e
+    return rec, rec.deformations(P[None], TH[None], chain.station_z_m, nonlinear)
+
+
+def test_zone_deformations_are_the_chain_segments_natural_deformations(finger_8in):
+    """StressRecovery.deformations over the chain's own segments against the natural
+    deformations the chain dynamics computes (a bent, stretched chain)."""
+    _, _, chain = finger_8in
+    rec = stress_recovery(chain, RUBBER)
+    z = chain.station_z_m
+    P = np.column_stack([z + 1e-3 * z / z[-1], 0.02 * (z / z[-1]) ** 2])
+    TH = 0.04 * z / z[-1]
+    for nonlinear in (True, False):
+        E = np.zeros((len(z) - 1, 3))
+        _internal_forces(P, TH, np.diff(z), chain.natural_stiffness, nonlinear, np.zeros((len(z), 2)),
+                         np.zeros(len(z)), E)
+        segments = rec.zone_b - rec.zone_a == 1
+        e = rec.deformations(P[None], TH[None], z, nonlinear)[0]
+        np.testing.assert_allclose(e[segments], E[rec.zone_a[segments]], rtol=1e-12, atol=1e-15)
 
 
 @pytest.mark.slow
@@ -215,7 +227,7 @@ def test_compiled_stress_recovery_matches_the_numpy_reference(finger_8in):
     _, _, chain = finger_8in
     rec = stress_recovery(chain, RUBBER)
     rng = np.random.default_rng(1)
-    e = rng.uniform(-1.0, 1.0, (20, len(rec.stations) - 1, 3)) * [0.002, 0.25, 0.25]
+    e = rng.uniform(-1.0, 1.0, (20, len(rec.zone_a), 3)) * [0.002, 0.25, 0.25]
     e[:, 0, 1:] *= 0.8 / 0.25
     for nonlinear in (True, False):
         assert np.allclose(rec.max_von_mises(e, nonlinear), rec.max_von_mises(e, nonlinear, backend="numpy"),

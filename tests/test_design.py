@@ -26,12 +26,12 @@ from ccedi.design import (
     solve,
 )
 from ccedi.design.model_error import model_errors, output_error
-from ccedi.design.outputs import overshoot, rom_segments, settling_time_s
+from ccedi.design.outputs import overshoot, rom_segments, settling_time_s, setup_at
 from ccedi.design.rubber import alpha_of_length
-from ccedi.design.surrogate import cached_rom_runs, grid_points
+from ccedi.design.surrogate import cached_rom_runs, grid_points, run_rom, speed_space
 from ccedi.errors import InputError, RequirementsUnmet
 from ccedi.fea.drum import DrumSetup, ObjectStress
-from ccedi.fea.units import inch_to_m, m_to_inch
+from ccedi.fea.units import inch_to_m, m_to_inch, rpm_to_rad_s
 from ccedi.rom.ccedi import paper_alpha
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.study.cli import main
@@ -143,7 +143,7 @@ def test_default_relative_design_is_interior_and_the_grid_agrees(surrogate):
     assert not on_bounds(problem, opt)
     grid = brute_force(problem, n=100)
     assert opt.J <= grid.J + 1e-6
-    margins = problem.constraint_margins(opt.outputs, opt.alpha_per_s, opt.length_m)
+    margins = problem.constraint_margins(opt.outputs, opt.alpha_per_s, opt.x)
     assert min(margins.values()) >= -1e-6
 
 
@@ -152,7 +152,7 @@ def test_this_rubber_only_designs_sit_on_alpha_of_length(surrogate, mode):
     problem = DesignProblem(surrogate[0], requirements=Requirements(max_ringing_amplitude_m=None),
                             alpha_of_length=mode)
     opt, _ = solve(problem)
-    assert opt.alpha_per_s == pytest.approx(float(alpha_of_length(mode, m_to_inch(opt.length_m))), rel=1e-6)
+    assert opt.alpha_per_s == pytest.approx(float(alpha_of_length(mode, m_to_inch(opt.x))), rel=1e-6)
     assert opt.J <= brute_force(problem, n=100).J + 1e-6
 
 
@@ -205,11 +205,11 @@ def test_model_error_tightens_where_the_rom_strays(surrogate):
     plain, _ = solve(DesignProblem(sur, requirements=req, objective="root_stress"))
     opt, _ = solve(DesignProblem(sur, requirements=req, objective="root_stress",
                                  model_error={"sensor_peak_force_N": err}))
-    u, _ = err.at(opt.alpha_per_s, opt.length_m)
+    u, _ = err.at(opt.alpha_per_s, opt.x)
     assert opt.outputs["sensor_peak_force_N"] / (1.0 - float(u)) <= 18.0 * (1 + 1e-6)
-    u_plain, _ = err.at(plain.alpha_per_s, plain.length_m)
+    u_plain, _ = err.at(plain.alpha_per_s, plain.x)
     if plain.outputs["sensor_peak_force_N"] / (1.0 - float(u_plain)) > 18.0:
-        assert (opt.alpha_per_s, opt.length_m) != (plain.alpha_per_s, plain.length_m)
+        assert (opt.alpha_per_s, opt.x) != (plain.alpha_per_s, plain.x)
 
 
 def test_model_errors_from_check_cases():
@@ -244,8 +244,8 @@ def test_fea_check_compares_like_with_like(surrogate):
     sur, runs = surrogate
     row = runs.iloc[len(runs) // 2 + 2]
     problem = DesignProblem(sur)
-    d = replace(brute_force(problem), alpha_per_s=float(row.alpha_per_s), length_m=float(row.length_m))
-    d.outputs = {k: float(v[0]) for k, v in sur.evaluate([[d.alpha_per_s, d.length_m]]).items()}
+    d = replace(brute_force(problem), alpha_per_s=float(row.alpha_per_s), x=float(row.length_m))
+    d.outputs = {k: float(v[0]) for k, v in sur.evaluate([[d.alpha_per_s, d.x]]).items()}
 
     def rom(setup):
         return ReducedContactModel(setup, n_segments=rom_segments(setup.finger_length_m))
@@ -319,3 +319,32 @@ def test_fea_check_count_out_of_range_is_refused_before_any_run(tmp_path):
     with pytest.raises(InputError, match="fea_check_designs must be 1, 2 or 3, got 4"):
         write_design(DrumSetup(), DesignOptions(fea_check_designs=4), tmp_path / "d.json", tmp_path)
     assert not list(tmp_path.iterdir())
+
+
+def test_drum_speed_design_turns_the_drum_at_each_points_speed():
+    """Runs over (alpha, drum speed): each run's set-up turns at its point's speed, and the
+    time between objects follows it (2 objects per revolution: 2 pi / (2 omega))."""
+    space = speed_space(speed_bounds_rpm=(15.0, 45.0))
+    points = [(180.0, rpm_to_rad_s(15.0)), (180.0, rpm_to_rad_s(45.0))]
+    runs = run_rom(DrumSetup(), points, variables=space)
+    np.testing.assert_allclose(runs["drum_speed_rad_s"], [p[1] for p in points])
+    np.testing.assert_allclose(runs["cycle_time_s"], [np.pi / p[1] for p in points], rtol=1e-12)
+    assert runs["contact_start_s"][1] < runs["contact_start_s"][0] / 2     # the faster drum gets there sooner
+    assert setup_at(DrumSetup(), [v.name for v in space], points[1]).omega_rad_s == points[1][1]
+    assert space[1].describe(points[1][1]) == "drum speed = 45 rpm"
+
+
+def test_throughput_needs_the_drum_speed_as_a_variable(surrogate, tmp_path, capsys):
+    sur, _ = surrogate
+    with pytest.raises(InputError, match="needs the drum speed as a design variable"):
+        DesignProblem(sur, objective="throughput")
+    toml = tmp_path / "fixed.toml"
+    toml.write_text("[drum]\ncycle_time_s = 1.0\n")
+    for args in (["--objective", "throughput"],
+                 ["--objective", "throughput", "--vary", "drum_speed", "--config", str(toml)],
+                 ["--vary", "drum_speed", "--alpha-of-length", "paper"],
+                 ["--vary", "drum_speed", "--drum-speed-bounds-rpm", "30", "10"]):
+        assert main(["design", *args, "--json", str(tmp_path / "d.json"), "--out", str(tmp_path)]) == 1
+        err = capsys.readouterr().err
+        assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert not (tmp_path / "d.json").exists() and not (tmp_path / "rom_grid.csv").exists()

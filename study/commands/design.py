@@ -1,5 +1,6 @@
-"""``ccedi design``: pick finger damping and length that meet the designer's requirements
-(:mod:`ccedi.design`), checked by the full FEA, with a report that explains the decision."""
+"""``ccedi design``: pick the finger's damping and its length (or, for a finger given as a
+mesh, the drum speed) that meet the designer's requirements (:mod:`ccedi.design`), checked
+by the full FEA, with a report that explains the decision."""
 import time
 import warnings
 from dataclasses import dataclass, fields, replace
@@ -36,13 +37,14 @@ def add_parsers(sub):
     sub : argparse._SubParsersAction
         The sub-command registry of the ``ccedi`` parser.
     """
-    d = add_command(sub, "design", help="design optimiser: the alpha and finger length that meet the requirements "
-                       "([requirements] of --config) at the least object force (ROM surrogate, casadi/IPOPT, feasible "
-                       "region, Pareto front, sensitivities, full-FEA re-check, report)")
+    d = add_command(sub, "design", help="design optimiser: the alpha and finger length (a [finger] mesh: alpha and "
+                       "drum speed) that meet the requirements ([requirements] of --config) at the least object force "
+                       "(ROM surrogate, casadi/IPOPT, feasible region, Pareto front, sensitivities, full-FEA re-check, "
+                       "report)")
     d.add_argument("--damping", choices=("relative", "global"), default=None,
                    help="mass damping kind (default: [damping] kind of --config, relative)")
     d.add_argument("--objective", choices=("object_force", "object_stress", "root_stress", "recovery", "ringing",
-                                           "weighted"), default=None,
+                                           "throughput", "weighted"), default=None,
                    help="what is minimised (default: [requirements] objective of --config, object_force)")
     d.add_argument("--weights", default=None, metavar="OUTPUT=W,...",
                    help="weights of --objective weighted, e.g. sensor_peak_force_N=1,ringing_amplitude_m=1")
@@ -57,8 +59,13 @@ def add_parsers(sub):
                    help="damping bounds [1/s]")
     d.add_argument("--length-bounds-in", type=float, nargs=2, default=(3.0, 8.0), metavar=("LO", "HI"),
                    help="finger length bounds [in]")
-    d.add_argument("--grid", type=int, nargs=2, default=(15, 11), metavar=("N_ALPHA", "N_LENGTH"),
-                   help="ROM runs of the surrogate grid (cached in OUT)")
+    d.add_argument("--vary", choices=("length", "drum_speed"), default=None,
+                   help="the second design variable beside alpha (default: length; drum_speed for a [finger] mesh, "
+                        "whose length is fixed)")
+    d.add_argument("--drum-speed-bounds-rpm", type=float, nargs=2, default=DesignOptions.drum_speed_bounds_rpm,
+                   metavar=("LO", "HI"), help="drum speed bounds [rpm] (--vary drum_speed)")
+    d.add_argument("--grid", type=int, nargs=2, default=(15, 11), metavar=("N_ALPHA", "N_SECOND"),
+                   help="ROM runs of the surrogate grid along alpha and the second variable (cached in OUT)")
     d.add_argument("--validation-runs", type=int, default=20, help="off-grid ROM runs measuring the surrogate error")
     d.add_argument("--pareto-points", type=int, default=24, help="epsilon-constraint points of the front")
     d.add_argument("--pareto-output", default="ringing_amplitude_m",
@@ -125,8 +132,13 @@ class DesignOptions:
         Damping bounds [1/s] (default :data:`ccedi.design.surrogate.CHECKED_ALPHA_PER_S`).
     length_bounds_in : tuple of float
         Finger length bounds [in].
+    vary : {"length", "drum_speed"} or None
+        The second design variable beside alpha (None: the length for the generated
+        finger, the drum speed for a finger mesh).
+    drum_speed_bounds_rpm : tuple of float
+        Drum speed bounds [rpm] (default :data:`ccedi.design.surrogate.DRUM_SPEED_BOUNDS_RPM`).
     grid : tuple of int
-        ROM runs of the surrogate grid along alpha and length.
+        ROM runs of the surrogate grid along alpha and the second variable.
     validation_runs : int
         Off-grid ROM runs that measure the surrogate error.
     pareto_points : int
@@ -136,9 +148,13 @@ class DesignOptions:
     starts : int
         IPOPT starts.
     model_error : bool
-        Tighten the requirements by the ROM's measured error (:data:`MODEL_ERROR_FILE`).
+        Tighten the requirements by the ROM's measured error (:data:`MODEL_ERROR_FILE`,
+        measured on the generated finger over alpha and length). Where it does not
+        apply (a finger mesh, the drum speed varied), the optimum is verified by the full
+        FEA instead (:func:`ccedi.design.recheck.verified_optimum` with the FEA).
     fea_check : bool
-        Re-check the optimum and two front points with the full FEA.
+        Re-check the optimum and two front points with the full FEA (False: no FEA at
+        all).
     fea_check_designs : int
         How many of the recommended designs (:func:`ccedi.design.pareto.recommended`, the
         optimum first) the FEA re-checks, 1 to 3.
@@ -151,6 +167,8 @@ class DesignOptions:
     alpha_of_length: str = "free"
     alpha_bounds: tuple = (7.5, 600.0)
     length_bounds_in: tuple = (3.0, 8.0)
+    vary: str | None = None
+    drum_speed_bounds_rpm: tuple = (10.0, 40.0)
     grid: tuple = (15, 11)
     validation_runs: int = 20
     pareto_points: int = 24
@@ -186,11 +204,8 @@ def options_from(cfg, **overrides):
 def cmd_design(args):
     """``ccedi design``: :func:`write_design` of the parsed arguments and ``--config``."""
     from ccedi.study.commands.fea import contact_setup
-    from ccedi.study.config import refuse_mesh
 
     cfg = load_config(args)
-    refuse_mesh(cfg, "design", "varies the finger's length on the contact ROM, which is built on the generated "
-                "elliptical finger only; the imported finger's contact run is the full FEA: ccedi contact --config FILE")
     req = options_from(cfg).requirements
     said = {name: getattr(args, name) * factor for _, name, factor in REQUIREMENT_FLAGS
             if getattr(args, name) is not None}
@@ -204,20 +219,59 @@ def cmd_design(args):
         cfg, requirements=req, objective=args.objective or cfg["requirements"]["objective"],
         weights=None if args.weights is None else parse_weights(args.weights),
         damping=args.damping or cfg["damping"]["kind"], alpha_of_length=args.alpha_of_length,
-        alpha_bounds=tuple(args.alpha_bounds), length_bounds_in=tuple(args.length_bounds_in), grid=tuple(args.grid),
+        alpha_bounds=tuple(args.alpha_bounds), length_bounds_in=tuple(args.length_bounds_in), vary=args.vary,
+        drum_speed_bounds_rpm=tuple(args.drum_speed_bounds_rpm), grid=tuple(args.grid),
         validation_runs=args.validation_runs, pareto_points=args.pareto_points, pareto_output=args.pareto_output,
         starts=args.starts, model_error=not args.no_model_error, fea_check=not args.no_fea_check,
         fea_check_designs=args.fea_check_designs)
     write_design(contact_setup(cfg), options, args.json, args.out, scheduler=args.scheduler,
-                 measured_alpha=cfg["material"]["alpha_per_s"])
+                 measured_alpha=cfg["material"]["alpha_per_s"], mesh_path=cfg["finger"]["mesh"] or None)
+
+
+def second_variable(setup, o):
+    """The design's second variable beside alpha: ``o.vary``, by default the length for the
+    generated finger and the drum speed for a finger mesh.
+
+    Parameters
+    ----------
+    setup : ccedi.fea.drum.DrumSetup
+    o : DesignOptions
+
+    Returns
+    -------
+    str
+        "length" or "drum_speed".
+
+    Raises
+    ------
+    InputError
+        The length asked of a finger mesh (its length is its own).
+    """
+    vary = o.vary or ("length" if setup.finger is None else "drum_speed")
+    if vary not in ("length", "drum_speed"):
+        raise InputError(f"--vary {vary!r}: must be length or drum_speed")
+    if vary == "length" and setup.finger is not None:
+        raise InputError(f"--vary length: the finger is a given {setup.finger.element_type} mesh "
+                         f"{setup.finger_length_m * 1e3:.4g} mm long, whose length is fixed; its design varies alpha "
+                         "and the drum speed (--vary drum_speed)")
+    return vary
 
 
 def _check_options(setup, o):
     """Everything about the request that can be checked before the first ROM run."""
     from ccedi.design.outputs import OUTPUTS
-    from ccedi.rom.contact_rom import require_generated_finger
 
-    require_generated_finger(setup)               # the surrogate is the ROM's, over the length
+    vary = second_variable(setup, o)
+    if vary == "drum_speed" and o.alpha_of_length != "free":
+        raise InputError(f"--alpha-of-length {o.alpha_of_length}: alpha tied to the length needs --vary length")
+    if o.objective == "throughput" and vary != "drum_speed":
+        raise InputError("--objective throughput maximises the drum speed: it needs --vary drum_speed")
+    if o.objective == "throughput" and setup.cycle_time_s is not None:
+        raise InputError(f"--objective throughput: [drum] cycle_time_s = {setup.cycle_time_s:g} s fixes the time "
+                         "between objects whatever the drum speed; set objects_per_revolution instead")
+    lo, hi = o.drum_speed_bounds_rpm
+    if not 0.0 < lo < hi:
+        raise InputError(f"--drum-speed-bounds-rpm {lo:g} {hi:g}: must satisfy 0 < LO < HI [rpm]")
     if o.fea_check_designs not in (1, 2, 3):
         raise InputError(f"fea_check_designs must be 1, 2 or 3, got {o.fea_check_designs}")
     for name, value, lo in (("--grid", min(o.grid), 4), ("--validation-runs", o.validation_runs, 1),
@@ -232,13 +286,14 @@ def _check_options(setup, o):
             raise InputError(f"--weights: {name!r} is no output; outputs: {', '.join(OUTPUTS)}")
 
 
-def _model_error(o):
+def _model_error(o, vary):
     """The model-error margins of the request and where they come from: the ROM's
     measured error against the FEA on every output (also those within 10 %), carried
-    where the design lands."""
+    where the design lands; none when the design varies the drum speed (the check is
+    over alpha and length of the generated finger)."""
     from ccedi.design.model_error import model_errors, read_cases
 
-    if not o.model_error:
+    if not o.model_error or vary != "length":
         return {}, None
     if not MODEL_ERROR_FILE.exists():
         warnings.warn(ValidityWarning(f"no ROM check at {MODEL_ERROR_FILE}: the design carries no model-error "
@@ -249,7 +304,12 @@ def _model_error(o):
     return errors, str(MODEL_ERROR_FILE.relative_to(MODEL_ERROR_FILE.parents[2]))
 
 
-def write_design(setup, options, json_path, out, scheduler="local", measured_alpha=None):
+def _without_runs(steps):
+    """The verification steps for the JSON (their runs' outputs are the steps' ``model``)."""
+    return [{k: v for k, v in s.items() if k != "run"} for s in steps]
+
+
+def write_design(setup, options, json_path, out, scheduler="local", measured_alpha=None, mesh_path=None):
     """Build the ROM surrogate, find the design that meets the requirements at the best
     objective, draw the feasible region and the Pareto front, measure what relaxing each
     requirement buys, re-check the optimum and two front points with the full FEA, and
@@ -270,7 +330,9 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
         ``serial``, ``local`` or a Dask scheduler address (the FEA re-checks).
     measured_alpha : float, optional
         The finger's measured alpha [1/s] (``[material] alpha_per_s``): the result's
-        ``measured_finger`` is the surrogate at it and the set-up's length.
+        ``measured_finger`` is the surrogate at it and the set-up's length (or drum speed).
+    mesh_path : str, optional
+        Where the finger mesh came from (named in the report).
 
     Returns
     -------
@@ -280,8 +342,8 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
     Raises
     ------
     ccedi.errors.InputError
-        An option is out of range, or the finger is a given mesh (the surrogate varies
-        the length on the contact ROM, which needs the generated finger).
+        An option is out of range or contradicts another, or the length is asked of a
+        finger mesh.
     ccedi.errors.RequirementsUnmet
         No design meets the requirements; raised after the result (``feasible: false``,
         the closest design and its misses) and the report are written.
@@ -300,7 +362,7 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
     )
     from ccedi.design.pareto import pareto_front, recommended
     from ccedi.design.recheck import fea_check as recheck
-    from ccedi.design.recheck import verified_optimum
+    from ccedi.design.recheck import full_fea_factory, verified_optimum
     from ccedi.design.requirements import Requirements
     from ccedi.design.surrogate import (
         CHECKED_ALPHA_PER_S,
@@ -308,32 +370,36 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
         cached_rom_runs,
         design_space,
         grid_points,
+        speed_space,
         validation_errors,
         validation_points,
     )
     from ccedi.fea.outputs import write_csv, write_figure, write_json, write_text
-    from ccedi.fea.units import m_to_inch
     from ccedi.study.design_report import feasible_region_figure, pareto_figure, report_markdown
 
     o = options
     req = o.requirements if o.requirements is not None else Requirements()
     _check_options(setup, o)
+    vary = second_variable(setup, o)
     out = Path(out)
-    space = design_space(tuple(o.alpha_bounds), tuple(o.length_bounds_in))
+    space = (design_space(tuple(o.alpha_bounds), tuple(o.length_bounds_in)) if vary == "length"
+             else speed_space(tuple(o.alpha_bounds), tuple(o.drum_speed_bounds_rpm)))
     if o.alpha_bounds[0] < CHECKED_ALPHA_PER_S[0]:
         warnings.warn(ValidityWarning(
             f"alpha bounds reach {o.alpha_bounds[0]:g} 1/s, below {CHECKED_ALPHA_PER_S[0]:g} 1/s: the contact ROM's "
             "peak force is 24-28 % below the FEA's at 3 1/s (the model-error margin carries it)"), stacklevel=2)
-    errors, error_source = _model_error(o)
+    errors, error_source = _model_error(o, vary)
+    fea_verifies = o.fea_check and not errors
 
     def tick(k, n):
         if k % 20 == 0 or k == n:
             print(f"ROM runs {k}/{n} ({o.damping} damping)", flush=True)
 
     t0 = time.perf_counter()
-    grid, cached = cached_rom_runs(setup, grid_points(space, o.grid), out / "rom_grid.csv", o.damping, tick)
+    grid, cached = cached_rom_runs(setup, grid_points(space, o.grid), out / "rom_grid.csv", o.damping, tick,
+                                   variables=space)
     check_runs, _ = cached_rom_runs(setup, validation_points(space, o.validation_runs), out / "rom_validation.csv",
-                                    o.damping, tick)
+                                    o.damping, tick, variables=space)
     surrogate = Surrogate.fit(space, grid)
     build_s = time.perf_counter() - t0
     problem = DesignProblem(surrogate, requirements=req, objective=o.objective, weights=o.weights,
@@ -348,8 +414,14 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
         "problem": {"damping": o.damping, "objective": o.objective,
                     "objective_output": None if o.objective == "weighted" else next(iter(problem.weights)),
                     "weights": problem.weights, "alpha_of_length": o.alpha_of_length,
-                    "alpha_bounds_per_s": list(o.alpha_bounds), "length_bounds_in": list(o.length_bounds_in),
+                    "alpha_bounds_per_s": list(o.alpha_bounds),
+                    "variables": [{"name": v.name, "label": v.label, "unit": v.unit, "key": v.key,
+                                   "lo": float(v.shown(v.lo)), "hi": float(v.shown(v.hi))} for v in space],
+                    "verified_by": "full FEA" if fea_verifies else "ROM",
                     "requirements": [lim.describe() for lim in problem.limits]},
+        "finger_mesh": None if setup.finger is None else {
+            "path": mesh_path or "(given mesh)", "element_type": setup.finger.element_type,
+            "nodes": setup.finger.n_nodes, "elements": setup.finger.n_elements, "length_m": setup.finger_length_m},
         "requirement_outputs": {lim.describe(): lim.output for lim in problem.limits},
         "requirements_stated": {f.name: getattr(req, f.name) for f in fields(req) if f.name != "extra"},
         "model_error": {k: {"largest_under": e.largest()[0], "largest_over": e.largest()[1], "relative": e.relative,
@@ -361,13 +433,18 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
     }
     try:
         optimum, info = solve(problem, n_starts=o.starts)
-        optimum, problem, verification = verified_optimum(problem, setup, damping=o.damping, n_starts=o.starts,
-                                                          start=optimum)
+        if fea_verifies:
+            print("verifying the optimum with the full FEA (no measured ROM error applies here)", flush=True)
+        optimum, problem, verification = verified_optimum(
+            problem, setup, damping=o.damping, n_starts=o.starts, start=optimum,
+            model_factory=full_fea_factory if fea_verifies else None)
     except RequirementsUnmet as err:
+        problem = getattr(err, "problem", problem)        # shifted by the verification runs, when they shifted it
         closest, misses = closest_design(problem)
         for name, miss in misses.items():
             miss["output"] = result["requirement_outputs"][name]
-        result.update({"feasible": False, "closest": closest.as_dict(problem), "misses": misses})
+        result.update({"feasible": False, "closest": closest.as_dict(problem), "misses": misses,
+                       "rom_verification": _without_runs(getattr(err, "steps", []))})
         write_figure(out / "feasible_region.png", feasible_region_figure(problem, None, checked=[closest]))
         write_text(out / "design_report.md", report_markdown(result))
         write_json(json_path, result)
@@ -378,29 +455,28 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
     pareto_s = time.perf_counter() - t1
     picks = recommended(front, optimum, o.pareto_output)[:o.fea_check_designs]
     checks = [] if not o.fea_check else recheck(setup, picks, damping=o.damping, limits=problem.limits,
-                                                 scheduler=scheduler)
+                                                 scheduler=scheduler, variables=space,
+                                                 done=[s["run"] for s in verification] if fea_verifies else ())
     write_figure(out / "feasible_region.png", feasible_region_figure(problem, optimum, front, picks))
     limit = next((lim.bound for lim in problem.limits if lim.output == o.pareto_output and lim.upper), None)
     write_figure(out / "pareto.png", pareto_figure(problem, front, o.pareto_output, optimum, limit))
     write_csv(out / "pareto.csv", pd.DataFrame([{k: v for k, v in d.as_dict(problem).items() if k != "margins"}
                                                 for d in front]))
     measured = None
-    if measured_alpha is not None and all(v.lo <= x <= v.hi for v, x in zip(space, (measured_alpha,
-                                                                                 setup.finger_length_m))):
-        X = np.array([[measured_alpha, setup.finger_length_m]])
-        outputs = {k: float(v[0]) for k, v in surrogate.evaluate(X).items()}
-        measured = type(optimum)(measured_alpha, setup.finger_length_m, outputs, float(problem.J(outputs))).as_dict(
-            problem)
+    current = setup.finger_length_m if vary == "length" else setup.omega_rad_s
+    if measured_alpha is not None and all(v.lo <= x <= v.hi for v, x in zip(space, (measured_alpha, current))):
+        outputs = {k: float(v[0]) for k, v in surrogate.evaluate(np.array([[measured_alpha, current]])).items()}
+        measured = type(optimum)(measured_alpha, current, outputs, float(problem.J(outputs))).as_dict(problem)
     grid_best = brute_force(problem)
     for k, e in errors.items():
-        under, over = e.at(optimum.alpha_per_s, optimum.length_m)
+        under, over = e.at(optimum.alpha_per_s, optimum.x)
         result["model_error"][k]["at_optimum"] = {"under": float(under), "over": float(over)}
     result.update({
         "optimum": optimum.as_dict(problem),
         "binding": binding(problem, optimum),
         "on_bounds": on_bounds(problem, optimum),
         "sensitivities": sensitivities(problem, optimum),
-        "rom_verification": verification,
+        "rom_verification": _without_runs(verification),
         "measured_finger": measured,
         "pareto": [d.as_dict(problem) for d in front],
         "pareto_output": o.pareto_output,
@@ -412,12 +488,11 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
     })
     write_text(out / "design_report.md", report_markdown(result))
     write_json(json_path, result)
-    best = result["optimum"]
-    print(f"optimum: alpha = {best['alpha_per_s']:.4g} 1/s, L = {best['length_in']:.3f} in ({o.damping} damping); "
+    print(f"optimum: {optimum.describe(space)} ({o.damping} damping); "
           f"objective {problem.objective_value(optimum.outputs):.4g}; binding: {', '.join(result['binding']) or 'none'}"
           + (f"; FLAG: {', '.join(result['on_bounds'])}" if result["on_bounds"] else ""), flush=True)
-    print(f"wrote {json_path}, {out}/design_report.md, feasible_region.png, pareto.png "
-          f"({len(front)} front points; L {m_to_inch(optimum.length_m):.3f} in)", flush=True)
+    print(f"wrote {json_path}, {out}/design_report.md, feasible_region.png, pareto.png ({len(front)} front points)",
+          flush=True)
     return result
 
 
@@ -444,7 +519,8 @@ def write_designs(cfg, options, record, out, scheduler="local"):
     """
     from ccedi.study.commands.fea import contact_setup
 
-    write_design(contact_setup(cfg), options, out / "design.json", out, scheduler=scheduler)
+    write_design(contact_setup(cfg), options, out / "design.json", out, scheduler=scheduler,
+                 mesh_path=cfg["finger"]["mesh"] or None)
     if record:
         write_calibrated_design(cfg, record, options, out / CALIBRATED, scheduler=scheduler)
 

@@ -390,8 +390,9 @@ def cmd_rom_check(args):
     sensor = Transducer(DEFAULT_NATURAL_FREQUENCY_HZ if args.sensor_hz is None else args.sensor_hz,
                         DEFAULT_DAMPING_RATIO if args.sensor_damping_ratio is None else args.sensor_damping_ratio)
     cfg = load_config(args)
-    refuse_mesh(cfg, "rom-check", "compares the ROMs of the generated elliptical finger with its FEA; the contact ROM "
-                "is not built on an imported mesh (run its full FEA: ccedi contact --config FILE)")
+    refuse_mesh(cfg, "rom-check", "compares the ROMs of the generated elliptical finger at several lengths with its "
+                "FEA; on a mesh, the contact ROM's check against its FEA is benchmarks/imported_finger_rom_check.py, "
+                "and ccedi design --config FILE verifies its optimum by the mesh's FEA")
     material, semi_axes = finger_inputs(cfg)
     cases = impulse_cases(args.impulse_alphas, n_modes=args.modes, material=material,
                           semi_axes_m=semi_axes) if args.impulse_alphas else []
