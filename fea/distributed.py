@@ -21,6 +21,7 @@ started with SIGINT ignored, so an interrupt is one ``KeyboardInterrupt`` in the
 which shuts the cluster down, rather than a traceback from every worker.
 """
 import logging
+import re
 import signal
 import threading
 import warnings
@@ -40,6 +41,36 @@ LOCAL_WORKERS = 2
 RUN_PRIORITY = 10
 """Dask priority of mapped runs: above queued study steps, so a step's sweep runs before
 the next step starts."""
+
+
+_ADDRESS = re.compile(r"^(?:[a-z][a-z0-9+.-]*://)?[A-Za-z0-9_.-]+:[0-9]{1,5}$")
+"""A Dask scheduler address: an optional protocol (``tcp://``), a host and a port."""
+
+
+def check_scheduler(scheduler, where="--scheduler"):
+    """Check a scheduler before anything runs: ``serial``, ``local`` or an address with a port.
+
+    Parameters
+    ----------
+    scheduler : str
+        What the user gave.
+    where : str, optional
+        How the message names it (the flag, or ``[study] scheduler``).
+
+    Returns
+    -------
+    str
+        ``scheduler``.
+
+    Raises
+    ------
+    InputError
+        Anything else, in one line.
+    """
+    if scheduler in (SERIAL, LOCAL) or (isinstance(scheduler, str) and _ADDRESS.match(scheduler)):
+        return scheduler
+    raise InputError(f"{where} = {scheduler!r}: must be serial, local or a Dask scheduler address with its port, "
+                     "such as tcp://10.0.0.5:8786")
 
 
 def client(stack, scheduler, n_workers=LOCAL_WORKERS):

@@ -24,6 +24,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 
 from ccedi.errors import InputError, brief_repr, one_line
+from ccedi.fea.distributed import check_scheduler
 from ccedi.fea.drum import DEFAULT_FINGER_LENGTH_M, DrumSetup
 from ccedi.fea.material import RUBBER, NeoHookean
 from ccedi.fea.mesh import SEMI_AXES
@@ -38,7 +39,8 @@ _BARE_KEY = re.compile(r"[A-Za-z0-9_-]{1,60}")
 @dataclass(frozen=True)
 class Key:
     """One input: type (float, int, bool, str, or list of float), unit, allowed range,
-    default (None: not set), one-line help, and the allowed values of a str (empty: any)."""
+    default (None: not set), one-line help, the allowed values of a str (empty: any), and
+    a further ``check(value, where)`` that raises InputError (None: none)."""
 
     kind: type
     unit: str
@@ -50,6 +52,7 @@ class Key:
     min_items: int = 1
     max_items: int | None = None
     choices: tuple = ()
+    check: object = None
 
 
 def _key(quantity, default, help, *list_args):
@@ -166,7 +169,8 @@ SCHEMA = {
                                           "correct the contact ROM by one full FE run at the calibration's "
                                           "baseline and check the result with another (~2 x 2 minutes)"),
         "scheduler": Key(str, "-", None, None, "local",
-                         "serial, local (2-worker Dask cluster) or a Dask scheduler address"),
+                         "serial, local (2-worker Dask cluster) or a Dask scheduler address with its port",
+                         check=check_scheduler),
     },
 }
 
@@ -226,6 +230,8 @@ def _check(section, key, spec, value, name=None):
         Quantity(spec.unit, spec.lo, spec.hi).check(value, name)
     if spec.choices and value not in spec.choices:
         raise InputError(f"{where}: must be one of {', '.join(spec.choices)}")
+    if spec.check is not None:
+        spec.check(value, name)
     return float(value) if number else value
 
 

@@ -9,7 +9,7 @@ import os
 from pathlib import Path
 
 from ccedi.errors import InputError
-from ccedi.fea.distributed import SERIAL
+from ccedi.fea.distributed import SERIAL, check_scheduler
 
 
 class DefaultsHelpFormatter(argparse.HelpFormatter):
@@ -195,7 +195,8 @@ def output_dir(path, option):
 
 
 def check_output_paths(args):
-    """Check every output path a parsed command line declares (:func:`add_output_argument`).
+    """Check every output path a parsed command line declares (:func:`add_output_argument`),
+    and its ``--scheduler`` (:func:`ccedi.fea.distributed.check_scheduler`).
 
     Parameters
     ----------
@@ -205,12 +206,15 @@ def check_output_paths(args):
     Raises
     ------
     InputError
-        The first output path that cannot be written, named with its option.
+        The first output path that cannot be written, named with its option, or a
+        scheduler that is neither a known word nor an address.
     """
     for dest, flag, kind in getattr(args, "output_paths", ()):
         value = getattr(args, dest, None)
         if value is not None:
             (output_file if kind == "file" else output_dir)(value, flag)
+    if getattr(args, "scheduler", None) is not None:
+        check_scheduler(args.scheduler)
 
 
 def check_flag(flag, value, section, key):

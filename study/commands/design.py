@@ -260,6 +260,8 @@ def second_variable(setup, o):
 def _check_options(setup, o):
     """Everything about the request that can be checked before the first ROM run."""
     from ccedi.design.outputs import OUTPUTS
+    from ccedi.fea.units import RPM
+    from ccedi.quantities import QUANTITIES
 
     vary = second_variable(setup, o)
     if vary == "drum_speed" and o.alpha_of_length != "free":
@@ -269,9 +271,14 @@ def _check_options(setup, o):
     if o.objective == "throughput" and setup.cycle_time_s is not None:
         raise InputError(f"--objective throughput: [drum] cycle_time_s = {setup.cycle_time_s:g} s fixes the time "
                          "between objects whatever the drum speed; set objects_per_revolution instead")
-    lo, hi = o.drum_speed_bounds_rpm
-    if not 0.0 < lo < hi:
-        raise InputError(f"--drum-speed-bounds-rpm {lo:g} {hi:g}: must satisfy 0 < LO < HI [rpm]")
+    for flag, (lo, hi), quantity in (("--alpha-bounds", o.alpha_bounds, QUANTITIES["alpha_per_s"]),
+                                     ("--length-bounds-in", o.length_bounds_in, QUANTITIES["length_in"]),
+                                     ("--drum-speed-bounds-rpm", o.drum_speed_bounds_rpm,
+                                      QUANTITIES["omega_rad_s"].in_unit(1.0 / RPM, "rpm"))):
+        for value in (lo, hi):
+            quantity.check(value, flag)
+        if not 0.0 < lo < hi:
+            raise InputError(f"{flag} {lo:g} {hi:g}: must satisfy 0 < LO < HI ({quantity.unit})")
     if o.fea_check_designs not in (1, 2, 3):
         raise InputError(f"fea_check_designs must be 1, 2 or 3, got {o.fea_check_designs}")
     for name, value, lo in (("--grid", min(o.grid), 4), ("--validation-runs", o.validation_runs, 1),

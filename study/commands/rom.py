@@ -5,6 +5,7 @@
   rom-check      reduced models against the full FEA (impulse and contact cases)
 """
 from ccedi.errors import InputError
+from ccedi.quantities import QUANTITIES
 from ccedi.study.commands.arguments import (
     add_command,
     add_config_argument,
@@ -277,6 +278,8 @@ def cmd_damping_fits(args):
     cfg = load_config(args)
     refuse_mesh(cfg, "damping-fits", "varies the generated finger's length and the mesh has one; its alpha_cr: "
                 "ccedi identify --alpha-cr --config FILE")
+    for length in args.lengths_in:
+        QUANTITIES["length_in"].check(length, "--lengths-in")
     write_damping_fits(cfg, args.lengths_in, args.out, scheduler=args.scheduler)
 
 
