@@ -131,8 +131,8 @@ class ModelError:
         Parameters
         ----------
         limit : Limit
-        alpha_per_s, x : float, numpy.ndarray or casadi expression
-            The design(s): alpha [1/s] and the second variable [SI].
+        alpha_per_s, length_m : float, numpy.ndarray or casadi expression
+            The design(s) [1/s], [m].
 
         Returns
         -------

@@ -39,7 +39,7 @@ def full_fea_factory(setup: DrumSetup):
     return FullContactModel(setup, object_stress=False)
 
 
-def model_run(d, setup, *, damping, model_factory, extra_outputs=None, variables=None, stress=None):
+def model_run(d, setup, *, damping, model_factory, extra_outputs=None, variables=None, stress=None, progress=False):
     """Run ``model_factory`` at design ``d`` until the next object arrives and take its
     design outputs.
 
@@ -59,6 +59,8 @@ def model_run(d, setup, *, damping, model_factory, extra_outputs=None, variables
         The design's variables (default :func:`ccedi.design.surrogate.design_space`).
     stress : ObjectStress, optional
         The object's static solver (built here when not given).
+    progress : bool, optional
+        Show the model's progress bar (the full FEA's; the ROM shows none).
 
     Returns
     -------
@@ -69,7 +71,8 @@ def model_run(d, setup, *, damping, model_factory, extra_outputs=None, variables
     variables = tuple(variables or design_space())
     s = setup_at(setup, [v.name for v in variables], (d.alpha_per_s, d.x))
     t_end = run_time_s(s)
-    res = model_factory(s).run(d.alpha_per_s, damping=damping, t_end_s=t_end, n_outputs=output_count(t_end))
+    res = model_factory(s).run(d.alpha_per_s, damping=damping, t_end_s=t_end, n_outputs=output_count(t_end),
+                               progress=progress)
     return {"outputs": design_outputs(s, res.history, stress or ObjectStress(setup), extra=extra_outputs),
             "warnings": list(res.summary["warnings"]), "wall_time_s": res.summary["wall_time_s"]}
 
@@ -211,7 +214,7 @@ def verified_optimum(problem, setup: DrumSetup, *, damping="relative", model_fac
     design = start if start is not None else solve(problem, n_starts=n_starts)[0]
     for _ in range(iterations):
         run = model_run(design, setup, damping=damping, model_factory=factory, extra_outputs=extra_outputs,
-                        variables=variables, stress=stress)
+                        variables=variables, stress=stress, progress=True)
         model = run["outputs"]
         missed = [lim for lim in problem.limits if model.get(lim.output) is None
                   or lim.margin(model[lim.output], problem.bound(lim, design.alpha_per_s, design.x)) < 0.0]

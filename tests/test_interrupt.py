@@ -18,10 +18,11 @@ ROOT = Path(__file__).resolve().parents[1]
 
 @pytest.mark.slow
 def test_sigint_on_a_running_study_prints_one_line(tmp_path):
-    """Table 1 as --quick makes it, and a contact step of 2 s simulated beside it: the
-    contact step is still running when Table 1 is done on a loaded machine (with
-    --quick's 1 s it finished first when the rest of the suite ran beside it); the running
-    step ends before the command does, so the wait after the interrupt is generous."""
+    """Table 1 as --quick makes it, and a contact step of 2 s simulated beside it; the
+    interrupt comes when the first of them is done (which one depends on the machine's
+    load: Table 1 on a quiet machine, the contact step on a busy one), while the other
+    still runs. The running step ends before the command does, so the wait after the
+    interrupt is generous."""
     out = tmp_path / "study"
     config = tmp_path / "study.toml"
     config.write_text("[study]\ntable1_stiffness = false\ndetailed_model = false\n"
@@ -32,10 +33,12 @@ def test_sigint_on_a_running_study_prints_one_line(tmp_path):
                             start_new_session=True)
     try:
         deadline = time.monotonic() + 300
+        first = None
         for line in proc.stdout:
-            if "table1 done" in line:
+            first = next((step for step in ("table1", "contact") if f"{step} done" in line), None)
+            if first:
                 break
-            assert time.monotonic() < deadline, "table1 did not finish in 300 s"
+            assert time.monotonic() < deadline, "no step finished in 300 s"
         assert proc.poll() is None, "the study ended before it could be interrupted"
         os.killpg(proc.pid, signal.SIGINT)
         stdout, stderr = proc.communicate(timeout=300)
@@ -44,6 +47,6 @@ def test_sigint_on_a_running_study_prints_one_line(tmp_path):
             os.killpg(proc.pid, signal.SIGKILL)
     assert proc.returncode == 130
     assert stderr.splitlines() == ["ccedi study: interrupted; no partial outputs were written"], stderr
-    assert (out / "table1.json").is_file()                  # the finished step is kept
-    assert list(json.loads((out / "study.json").read_text())["wall_time_s"]) == ["table1"]
+    assert list(json.loads((out / "study.json").read_text())["wall_time_s"]) == [first]   # the finished step is kept
+    assert (out / "table1.json").is_file() == (first == "table1")
     assert not [p for p in out.rglob("*") if p.is_file() and ".tmp" in p.name]
