@@ -41,6 +41,7 @@ import psutil
 from ccedi.errors import InputError, SolverError, require_finite_positive
 from ccedi.progress import progress_bar
 
+from .budget import STEPS_ENV, step_budget
 from .contact import PLANE, STEP_SHRINK, ContactGroup, contact_damping, contact_forces, penalty_stiffness
 from .fastmath import FASTMATH
 from .friction import coulomb_friction
@@ -684,6 +685,37 @@ stored penalty energy [J], deepest penetration [m], nodes in contact, force-weig
 contact point [m], work of the normal and friction contact forces on the body [J]."""
 
 
+ELEMENT_CYCLE_S = {"hex8": 3e-7, "tet4": 4e-7, "tet10": 1.6e-6}
+"""About how long one element takes per step on one core [s] (``benchmarks/fea_speed.json``,
+``benchmarks/tet_speed.json``: 168-427 ns hex8, 350 ns tet4, 1592 ns tet10 on the 2-core
+AMD VM), for the expected wall time :func:`run` states before it starts."""
+
+
+def expected_wall_time_s(mesh, steps):
+    """About how long ``steps`` steps of ``mesh`` take on one core [s] (:data:`ELEMENT_CYCLE_S`).
+
+    Parameters
+    ----------
+    mesh : Mesh
+    steps : float
+
+    Returns
+    -------
+    float
+    """
+    per_step = (len(mesh.hexes) * ELEMENT_CYCLE_S["hex8"] + len(mesh.tets4) * ELEMENT_CYCLE_S["tet4"]
+                + len(mesh.tets10) * ELEMENT_CYCLE_S["tet10"])
+    return steps * per_step
+
+
+def _duration(seconds):
+    """``"3.2 min"``-style duration."""
+    for unit, size in (("d", 86400.0), ("h", 3600.0), ("min", 60.0)):
+        if seconds >= size:
+            return f"{seconds / size:.2g} {unit}"
+    return f"{seconds:.2g} s"
+
+
 THREADS_ENV = "CCEDI_THREADS"
 """Environment variable that sets the default thread count of :func:`run` (an integer in
 1 .. the cores), e.g. 1 in a test suite whose workers share the cores."""
@@ -770,7 +802,8 @@ def thread_count(threads=None):
 
 
 def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_set="tip",
-        reaction_set="root", snapshot_every=0, x0=None, v0=None, progress=False, output_hook=None, threads=None):
+        reaction_set="root", snapshot_every=0, x0=None, v0=None, progress=False, output_hook=None, threads=None,
+        max_steps=None):
     """Integrate ``model`` with central differences from rest (or x0, v0) to ``t_end_s``.
 
     Solves ``M a + (alpha M + beta K) v + f_int(x) = f_ext`` with the update of the
@@ -811,7 +844,8 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     v0 : (n_nodes, 3) array_like, optional
         Initial velocities [m/s] (zeroed on constrained nodes). Default: zero.
     progress : bool, optional
-        Show a progress bar (tqdm) over the output times. Default False.
+        Show a progress bar (tqdm) over the output times, headed by the run's expected
+        step count and wall time. Default False.
     output_hook : callable, optional
         ``hook(t_out, x_out, f_ext) -> dict`` called at every output with the
         interpolated positions [m] and the external nodal forces of the last step
@@ -819,6 +853,10 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     threads : int, optional
         Threads of the compiled hexahedron kernel (:func:`thread_count`; default: the
         free cores). The results are the same bits for any count.
+    max_steps : int, optional
+        Step budget (:func:`ccedi.fea.budget.step_budget`; default ``CCEDI_MAX_STEPS`` or
+        :data:`ccedi.fea.budget.MAX_STEPS`): a run expected to take more steps
+        (``t_end_s`` over the first stable step) is refused before it starts.
 
     Returns
     -------
@@ -831,7 +869,9 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
         If ``model`` is not a :class:`ccedi.fea.model.Model`, ``t_end_s`` or ``dt_s`` is
         not finite and positive, ``n_outputs`` is not an integer >= 1, ``backend`` is
         unknown, ``dt_s`` exceeds the CFL limit, ``x0``/``v0`` are not finite arrays
-        of the mesh's node shape, or ``threads`` is out of range.
+        of the mesh's node shape, ``threads`` is out of range, or the run would take more
+        steps than its budget (:func:`step_budget`; the message gives the step count, the
+        stable step and the expected wall time).
     SolverError
         If an element inverts, a rod hinge folds back on itself, the solution diverges
         or the mesh deforms so that a fixed ``dt_s`` exceeds the stable step.
@@ -852,6 +892,13 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
                          f"(paper Eq. 6); use dt_s <= {TSSFAC * dt_cfl:.4g} s or leave it unset")
     tssfac = TSSFAC * (STEP_SHRINK if model.contact is not None else 1.0)
     dt_first = dt_user if dt_user else tssfac * dt_cfl
+    n_expected = t_end_s / dt_first
+    budget = step_budget(max_steps)
+    if n_expected > budget:
+        raise InputError(f"t_end_s = {t_end_s:g} s at the stable step {dt_first:.3g} s is about {n_expected:.3g} steps, "
+                         f"beyond the budget of {budget:.3g} (about {_duration(expected_wall_time_s(mesh, n_expected))} "
+                         f"for {mesh.n_elements} elements on one core): a stiff material or a small element sets the "
+                         f"step; check E and rho, refine less, or raise the budget (--max-steps, {STEPS_ENV})")
     X = mesh.nodes
     x = X.copy() if x0 is None else _initial_state("x0 (initial positions, m)", x0, X.shape)
     v = np.zeros_like(X) if v0 is None else _initial_state("v0 (initial velocities, m/s)", v0, X.shape)
@@ -874,7 +921,8 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     wall0 = _time.perf_counter()
     times = np.linspace(0.0, t_end_s, n_outputs + 1)[1:]
     if progress:
-        times = progress_bar(times, desc=f"t_end {t_end_s:g} s", unit="output")
+        times = progress_bar(times, desc=f"t_end {t_end_s:g} s, ~{n_expected:.3g} steps, "
+                                         f"~{_duration(expected_wall_time_s(mesh, n_expected))}", unit="output")
     if backend == "numba":
         advance = compiled_entry(advance, *kernels, t, t_end_s, dt_prev, *groups, energy)
     threads_before = nb.get_num_threads()

@@ -7,10 +7,36 @@ import tempfile
 from pathlib import Path
 
 
-def _atomic_write(path, write):
+def atomic_write(path, write):
+    """Call ``write(tmp)`` on a temporary file beside ``path``, then rename it over ``path``.
+
+    An interrupted or failed write leaves neither a partial ``path`` nor the temporary
+    file; an :class:`OSError` (a full disk, a quota, a file too large) is raised again
+    naming ``path``, the file the user asked for, not the temporary one.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        Output file; parent directories are created.
+    write : callable
+        ``write(tmp)`` writes the whole content to the path ``tmp``.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Raises
+    ------
+    OSError
+        The directory or the file cannot be written; ``filename`` is ``path``.
+    """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    except OSError as err:
+        raise _naming(err, path) from None
     os.close(fd)
     umask = os.umask(0)
     os.umask(umask)
@@ -18,11 +44,18 @@ def _atomic_write(path, write):
     try:
         write(tmp)
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as err:
         if os.path.exists(tmp):
             os.unlink(tmp)
+        if isinstance(err, OSError):
+            raise _naming(err, path) from None
         raise
     return path
+
+
+def _naming(err, path):
+    """``err`` as an OSError whose filename is ``path`` (its errno and message kept)."""
+    return OSError(err.errno, err.strerror or str(err), str(path))
 
 
 def _json_safe(value):
@@ -62,7 +95,7 @@ def write_json(path, data):
         with open(tmp, "w") as fh:
             json.dump(_json_safe(data), fh, indent=2, sort_keys=False, allow_nan=False)
             fh.write("\n")
-    return _atomic_write(path, write)
+    return atomic_write(path, write)
 
 
 def write_csv(path, frame):
@@ -81,7 +114,7 @@ def write_csv(path, frame):
     pathlib.Path
         The path written.
     """
-    return _atomic_write(path, lambda tmp: frame.to_csv(tmp, index=False))
+    return atomic_write(path, lambda tmp: frame.to_csv(tmp, index=False))
 
 
 def write_figure(path, fig):
@@ -102,7 +135,7 @@ def write_figure(path, fig):
         The path written.
     """
     fmt = Path(path).suffix.lstrip(".") or "png"
-    return _atomic_write(path, lambda tmp: fig.savefig(tmp, format=fmt, dpi=120, bbox_inches="tight"))
+    return atomic_write(path, lambda tmp: fig.savefig(tmp, format=fmt, dpi=120, bbox_inches="tight"))
 
 
 def write_text(path, text):
@@ -124,7 +157,7 @@ def write_text(path, text):
     def write(tmp):
         with open(tmp, "w") as fh:
             fh.write(text)
-    return _atomic_write(path, write)
+    return atomic_write(path, write)
 
 
 def require_parquet():
@@ -165,7 +198,7 @@ def write_parquet(path, frame):
         If pyarrow is not installed.
     """
     require_parquet()
-    return _atomic_write(path, lambda tmp: frame.to_parquet(tmp, index=False))
+    return atomic_write(path, lambda tmp: frame.to_parquet(tmp, index=False))
 
 
 def write_table(path, frame):
@@ -222,7 +255,7 @@ def write_pdf_figures(path, images):
                 ax.set_title(caption, fontsize=9, wrap=True)
                 pdf.savefig(fig)
                 plt.close(fig)
-    return _atomic_write(path, write)
+    return atomic_write(path, write)
 
 
 def remove_temporaries(directory):

@@ -13,6 +13,7 @@ from .explicit import RunResult
 from .hex8 import deformation_gradient
 from .material import cauchy_von_mises
 from .model import Model
+from .outputs import atomic_write, write_text
 from .tetra import deformation_gradients
 
 VTK_CELL_TYPES = {"hex8": "hexahedron", "tet4": "tetra", "tet10": "tetra10"}
@@ -78,10 +79,7 @@ def write_vtu(path, model: Model, x=None):
     out = meshio.Mesh(points=x, cells=[(kind, cells) for kind, cells, _ in blocks],
                       point_data={"displacement_m": x - mesh.nodes},
                       cell_data={"von_mises_Pa": [vm for _, _, vm in blocks]})
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    meshio.write(path, out)
-    return path
+    return atomic_write(path, lambda tmp: meshio.write(tmp, out, file_format="vtu"))
 
 
 def write_series(directory, model: Model, result: RunResult, stem="frame"):
@@ -112,7 +110,6 @@ def write_series(directory, model: Model, result: RunResult, stem="frame"):
         name = f"{stem}_{i:05d}.vtu"
         write_vtu(directory / name, model, x)
         entries.append(f'    <DataSet timestep="{t:.9g}" file="{name}"/>')
-    pvd = directory / f"{stem}.pvd"
-    pvd.write_text('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n'
-                   + "\n".join(entries) + "\n  </Collection>\n</VTKFile>\n")
-    return pvd
+    return write_text(directory / f"{stem}.pvd",
+                      '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n'
+                      + "\n".join(entries) + "\n  </Collection>\n</VTKFile>\n")

@@ -17,7 +17,7 @@ import warnings
 from ccedi.errors import InputError, ModelInadequate, RequirementsUnmet, SolverError, ValidityWarning
 from ccedi.progress import close_progress_bars
 from ccedi.study.commands import calibrate, design, fea, rom, study
-from ccedi.study.commands.arguments import check_output_paths
+from ccedi.study.commands.arguments import check_output_paths, step_budget_of
 
 
 def build_parser():
@@ -69,7 +69,8 @@ def main(argv=None):
             warnings.simplefilter("always", ValidityWarning)
             warnings.showwarning = _warning_printer(args.command, warnings.showwarning)
             check_output_paths(args)
-            args.func(args)
+            with step_budget_of(args):
+                args.func(args)
     except (InputError, SolverError) as err:
         return _fail(args.command, f"error: {err}", 1)
     except ModelInadequate as err:

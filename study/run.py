@@ -168,14 +168,16 @@ def _run_step(name, cfg, out, scheduler):
     """Run the study step ``name`` (on a Dask worker or in this process): its wall time [s],
     the warnings it issued, recorded (:func:`ccedi.fea.distributed.recording_warnings`), and
     the one-line message of the :class:`ccedi.errors.SolverError` that stopped it (None when
-    it finished), so that one failed run does not cost the other steps their results."""
+    it finished), so that one failed run does not cost the other steps their results; an
+    :class:`ccedi.errors.InputError` raised inside a step (an input only that step reads)
+    is a failed step too."""
     from ccedi.fea.distributed import recording_warnings
 
     thunk = next(t for n, _, t in steps(cfg, out, scheduler) if n == name)
     t0 = time.perf_counter()
     try:
         _, recorded = recording_warnings(thunk)
-    except SolverError as err:
+    except (SolverError, InputError) as err:
         return time.perf_counter() - t0, [], str(err)
     return time.perf_counter() - t0, recorded, None
 
@@ -210,12 +212,20 @@ def _distributed(todo, cfg, out, scheduler):
 
 def _check_records(records, key="measured_records"):
     """Raise :class:`ccedi.errors.InputError` for the first measured record (or its JSON
-    sidecar) that is not a readable file, before any step runs."""
+    sidecar) that is not a readable file or whose contents do not validate
+    (:func:`ccedi.calibrate.experiment.load_experiment`: columns, units, NaN, the sidecar's
+    fields), before any step runs."""
+    from ccedi.calibrate.experiment import load_experiment  # the calibration stack loads only when a record is set
+
     for record in map(Path, records):
         for path in (record, record.with_suffix(".json")):
             if not path.is_file():
                 where = "" if path.is_absolute() else f" (relative to the working directory {Path.cwd()})"
                 raise InputError(f"[study] {key}: {path}: no such file{where}")
+        try:
+            load_experiment(record)
+        except InputError as err:
+            raise InputError(f"[study] {key}: {err}") from None
 
 
 def run_study(cfg, out, scheduler=None, quick=False, only=None):

@@ -1,13 +1,33 @@
 """What a careless user types, class by class: each bad input is refused before any
 compute, with exit status 1 and one stderr line that names what was typed (flag, key or
 file) and what is allowed; no traceback, no output left behind, within a few seconds."""
+import json
+import resource
+import signal
 import time
+from contextlib import contextmanager
+from pathlib import Path
 
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
 import pytest
 
 from ccedi.errors import InputError
+from ccedi.fea.budget import STEPS_ENV
 from ccedi.fea.distributed import check_scheduler
+from ccedi.fea.explicit import critical_time_step, run
+from ccedi.fea.lsdyna import write_keyword
+from ccedi.fea.material import RUBBER
+from ccedi.fea.mesh import elliptical_cantilever, sm_a
+from ccedi.fea.model import cantilever_model
+from ccedi.fea.outputs import write_csv, write_figure, write_json, write_pdf_figures, write_text
+from ccedi.fea.vtu import write_vtu
 from ccedi.study.cli import main
+from ccedi.study.commands.fea import finger_of
+from ccedi.study.config import load
+
+ROOT = Path(__file__).resolve().parents[1]
 
 BAD_SCHEDULERS = ["fast", "tcp://10.0.0.5", "10.0.0.5:port", "", "local ", "serial,local", "tcp://:8786",
                   "Serial"]
@@ -67,3 +87,116 @@ def test_design_space_flags_out_of_range_name_the_flag_before_any_run(argv, name
     err = _refused(capsys, args, named)
     assert "finger_length_m" not in err and "DrumSetup" not in err
     assert not out.exists() or not any(out.iterdir())
+
+
+@contextmanager
+def small_disk():
+    """Files of this process cannot grow past 4 kB (RLIMIT_FSIZE, SIGXFSZ ignored): a write
+    beyond fails with OSError (EFBIG), as on a full disk."""
+    old = resource.getrlimit(resource.RLIMIT_FSIZE)
+    handler = signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    resource.setrlimit(resource.RLIMIT_FSIZE, (4096, old[1]))
+    try:
+        yield
+    finally:
+        resource.setrlimit(resource.RLIMIT_FSIZE, old)
+        signal.signal(signal.SIGXFSZ, handler)
+
+
+def _writers(tmp_path):
+    """(name, path, thunk) of every result writer, each with content well over 4 kB."""
+    big = pd.DataFrame({"time_s": np.linspace(0.0, 1.0, 2000), "force_N": np.linspace(1.0, 2.0, 2000)})
+    fig, ax = plt.subplots()
+    ax.plot(big.time_s, np.sin(40 * big.time_s))
+    png = tmp_path / "keep.png"
+    write_figure(png, fig)                                   # before the limit: the PDF's page
+    model = cantilever_model(elliptical_cantilever(0.1, 4, 30), RUBBER)
+    return [("json", "r.json", lambda p: write_json(p, {"x": list(range(3000))})),
+            ("csv", "r.csv", lambda p: write_csv(p, big)),
+            ("text", "r.md", lambda p: write_text(p, "x" * 20000)),
+            ("figure", "r.png", lambda p: write_figure(p, fig)),
+            ("pdf", "r.pdf", lambda p: write_pdf_figures(p, [(png, "page")])),
+            ("vtu", "r.vtu", lambda p: write_vtu(p, model)),
+            ("lsdyna", "r.k", lambda p: write_keyword(model, p, 0.01))]
+
+
+def test_every_writer_on_a_full_disk_names_its_file_and_leaves_nothing(tmp_path):
+    """Each writer, its file unable to grow: an OSError naming the file the user asked
+    for (not a temporary one), and neither a partial file nor a temporary left."""
+    out = tmp_path / "out"
+    for name, file, write in _writers(tmp_path):
+        path = out / name / file
+        with small_disk(), pytest.raises(OSError) as err:
+            write(path)
+        assert err.value.filename == str(path), name
+        assert list(path.parent.iterdir()) == [], name
+        write(path)                                         # the same write fits without the limit
+        assert path.stat().st_size > 4096, name
+
+
+def test_a_command_on_a_full_disk_names_the_file_in_one_line(tmp_path, capsys):
+    deck = tmp_path / "deck.k"
+    with small_disk():
+        err = _refused(capsys, ["export", "--case", "impulse", "--format", "lsdyna", "--out", str(deck)], str(deck))
+    assert "File too large" in err and not deck.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_a_study_checks_every_record_before_its_first_step(tmp_path, capsys):
+    """A NaN in a measured record, a renamed time column, a record of three samples: the
+    study stops before any step, naming the key and the file; no study files written."""
+    src = ROOT / "data" / "measured" / "control_high"
+    bad = []
+    for k, edit in enumerate((lambda t: "\n".join(row if i != 5 else row.split(",")[0] + ",nan," + row.split(",")[2]
+                                                  for i, row in enumerate(t.splitlines())),
+                              lambda t: t.replace("time_s", "time_ms", 1),
+                              lambda t: "\n".join(t.splitlines()[:4]))):
+        record = tmp_path / f"record_{k}.csv"
+        record.write_text(edit(src.with_suffix(".csv").read_text()))
+        record.with_suffix(".json").write_text(src.with_suffix(".json").read_text())
+        bad.append(record)
+    for record in bad:
+        toml = tmp_path / "study.toml"
+        toml.write_text(f'[study]\nmeasured_records = ["{record}"]\n')
+        out = tmp_path / "out"
+        _refused(capsys, ["study", "--config", str(toml), "--only", "impulse", "calibrate", "--scheduler", "serial",
+                          "--out", str(out)], "[study] measured_records", record.name)
+        assert not out.exists()
+
+
+@pytest.mark.filterwarnings("ignore::ccedi.errors.ValidityWarning")     # an unloaded run's energy balance
+def test_a_run_beyond_its_step_budget_is_refused_with_its_count_and_time(tmp_path, capsys, monkeypatch):
+    """E = 1e12 Pa with rho = 1 kg/m^3 (both in range): about 5e8 steps. Refused before it
+    starts, from the command line and the library, naming the steps, the stable step and
+    the expected time; ``--max-steps`` and CCEDI_MAX_STEPS move the budget."""
+    toml = tmp_path / "stiff.toml"
+    toml.write_text("[material]\nE_Pa = 1e12\nrho_kg_m3 = 1.0\n")
+    out = tmp_path / "out"
+    err = _refused(capsys, ["impulse", "--config", str(toml), "--alpha", "180", "--scheduler", "serial",
+                            "--out", str(out)], "steps", "beyond the budget", "--max-steps")
+    assert "stable step" in err and not out.exists()
+    model = cantilever_model(elliptical_cantilever(0.05, 2, 6), RUBBER)
+    dt = 0.9 * critical_time_step(model)
+    with pytest.raises(InputError, match="beyond the budget of 10"):
+        run(model, 20 * dt, max_steps=10)
+    monkeypatch.setenv(STEPS_ENV, "10")
+    with pytest.raises(InputError, match="beyond the budget of 10"):
+        run(model, 20 * dt)
+    assert run(model, 20 * dt, max_steps=100).summary["steps"] >= 20
+    monkeypatch.setenv(STEPS_ENV, "many")
+    with pytest.raises(InputError, match="CCEDI_MAX_STEPS = 'many'"):
+        run(model, 20 * dt)
+    monkeypatch.delenv(STEPS_ENV)
+    _refused(capsys, ["impulse", "--max-steps", "0", "--out", str(out)], "--max-steps")
+
+
+def test_the_configured_finger_length_is_what_table1_and_impulse_use(tmp_path, capsys):
+    """``[finger] impulse_length_in`` in --config, no --length-in: Table 1 and the impulse
+    command build the finger of the configured length, not the flag's old default 4.5."""
+    toml = tmp_path / "c.toml"
+    toml.write_text("[finger]\nimpulse_length_in = 6.0\n")
+    table = tmp_path / "t.json"
+    assert main(["table1", "--config", str(toml), "--no-stiffness", "--no-detailed-model", "--json", str(table)]) == 0
+    nodes = json.loads(table.read_text())["SM-A"]["nodes"]
+    assert nodes == sm_a(length_in=6.0).n_nodes != sm_a(length_in=4.5).n_nodes
+    mesh, length_in, finger = finger_of(load(toml), None)
+    assert mesh is None and length_in == 6.0 and finger["name"] == "SM-A 6-in finger"

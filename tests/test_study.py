@@ -16,8 +16,8 @@ def test_interrupt_leaves_finished_steps_and_no_temporary_files(tmp_path, monkey
         def interrupted(tmp):
             open(tmp, "w").write("half")
             raise KeyboardInterrupt
-        from ccedi.fea.outputs import _atomic_write
-        _atomic_write(tmp_path / "second" / "result.json", interrupted)
+        from ccedi.fea.outputs import atomic_write
+        atomic_write(tmp_path / "second" / "result.json", interrupted)
 
     monkeypatch.setattr(study_run, "steps", lambda cfg, out, scheduler: [("table1", "one", first),
                                                                        ("impulse", "two", second)])

@@ -6,9 +6,11 @@ lost to a path it cannot write at the end.
 """
 import argparse
 import os
+from contextlib import contextmanager
 from pathlib import Path
 
 from ccedi.errors import InputError
+from ccedi.fea.budget import MAX_STEPS, STEPS_ENV
 from ccedi.fea.distributed import SERIAL, check_scheduler
 
 
@@ -44,8 +46,12 @@ def add_command(sub, name, help):
     argparse.ArgumentParser
         The sub-command's parser.
     """
-    return sub.add_parser(name, help=help, description=help[0].upper() + help[1:] + ".",
-                          formatter_class=DefaultsHelpFormatter)
+    parser = sub.add_parser(name, help=help, description=help[0].upper() + help[1:] + ".",
+                            formatter_class=DefaultsHelpFormatter)
+    parser.add_argument("--max-steps", type=int, default=None, metavar="N",
+                        help=f"step budget of each explicit run: a longer one is refused before it starts, with its "
+                             f"step count and expected time (default {MAX_STEPS:.0e}, or {STEPS_ENV})")
+    return parser
 
 
 def add_scheduler_argument(parser, default=SERIAL):
@@ -192,6 +198,38 @@ def output_dir(path, option):
     if not os.access(base, os.W_OK | os.X_OK):
         raise InputError(f"{option} {path}: cannot write in {base}")
     return p
+
+
+@contextmanager
+def step_budget_of(args):
+    """``--max-steps`` in force while the command runs: set as ``CCEDI_MAX_STEPS`` (so a
+    local cluster's workers see it too) and restored after.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed arguments.
+
+    Raises
+    ------
+    InputError
+        ``--max-steps`` below 1.
+    """
+    given = getattr(args, "max_steps", None)
+    if given is None:
+        yield
+        return
+    if given < 1:
+        raise InputError(f"--max-steps = {given}: must be an integer >= 1 (steps)")
+    before = os.environ.get(STEPS_ENV)
+    os.environ[STEPS_ENV] = str(given)
+    try:
+        yield
+    finally:
+        if before is None:
+            os.environ.pop(STEPS_ENV, None)
+        else:
+            os.environ[STEPS_ENV] = before
 
 
 def check_output_paths(args):

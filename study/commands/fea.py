@@ -176,7 +176,8 @@ def finger_of(cfg, length_in=None):
     cfg : dict
         Validated inputs (:func:`ccedi.study.config.load`).
     length_in : float or None
-        ``--length-in`` [in] as given (None: not given; SM-A then has 4.5 in).
+        ``--length-in`` [in] as given (None: not given; SM-A then has ``[finger]
+        impulse_length_in``, 4.5 in by default).
 
     Returns
     -------
@@ -199,7 +200,7 @@ def finger_of(cfg, length_in=None):
     if mesh is not None and length_in is not None:
         raise InputError(f"--length-in {length_in:g}: the finger is [finger] mesh = {cfg['finger']['mesh']}, "
                          "whose length the mesh sets; drop --length-in")
-    length_in = None if mesh is not None else (4.5 if length_in is None else length_in)
+    length_in = None if mesh is not None else (cfg["finger"]["impulse_length_in"] if length_in is None else length_in)
     shown = mesh if mesh is not None else sm_a(length_in=length_in, semi_axes_m=cfg["finger"]["section_semi_axes_m"])
     finger = {"name": f"SM-A {length_in:g}-in finger" if mesh is None else Path(cfg["finger"]["mesh"]).name,
               "mesh_file": None if mesh is None else cfg["finger"]["mesh"], "element_type": shown.element_type,
@@ -211,19 +212,26 @@ def finger_of(cfg, length_in=None):
 
 def _cmd_table1(args):
     check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
-    write_table1(load_config(args), args.length_in, args.json, stiffness=not args.no_stiffness,
-                 detailed=not args.no_detailed_model)
+    cfg = load_config(args)
+    write_table1(cfg, cfg["finger"]["impulse_length_in"] if args.length_in is None else args.length_in, args.json,
+                 stiffness=not args.no_stiffness, detailed=not args.no_detailed_model,
+                 detailed_stiffness=args.detailed_model_stiffness)
 
 
 def _cmd_impulse(args):
-    check_flag("--alpha", list(args.alpha), "study", "impulse_alphas_per_s")     # every alpha before the first run
-    if args.length_in is not None:
-        check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
+    if args.alpha is not None:
+        check_flag("--alpha", list(args.alpha), "study", "impulse_alphas_per_s")  # every alpha before the first run
+    check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
     check_flag("--force-N", args.force_N, "study", "impulse_force_N")
     check_flag("--duration-s", args.duration_s, "study", "impulse_duration_s")
     check_flag("--t-end-s", args.t_end_s, "study", "impulse_t_end_s")
-    write_impulse(load_config(args), args.alpha, args.out, length_in=args.length_in, force_N=args.force_N,
-                  duration_s=args.duration_s, t_end_s=args.t_end_s, scheduler=args.scheduler)
+    cfg = load_config(args)
+    s = cfg["study"]
+    write_impulse(cfg, s["impulse_alphas_per_s"] if args.alpha is None else args.alpha, args.out,
+                  length_in=args.length_in,
+                  force_N=s["impulse_force_N"] if args.force_N is None else args.force_N,
+                  duration_s=s["impulse_duration_s"] if args.duration_s is None else args.duration_s,
+                  t_end_s=s["impulse_t_end_s"] if args.t_end_s is None else args.t_end_s, scheduler=args.scheduler)
 
 
 def _cmd_contact(args):
@@ -307,6 +315,7 @@ def write_contact_report(setup, out):
     import pandas as pd
 
     from ccedi.fea.contact_study import contact_report
+    from ccedi.fea.outputs import write_text
 
     out = Path(out)
 
@@ -318,7 +327,7 @@ def write_contact_report(setup, out):
     if g_table is None:
         return
     r_table, r_hist = load("relative")
-    (out / "contact_report.md").write_text(contact_report(setup, g_table, g_hist, r_table, r_hist))
+    write_text(out / "contact_report.md", contact_report(setup, g_table, g_hist, r_table, r_hist))
 
 
 def _contact_arguments(p):
@@ -343,22 +352,31 @@ def add_parsers(sub):
     """
     t = add_command(sub, "table1", help="paper Table 1: nodes, elements, stable time step and tip stiffness "
                        "of SM-A, SM-B, SM-C, the detailed model DM and the --config's [finger] mesh")
-    t.add_argument("--length-in", type=float, default=4.5, help="finger length [in] (default 4.5)")
+    t.add_argument("--length-in", type=float, default=None,
+                   help="finger length [in] (default: [finger] impulse_length_in of --config, 4.5)")
     add_output_argument(t, "--json", "file", help="write the table as JSON to this path")
     t.add_argument("--no-stiffness", action="store_true", help="skip the static stiffness solves")
     t.add_argument("--no-detailed-model", action="store_true",
                    help="leave out the detailed model DM (a 2.8 mm mesh of about 28 000 nodes)")
+    t.add_argument("--detailed-model-stiffness", action="store_true",
+                   help="also solve the DM's tip stiffness (nonlinear solves at 2.8 mm: about 30 CPU-minutes; "
+                        "without it the DM row has its nodes, elements and time step)")
     add_config_argument(t)
     t.set_defaults(func=_cmd_table1)
     i = add_command(sub, "impulse", help="tip impulse response of the SM-A finger for several alpha "
                        "(paper Fig. 7): CSV, plot, JSON")
-    i.add_argument("--alpha", type=float, nargs="+", default=[70.0, 120.0, 160.0, 180.0, 200.0],
-                   help="mass-proportional damping values [1/s]")
+    i.add_argument("--alpha", type=float, nargs="+", default=None,
+                   help="mass-proportional damping values [1/s] (default: [study] impulse_alphas_per_s of --config, "
+                        "70 120 160 180 200)")
     i.add_argument("--length-in", type=float, default=None,
-                   help="length of the SM-A finger [in] (4.5 when not given; not with a [finger] mesh)")
-    i.add_argument("--force-N", type=float, default=1.0, help="tip force [N] (soft direction)")
-    i.add_argument("--duration-s", type=float, default=0.01, help="pulse duration [s]")
-    i.add_argument("--t-end-s", type=float, default=0.2, help="simulated time [s]")
+                   help="length of the SM-A finger [in] (default: [finger] impulse_length_in of --config, 4.5; not "
+                        "with a [finger] mesh)")
+    i.add_argument("--force-N", type=float, default=None,
+                   help="tip force [N] (soft direction; default: [study] impulse_force_N, 1)")
+    i.add_argument("--duration-s", type=float, default=None,
+                   help="pulse duration [s] (default: [study] impulse_duration_s, 0.01)")
+    i.add_argument("--t-end-s", type=float, default=None,
+                   help="simulated time [s] (default: [study] impulse_t_end_s, 0.2)")
     add_output_argument(i, "--out", "dir", default="reports/impulse", help="output directory")
     add_scheduler_argument(i)
     add_config_argument(i)

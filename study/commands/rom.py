@@ -373,10 +373,10 @@ def _write_forces(directory, case, forces):
 
     import pandas as pd
 
-    out = Path(directory)
-    out.mkdir(parents=True, exist_ok=True)
+    from ccedi.fea.outputs import write_csv
+
     name = f"alpha_{case['alpha_per_s']:g}_{case['model']}_{case.get('contact') or 'given'}.csv"
-    pd.DataFrame(forces).to_csv(out / name, index=False)
+    write_csv(Path(directory) / name, pd.DataFrame(forces))
 
 
 def cmd_rom_check(args):

@@ -1,0 +1,45 @@
+"""The step budget of an explicit run: a run of absurd length is refused in one line
+before it starts (:func:`ccedi.fea.explicit.run`). Light on imports: the command line
+reads it."""
+import os
+
+from ccedi.errors import InputError
+
+MAX_STEPS = 20_000_000
+"""Step budget of one run (:func:`ccedi.fea.explicit.run`) unless its caller or ``CCEDI_MAX_STEPS`` raises
+it: ten times the longest run ccedi's studies make (a design run of the tapered finger
+with a hole at 8 mm, about 1.4e6 steps; the paper's detailed model over 0.3 s, about
+1e6), so that a run of absurd length (a stiff material, a sliver element: 5e8 steps,
+days) is refused in one line before it starts instead of running silently."""
+
+STEPS_ENV = "CCEDI_MAX_STEPS"
+"""Environment variable that sets the step budget of :func:`ccedi.fea.explicit.run` (an integer >= 1); the
+CLI's ``--max-steps`` sets it, so worker processes of a local cluster see it too."""
+
+
+def step_budget(max_steps=None):
+    """The step budget of a run: ``max_steps``, else ``CCEDI_MAX_STEPS``, else :data:`MAX_STEPS`.
+
+    Parameters
+    ----------
+    max_steps : int, optional
+        The caller's budget.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    InputError
+        A budget that is not an integer >= 1.
+    """
+    value = max_steps if max_steps is not None else os.environ.get(STEPS_ENV, MAX_STEPS)
+    try:
+        n = int(value)
+    except (TypeError, ValueError):
+        n = 0
+    if n < 1 or (isinstance(value, float) and n != value):
+        where = "max_steps" if max_steps is not None else STEPS_ENV
+        raise InputError(f"{where} = {value!r}: must be an integer >= 1 (steps)")
+    return n
