@@ -272,11 +272,13 @@ def load_experiment(csv_path, meta_path=None):
     Raises
     ------
     InputError
-        If the sidecar is missing, not valid JSON or not an object, or the record or
-        sidecar fails validation (see :func:`experiment_from`).
+        If the record or its sidecar is missing, the sidecar is not valid JSON or not an
+        object, or the record or sidecar fails validation (see :func:`experiment_from`).
     """
     csv_path = Path(csv_path)
     meta_path = Path(meta_path) if meta_path else csv_path.with_suffix(".json")
+    if not csv_path.is_file():
+        raise InputError(f"measured record not found: {csv_path}")
     if not meta_path.is_file():
         raise InputError(f"sidecar not found: {meta_path} (give --meta, or put DATA.json beside DATA.csv)")
     try:

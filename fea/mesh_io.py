@@ -207,10 +207,20 @@ def _read_meshio(path, reader):
     ``meshio.read`` prints and exits the process on a file it cannot read."""
     import importlib
 
+    if path.stat().st_size == 0:
+        raise InputError(f"{path}: the file is empty (0 bytes); export the finger mesh again")
     try:
         m = importlib.import_module(f"meshio.{reader}").read(str(path))
     except Exception as err:        # meshio raises ReadError, ValueError, KeyError, ... on a bad file
-        raise InputError(f"{path}: cannot read the mesh ({one_line(err) or type(err).__name__})") from None
+        raise InputError(f"{path}: cannot read the mesh ({one_line(err) or type(err).__name__}); is it a complete "
+                         f"{reader} file?") from None
+    points = np.asarray(m.points, dtype=float)
+    if not len(points):
+        raise InputError(f"{path}: no nodes in the file")
+    bad = np.flatnonzero(~np.isfinite(points).all(axis=1))
+    if len(bad):
+        raise InputError(f"{path}: node {bad[0]} has a non-finite coordinate {brief_repr(points[bad[0], :3].tolist())} "
+                         f"({len(bad)} such nodes)")
     solids, boundary = {}, []
     for block in m.cells:
         data = np.asarray(block.data, dtype=np.int64)

@@ -89,9 +89,28 @@ def load_response(path, required=REQUIRED_COLUMNS):
         raise InputError(f"{path}: no header row; expected a CSV with the columns {', '.join(required)}") \
             from None
     except (pd.errors.ParserError, UnicodeDecodeError) as err:
-        raise InputError(f"{path}: not a readable CSV ({one_line(err)})") from None
+        raise InputError(f"{path}: not a readable CSV ({one_line(err)}){_separator_hint(path)}") from None
     frame = pd.DataFrame(table.iloc[1:].to_numpy(), columns=table.iloc[0].to_numpy())
+    if len(frame.columns) == 1 and _separator_hint(path):
+        raise InputError(f"{path}: one column {brief_repr(str(frame.columns[0]))}{_separator_hint(path)}")
     return response_from_frame(frame, source=str(path), required=required)
+
+
+def _separator_hint(path):
+    """``"; the header is separated by ';' ..."`` when the file's first non-comment line
+    holds a semicolon or a tab and no comma (a spreadsheet's export with a decimal comma),
+    else ``""``."""
+    try:
+        with open(path, encoding="utf-8-sig", errors="replace") as fh:
+            header = next((line for line in fh if line.strip() and not line.startswith("#")), "")
+    except OSError:
+        return ""
+    sep = next((s for s in (";", "\t") if s in header and "," not in header), None)
+    if sep is None:
+        return ""
+    shown = "a tab" if sep == "\t" else "';'"
+    return (f"; the header is separated by {shown}: ccedi reads comma-separated values with a decimal point "
+            "(export the sheet as CSV with ',' between columns and '.' in numbers)")
 
 
 def response_from_frame(frame, source="<frame>", required=REQUIRED_COLUMNS):

@@ -16,12 +16,13 @@ import pytest
 from ccedi.errors import InputError
 from ccedi.fea.budget import STEPS_ENV
 from ccedi.fea.distributed import check_scheduler
-from ccedi.fea.explicit import critical_time_step, run
+from ccedi.fea.explicit import critical_time_step, limiting_element, run, sliver_warnings
 from ccedi.fea.lsdyna import write_keyword
 from ccedi.fea.material import RUBBER
-from ccedi.fea.mesh import elliptical_cantilever, sm_a
+from ccedi.fea.mesh import Mesh, elliptical_cantilever, sm_a
 from ccedi.fea.model import cantilever_model
 from ccedi.fea.outputs import write_csv, write_figure, write_json, write_pdf_figures, write_text
+from ccedi.fea.tet_mesh import box_cantilever, split_hexes
 from ccedi.fea.vtu import write_vtu
 from ccedi.study.cli import main
 from ccedi.study.commands.fea import finger_of
@@ -200,3 +201,22 @@ def test_the_configured_finger_length_is_what_table1_and_impulse_use(tmp_path, c
     assert nodes == sm_a(length_in=6.0).n_nodes != sm_a(length_in=4.5).n_nodes
     mesh, length_in, finger = finger_of(load(toml), None)
     assert mesh is None and length_in == 6.0 and finger["name"] == "SM-A 6-in finger"
+
+
+def test_a_sliver_that_sets_the_step_is_named_with_where_it_is():
+    """A surface node of a 4-node tetrahedral box pushed 90 % into its element layer: the
+    elements there become slivers and set the step; the run's warnings name the element,
+    its place (at the pushed node) and its size against the median, and suggest a
+    remesh. The unpushed box has no such warning."""
+    box = split_hexes(box_cantilever(0.06, 0.012, 0.012, 2, 2, 10))
+    assert sliver_warnings(cantilever_model(box, RUBBER)) == []
+    top = np.flatnonzero((box.nodes[:, 1] == box.nodes[:, 1].max()) & np.isclose(box.nodes[:, 2], 0.03)
+                         & np.isclose(box.nodes[:, 0], 0.0))[0]
+    nodes = box.nodes.copy()
+    nodes[top, 1] -= 0.9 * 0.006
+    model = cantilever_model(Mesh(nodes=nodes, tets4=box.tets4, node_sets=box.node_sets), RUBBER)
+    e = limiting_element(model)
+    assert np.linalg.norm(e["centroid_m"] - nodes[top]) < 0.006
+    assert e["dt_s"] == pytest.approx(critical_time_step(model), rel=1e-9)
+    (message,) = sliver_warnings(model)
+    assert e["element"] in message and "mm across" in message and "remesh" in message
