@@ -160,11 +160,12 @@ SCHEMA = {
         "design_fea_check": Key(bool, "-", None, None, True, "re-check the recommended designs with the full FEA"),
         "measured_records": Key(str, "-", None, None, ["data/measured/tip_mass+quadratic_damping_high.csv",
                                                        "data/measured/control_fea_solid.csv"],
-                                "measured impulse records to close the loop on (CSV with a JSON sidecar)", True),
+                                "measured impulse records to close the loop on (CSV with a JSON sidecar; relative to "
+                                "this file)", True),
         "design_calibration_record": Key(str, "-", None, None, "data/contact/friction_high.csv",
-                                         "measured record (impulse or contact, CSV with a JSON sidecar) whose "
-                                         "calibrated inputs the design is re-run with, beside the declared model's "
-                                         "design (empty: none)"),
+                                         "measured record (impulse or contact, CSV with a JSON sidecar; relative to "
+                                         "this file) whose calibrated inputs the design is re-run with, beside the "
+                                         "declared model's design (empty: none)"),
         "calibration_fea_correction": Key(bool, "-", None, None, False,
                                           "correct the contact ROM by one full FE run at the calibration's "
                                           "baseline and check the result with another (~2 x 2 minutes)"),
@@ -237,8 +238,10 @@ def _check(section, key, spec, value, name=None):
 
 def validate(data, source="config", base_dir=None):
     """Check the parsed TOML ``data`` against :data:`SCHEMA`; returns {section: {key: value}}
-    with every default filled in, and ``[finger] mesh`` resolved against ``base_dir`` (the
-    TOML file's directory; default the working directory)."""
+    with every default filled in, and every path (``[finger] mesh``, ``[study]
+    measured_records`` and ``design_calibration_record``) made absolute by one rule:
+    relative to ``base_dir`` (the TOML file's directory; default the working directory),
+    a default relative to :data:`INSTALL_DIR`."""
     out = {section: {k: spec.default for k, spec in keys.items()} for section, keys in SCHEMA.items()}
     for section, entries in data.items():
         if section not in SCHEMA:
@@ -251,6 +254,13 @@ def validate(data, source="config", base_dir=None):
             out[section][key] = _check(section, key, SCHEMA[section][key], value)
     if out["finger"]["mesh"] is not None:
         out["finger"]["mesh"] = _mesh_path(out["finger"]["mesh"], base_dir)
+    given = data.get("study", {})
+    study = out["study"]
+    study["measured_records"] = [_record_path(r, base_dir if "measured_records" in given else INSTALL_DIR)
+                                 for r in study["measured_records"]]
+    if study["design_calibration_record"]:
+        study["design_calibration_record"] = _record_path(
+            study["design_calibration_record"], base_dir if "design_calibration_record" in given else INSTALL_DIR)
     finger_mesh(out)
     drum_setup(out)             # the set-up as a whole: the object must clear the drum, ...
     return out
@@ -260,6 +270,22 @@ def finger_inputs(cfg):
     """(material, section semi-axes [m]) of the finger in the validated inputs ``cfg``."""
     m = cfg["material"]
     return NeoHookean(E=m["E_Pa"], nu=m["nu"], rho=m["rho_kg_m3"]), tuple(cfg["finger"]["section_semi_axes_m"])
+
+
+INSTALL_DIR = Path(__file__).resolve().parents[1]
+"""Where ccedi's bundled ``data/`` lies: the default records resolve against it, so the
+defaults (and the TOML ``ccedi init`` writes) work from any working directory."""
+
+
+def _record_path(value, base_dir):
+    """A record path as an absolute path: relative ones against ``base_dir`` (the TOML
+    file's directory, as ``[finger] mesh``; the working directory without a file; the
+    install directory for a default). Whether it exists is checked when a step will read
+    it (:func:`ccedi.study.run.run_study`)."""
+    try:
+        return str((Path(base_dir or ".") / value).resolve())
+    except (OSError, ValueError):                   # a name too long, a NUL character
+        return str(value)
 
 
 def _mesh_path(value, base_dir):

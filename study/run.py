@@ -36,7 +36,7 @@ from ccedi.fea.outputs import write_json, write_text
 from ccedi.progress import progress_bar
 
 from . import paper_steps
-from .config import finger_inputs, to_toml
+from .config import SCHEMA, finger_inputs, to_toml
 from .report import write_index
 
 QUICK = {"study": {"impulse_t_end_s": 0.05, "mesh_comparison_t_end_s": 0.03, "identification_lengths_in": [3.0, 4.5],
@@ -265,6 +265,11 @@ def run_study(cfg, out, scheduler=None, quick=False, only=None):
     from ccedi.fea.outputs import remove_temporaries
 
     if quick:
+        for section, keys in QUICK.items():
+            for key, value in keys.items():
+                if cfg[section][key] not in (value, SCHEMA[section][key].default):
+                    print(f"ccedi study: --quick sets [{section}] {key} = {value!r} instead of the configured "
+                          f"{cfg[section][key]!r}", flush=True)
         cfg = {sec: {**keys, **QUICK.get(sec, {})} for sec, keys in cfg.items()}
     out = Path(out)
     scheduler = scheduler or cfg["study"]["scheduler"]

@@ -1,5 +1,7 @@
 """Bad paths and bad values are refused before anything is computed: one line on stderr,
 exit status 1, no file written, and the computation never started."""
+from pathlib import Path
+
 import pytest
 
 from ccedi.study import cli
@@ -98,10 +100,18 @@ def test_an_os_error_is_one_line(capsys, monkeypatch):
     _fails_in_one_line(["table1"], capsys, "/somewhere/table1.json", "Permission denied")
 
 
-def test_study_outside_the_project_stops_before_its_first_step(tmp_path, capsys, monkeypatch):
-    monkeypatch.chdir(tmp_path)                     # the bundled records are relative to the project
-    _fails_in_one_line(["study", "--out", str(tmp_path / "out"), "--scheduler", "serial"], capsys,
-                       "measured_records", "no such file", str(tmp_path))
+def test_study_outside_the_project_finds_its_records_and_a_missing_one_stops_it(tmp_path, capsys, monkeypatch):
+    """The default records resolve against ccedi's own folder, whatever the working
+    directory; a record named in a TOML resolves against the TOML's folder, and a missing
+    one stops the study before its first step."""
+    from ccedi.study.config import load
+
+    monkeypatch.chdir(tmp_path)
+    assert all(Path(r).is_file() for r in load(None)["study"]["measured_records"])
+    toml = tmp_path / "s.toml"
+    toml.write_text('[study]\nmeasured_records = ["gone.csv"]\n')
+    _fails_in_one_line(["study", "--config", str(toml), "--out", str(tmp_path / "out"), "--scheduler", "serial"],
+                       capsys, "measured_records", "no such file", str(tmp_path / "gone.csv"))
     assert not (tmp_path / "out").exists()
 
 

@@ -220,3 +220,29 @@ def test_a_sliver_that_sets_the_step_is_named_with_where_it_is():
     assert e["dt_s"] == pytest.approx(critical_time_step(model), rel=1e-9)
     (message,) = sliver_warnings(model)
     assert e["element"] in message and "mm across" in message and "remesh" in message
+
+
+def test_one_rule_for_relative_paths_in_a_toml(tmp_path, monkeypatch):
+    """``ccedi init``'s TOML read from another directory finds the bundled records; a
+    relative record in a TOML resolves against the TOML's folder, as ``[finger] mesh`` does."""
+    folder, elsewhere = tmp_path / "project", tmp_path / "elsewhere"
+    folder.mkdir()
+    elsewhere.mkdir()
+    assert main(["init", str(folder / "study.toml")]) == 0
+    monkeypatch.chdir(elsewhere)
+    cfg = load(folder / "study.toml")
+    assert cfg["study"]["measured_records"] and all(Path(r).is_file() for r in cfg["study"]["measured_records"])
+    (folder / "mine.toml").write_text('[study]\nmeasured_records = ["records/r.csv"]\n'
+                                      'design_calibration_record = "records/c.csv"\n')
+    cfg = load(folder / "mine.toml")
+    assert cfg["study"]["measured_records"] == [str(folder / "records" / "r.csv")]
+    assert cfg["study"]["design_calibration_record"] == str(folder / "records" / "c.csv")
+
+
+def test_quick_says_which_configured_values_it_replaces(tmp_path, capsys):
+    toml = tmp_path / "s.toml"
+    toml.write_text("[study]\ncontact_alphas_per_s = [80.0, 180.0]\n")
+    assert main(["study", "--quick", "--config", str(toml), "--only", "table1", "--scheduler", "serial",
+                 "--out", str(tmp_path / "out")]) == 0
+    out = capsys.readouterr().out
+    assert "--quick sets [study] contact_alphas_per_s = [600.0] instead of the configured [80.0, 180.0]" in out

@@ -23,7 +23,8 @@ def _fmt(value):
     return value if isinstance(value, str) else (f"{value:d}" if isinstance(value, int) else f"{value:.4g}")
 
 
-def write_table1(cfg, length_in, json_path=None, stiffness=True, detailed=True, detailed_stiffness=None):
+def write_table1(cfg, length_in, json_path=None, stiffness=True, detailed=True, detailed_stiffness=None,
+                 detailed_omega1=True):
     """Print Table 1 of the configured finger (for the paper's finger, with the detailed
     model DM's row and the paper's values) and write it as JSON.
 
@@ -42,6 +43,8 @@ def write_table1(cfg, length_in, json_path=None, stiffness=True, detailed=True, 
     detailed_stiffness : bool or None
         Solve the DM's tip stiffness (None: as ``stiffness``; its nonlinear solves at
         2.8 mm take tens of minutes).
+    detailed_omega1 : bool
+        Solve the DM's first natural frequency (about 50 s).
 
     Returns
     -------
@@ -56,7 +59,8 @@ def write_table1(cfg, length_in, json_path=None, stiffness=True, detailed=True, 
     finger = configured_mesh(cfg)
     paper_finger = is_paper_finger(length_in, material, semi_axes)
     result = table1(length_in=length_in, material=material, stiffness=stiffness, semi_axes_m=semi_axes,
-                    finger=finger, detailed=detailed and paper_finger, detailed_stiffness=detailed_stiffness)
+                    finger=finger, detailed=detailed and paper_finger, detailed_stiffness=detailed_stiffness,
+                    detailed_omega1=detailed_omega1)
     for name, row in result.items():
         paper = PAPER_TABLE1.get(name, {}) if paper_finger else {}
         print(f"{name}: " + ", ".join(
@@ -213,9 +217,13 @@ def finger_of(cfg, length_in=None):
 def _cmd_table1(args):
     check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
     cfg = load_config(args)
+    print("table1: SM-A, SM-B and SM-C with their tip stiffness (nonlinear static solves, about 3 min here)"
+          + ("" if args.no_detailed_model else ", and the DM " + ("with its stiffness and first frequency (about "
+                                                                 "30 CPU-minutes more)" if args.detailed_model_solves
+                                                                 else "(its mesh and time step)")), flush=True)
     write_table1(cfg, cfg["finger"]["impulse_length_in"] if args.length_in is None else args.length_in, args.json,
                  stiffness=not args.no_stiffness, detailed=not args.no_detailed_model,
-                 detailed_stiffness=args.detailed_model_stiffness)
+                 detailed_stiffness=args.detailed_model_solves, detailed_omega1=args.detailed_model_solves)
 
 
 def _cmd_impulse(args):
@@ -358,9 +366,10 @@ def add_parsers(sub):
     t.add_argument("--no-stiffness", action="store_true", help="skip the static stiffness solves")
     t.add_argument("--no-detailed-model", action="store_true",
                    help="leave out the detailed model DM (a 2.8 mm mesh of about 28 000 nodes)")
-    t.add_argument("--detailed-model-stiffness", action="store_true",
-                   help="also solve the DM's tip stiffness (nonlinear solves at 2.8 mm: about 30 CPU-minutes; "
-                        "without it the DM row has its nodes, elements and time step)")
+    t.add_argument("--detailed-model-solves", action="store_true",
+                   help="also solve the DM's tip stiffness and first frequency (nonlinear and modal solves at "
+                        "2.8 mm: about 30 CPU-minutes; without it the DM row has its nodes, elements and time step; "
+                        "ccedi table1 then takes about 3 min here, most of it SM-B's and SM-C's stiffness solves)")
     add_config_argument(t)
     t.set_defaults(func=_cmd_table1)
     i = add_command(sub, "impulse", help="tip impulse response of the SM-A finger for several alpha "
