@@ -18,28 +18,24 @@ ROOT = Path(__file__).resolve().parents[1]
 
 @pytest.mark.slow
 def test_sigint_on_a_running_study_prints_one_line(tmp_path):
-    """Table 1 as --quick makes it, and a contact step of 4 s simulated beside it; the
-    interrupt comes when the first of them is done (Table 1, unless the machine starves
-    it), while the other still runs (with a 2 s contact step both finished within the
-    same moment twice under the full suite's load, and the study ended with status 0).
-    The running step ends before the command does, so the wait after the interrupt is
-    generous."""
+    """Table 1 as --quick makes it, and a contact step of 2 s simulated beside it: the
+    contact step is still running when Table 1 is done on a loaded machine (with
+    --quick's 1 s it finished first when the rest of the suite ran beside it); the running
+    step ends before the command does, so the wait after the interrupt is generous."""
     out = tmp_path / "study"
     config = tmp_path / "study.toml"
     config.write_text("[study]\ntable1_stiffness = false\ndetailed_model = false\n"
-                      "contact_alphas_per_s = [600.0]\ncontact_t_end_s = 4.0\n")
+                      "contact_alphas_per_s = [600.0]\ncontact_t_end_s = 2.0\n")
     command = [sys.executable, "-m", "ccedi", "study", "--config", str(config), "--scheduler", "local", "--only",
                "table1", "contact", "--out", str(out)]
     proc = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True)
     try:
         deadline = time.monotonic() + 300
-        first = None
         for line in proc.stdout:
-            first = next((step for step in ("table1", "contact") if f"{step} done" in line), None)
-            if first:
+            if "table1 done" in line:
                 break
-            assert time.monotonic() < deadline, "no step finished in 300 s"
+            assert time.monotonic() < deadline, "table1 did not finish in 300 s"
         assert proc.poll() is None, "the study ended before it could be interrupted"
         os.killpg(proc.pid, signal.SIGINT)
         stdout, stderr = proc.communicate(timeout=300)
@@ -48,6 +44,6 @@ def test_sigint_on_a_running_study_prints_one_line(tmp_path):
             os.killpg(proc.pid, signal.SIGKILL)
     assert proc.returncode == 130
     assert stderr.splitlines() == ["ccedi study: interrupted; no partial outputs were written"], stderr
-    assert list(json.loads((out / "study.json").read_text())["wall_time_s"]) == [first]   # the finished step is kept
-    assert (out / "table1.json").is_file() == (first == "table1")
+    assert (out / "table1.json").is_file()                  # the finished step is kept
+    assert list(json.loads((out / "study.json").read_text())["wall_time_s"]) == ["table1"]
     assert not [p for p in out.rglob("*") if p.is_file() and ".tmp" in p.name]
