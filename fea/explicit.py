@@ -652,16 +652,17 @@ def sliver_warnings(model):
     e = limiting_element(model)
     if e["length_m"] >= SLIVER_RATIO * e["median_length_m"]:
         return []
-    return [f"{_step_setter(model)}: the stable step is {e['median_length_m'] / e['length_m']:.3g} times shorter than "
+    return [f"{_step_setter(model, e)}: the stable step is {e['median_length_m'] / e['length_m']:.3g} times shorter than "
             "the mesh's typical element needs; remesh with a minimum element size there (Gmsh: "
             "Mesh.CharacteristicLengthMin, or optimise the mesh) to make every run that much faster"]
 
 
-def _step_setter(model):
-    """``"the step is set by tet4 element 12 at (1, 2, 3) mm, 0.3 mm across (median 4 mm)"``."""
+def _step_setter(model, e=None):
+    """``"the step is set by tet4 element 12 at (1, 2, 3) mm, 0.3 mm across (median 4 mm)"``;
+    ``e``: the model's :func:`limiting_element` when already found."""
     if model.mesh.n_elements == 0:
         return "the rods set the step"
-    e = limiting_element(model)
+    e = e or limiting_element(model)
     where = ", ".join(f"{1e3 * c:.4g}" for c in e["centroid_m"])
     return (f"the step is set by {e['element']} at ({where}) mm, {1e3 * e['length_m']:.3g} mm across "
             f"(median {1e3 * e['median_length_m']:.3g} mm)")
