@@ -256,6 +256,10 @@ def validate(data, source="config", base_dir=None):
         out["finger"]["mesh"] = _mesh_path(out["finger"]["mesh"], base_dir)
     given = data.get("study", {})
     study = out["study"]
+    for k, record in enumerate(study["measured_records"]):
+        if not record.strip():
+            raise InputError(f"[study] measured_records: entry {k + 1} is an empty path; give the CSV file of "
+                             f"a measured record (relative to the TOML file's folder) or remove the entry")
     study["measured_records"] = [_record_path(r, base_dir if "measured_records" in given else INSTALL_DIR)
                                  for r in study["measured_records"]]
     if study["design_calibration_record"]:
