@@ -773,6 +773,26 @@ ELEMENT_CYCLE_S = {"hex8": 3e-7, "tet4": 4e-7, "tet10": 1.6e-6}
 AMD VM), for the expected wall time :func:`run` states before it starts."""
 
 
+BUDGET_ESTIMATE_MARGIN = 1.05
+"""A run is refused from the at-rest estimate of its step (:func:`limiting_element`,
+within about 1 % of :func:`critical_time_step` for hexahedra) only when it exceeds the
+budget by this factor; closer calls wait for the exact step."""
+
+
+def _check_budget(model, t_end_s, dt_s, budget, margin=1.0):
+    """The expected step count ``t_end_s / dt_s``; InputError when it exceeds ``margin``
+    x ``budget``, naming the steps, the expected time and the element that sets the step."""
+    n_expected = t_end_s / dt_s
+    if n_expected > margin * budget:
+        mesh = model.mesh
+        raise InputError(f"t_end_s = {t_end_s:g} s at the stable step {dt_s:.3g} s is about {n_expected:.3g} steps, "
+                         f"beyond the budget of {budget:.3g} (about "
+                         f"{_duration(expected_wall_time_s(mesh, n_expected))} for {mesh.n_elements} elements on one "
+                         f"core); {_step_setter(model)}; check E and rho, coarsen the mesh there, or raise the budget "
+                         f"(--max-steps, {STEPS_ENV})")
+    return n_expected
+
+
 def expected_wall_time_s(mesh, steps):
     """About how long ``steps`` steps of ``mesh`` take on one core [s] (:data:`ELEMENT_CYCLE_S`).
 
@@ -968,19 +988,17 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     n_threads = thread_count(threads)
     mesh = model.mesh
     dt_user = 0.0 if dt_s is None else require_finite_positive("dt_s (time step, s)", dt_s)
+    budget = step_budget(max_steps)
+    tssfac = TSSFAC * (STEP_SHRINK if model.contact is not None else 1.0)
+    if not dt_user and mesh.n_elements:             # refused before the kernels compile (tens of seconds, cold)
+        _check_budget(model, t_end_s, tssfac * min(limiting_element(model)["dt_s"], rod_time_step(model)),
+                      budget, margin=BUDGET_ESTIMATE_MARGIN)
     dt_cfl = critical_time_step(model)
     if dt_user > dt_cfl:
         raise InputError(f"dt_s = {dt_user:.4g} s exceeds the CFL limit {dt_cfl:.4g} s "
                          f"(paper Eq. 6); use dt_s <= {TSSFAC * dt_cfl:.4g} s or leave it unset")
-    tssfac = TSSFAC * (STEP_SHRINK if model.contact is not None else 1.0)
     dt_first = dt_user if dt_user else tssfac * dt_cfl
-    n_expected = t_end_s / dt_first
-    budget = step_budget(max_steps)
-    if n_expected > budget:
-        raise InputError(f"t_end_s = {t_end_s:g} s at the stable step {dt_first:.3g} s is about {n_expected:.3g} steps, "
-                         f"beyond the budget of {budget:.3g} (about {_duration(expected_wall_time_s(mesh, n_expected))} "
-                         f"for {mesh.n_elements} elements on one core); {_step_setter(model)}; check E and rho, "
-                         f"coarsen the mesh there, or raise the budget (--max-steps, {STEPS_ENV})")
+    n_expected = _check_budget(model, t_end_s, dt_first, budget)
     X = mesh.nodes
     x = X.copy() if x0 is None else _initial_state("x0 (initial positions, m)", x0, X.shape)
     v = np.zeros_like(X) if v0 is None else _initial_state("v0 (initial velocities, m/s)", v0, X.shape)
