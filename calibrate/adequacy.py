@@ -150,9 +150,28 @@ def record_first_mode(exp: Experiment, noise_std_m):
         Natural frequency, damping ratio, amplitude, cycles shown and whether that is
         enough to call the frequency measured (module docstring).
     """
-    t = exp.time_s
-    free = t >= exp.start_s + exp.duration_s
-    tau, y = t[free] - t[free][0], exp.displacement_m[free]
+    return free_decay_mode(exp.time_s, exp.displacement_m, free_from_s=exp.start_s + exp.duration_s,
+                           noise_std_m=noise_std_m)
+
+
+def free_decay_mode(time_s, displacement_m, free_from_s, noise_std_m):
+    """The first mode of a record's free decay, from ``free_from_s`` on (module docstring).
+
+    Parameters
+    ----------
+    time_s, displacement_m : numpy.ndarray
+        The record [s], [m].
+    free_from_s : float
+        When the load has ended [s].
+    noise_std_m : float
+        Sensor noise standard deviation [m].
+
+    Returns
+    -------
+    FirstMode
+    """
+    free = time_s >= free_from_s
+    tau, y = time_s[free] - time_s[free][0], displacement_m[free]
     w0 = _spectral_peak_rad_s(tau, y)
     residual = lambda p: _damped_sinusoid(tau, y, p[0], p[1])[0]
     best = min((least_squares(residual, [w0, z * w0], bounds=([0.2 * w0, 0.0], [5.0 * w0, 10.0 * w0]),
@@ -166,6 +185,58 @@ def record_first_mode(exp: Experiment, noise_std_m):
     return FirstMode(frequency_hz=omega_n / (2.0 * np.pi), damping_ratio=sigma / omega_n, amplitude_m=amplitude,
                      cycles_in_record=float(tau[-1]) * cycles_per_s,
                      cycles_above_noise=e_folds / sigma * cycles_per_s if sigma > 0 else float("inf"))
+
+
+def frequency_band_hz(declared_hz, E_tolerance):
+    """The first frequencies the declared finger reaches with E alone, and those it may show.
+
+    Parameters
+    ----------
+    declared_hz : float
+        The declared finger's first frequency f_1 at the declared E [Hz].
+    E_tolerance : float
+        Relative tolerance of E [-].
+
+    Returns
+    -------
+    tuple
+        ``(reach, band)``: (lowest, highest) [Hz] over E (1 -+ tol); and the band the
+        record's frequency may lie in (module docstring's ``frequency`` check) [Hz].
+    """
+    reach = (declared_hz * np.sqrt(1.0 - E_tolerance), declared_hz * np.sqrt(1.0 + E_tolerance))
+    return reach, (reach[0] * (1.0 - FREQUENCY_MARGIN) * (1.0 - EFFECT_ALLOWANCE), reach[1] * (1.0 + FREQUENCY_MARGIN))
+
+
+def frequency_check(mode: FirstMode, band_hz, E_tolerance):
+    """The ``frequency`` check of the module docstring.
+
+    Parameters
+    ----------
+    mode : FirstMode
+        The record's own first mode.
+    band_hz : tuple of float
+        The band of :func:`frequency_band_hz` [Hz].
+    E_tolerance : float
+        Relative tolerance of E [-] (named in the reason).
+
+    Returns
+    -------
+    tuple
+        ``(reason, skipped)``: why the check failed (None when it passed or was skipped),
+        and why it was skipped (None when it was made).
+    """
+    if not mode.measurable and mode.cycles_above_noise <= mode.cycles_in_record:
+        return None, (f"frequency (the record's oscillation sinks below {NOISE_SIGMAS:g} noise std within "
+                      f"{mode.cycles_above_noise:.2g} cycles, fitted damping ratio {mode.damping_ratio:.2g}: too "
+                      f"damped to show a frequency)")
+    if not mode.measurable:
+        return (f"the record's first mode cannot be measured: the record spans {mode.cycles_in_record:.2g} cycles of "
+                f"its oscillation; at least {MIN_CYCLES:g} cycles are needed"), None
+    if not band_hz[0] <= mode.frequency_hz <= band_hz[1]:
+        return (f"the record's first mode is outside the {band_hz[0]:.4g}..{band_hz[1]:.4g} Hz the declared finger "
+                f"reaches (E +- {E_tolerance:.0%}, a tip mass or compliant root up to {EFFECT_ALLOWANCE:.0%} lower, "
+                f"{FREQUENCY_MARGIN:.0%} model margin)"), None
+    return None, None
 
 
 @dataclass(frozen=True)
@@ -279,8 +350,7 @@ def assess(model: FingerModel, baseline: Fit, noise_std_m):
     exp = model.exp
     tol = exp.E_tolerance
     f1 = model.scales.omega1 / (2.0 * np.pi)
-    reach = (f1 * np.sqrt(1.0 - tol), f1 * np.sqrt(1.0 + tol))
-    band = (reach[0] * (1.0 - FREQUENCY_MARGIN) * (1.0 - EFFECT_ALLOWANCE), reach[1] * (1.0 + FREQUENCY_MARGIN))
+    reach, band = frequency_band_hz(f1, tol)
     mode = record_first_mode(exp, noise_std_m)
     free_s = float(exp.time_s[-1] - (exp.start_s + exp.duration_s))
     periods = free_s * reach[0]
@@ -293,20 +363,11 @@ def assess(model: FingerModel, baseline: Fit, noise_std_m):
                        f"(longest period {1.0 / reach[0]:.3g} s, at E x {1.0 - tol:g}); at least {MIN_PERIODS:g} "
                        f"are needed")
     too_damped = not mode.measurable and mode.cycles_above_noise <= mode.cycles_in_record
-    skipped = []
-    if too_damped:
-        skipped.append(f"frequency (the record's oscillation sinks below {NOISE_SIGMAS:g} noise std within "
-                       f"{mode.cycles_above_noise:.2g} cycles, fitted damping ratio {mode.damping_ratio:.2g}: too "
-                       f"damped to show a frequency; E on its bound is refused instead)")
-    elif not mode.measurable:
+    reason, skip = frequency_check(mode, band, tol)
+    skipped = [skip + "; E on its bound is refused instead"] if skip else []
+    if reason:
         failed.append("frequency")
-        reasons.append(f"the record's first mode cannot be measured: the record spans {mode.cycles_in_record:.2g} "
-                       f"cycles of its oscillation; at least {MIN_CYCLES:g} cycles are needed")
-    elif not band[0] <= mode.frequency_hz <= band[1]:
-        failed.append("frequency")
-        reasons.append(f"the record's first mode is outside the {band[0]:.4g}..{band[1]:.4g} Hz the declared finger "
-                       f"reaches (E +- {tol:.0%}, a tip mass or compliant root up to {EFFECT_ALLOWANCE:.0%} lower, "
-                       f"{FREQUENCY_MARGIN:.0%} model margin)")
+        reasons.append(reason)
     if too_damped and side != 0:
         failed.append("E_bound")
         reasons.append(f"the baseline E_factor {E:.4g} sits on its bound {1.0 + side * tol:g} and the record is too "

@@ -49,7 +49,7 @@ def main(argv=None):
     int
         Exit status: 0 done, 1 bad input, a file that cannot be read or written, or a
         solver failure (one line on stderr), 2 no sub-command, 3 the declared model
-        cannot explain a measured record (``calibrate``: its JSON, with
+        cannot explain a measured record (``calibrate``, ``identify``: its JSON, with
         ``model_adequate: false`` and the evidence, is written; one line on stderr names
         the failed check and the record's own first-mode frequency), 4 no design meets
         the requirements (``design``: its result and report, with the design closest to

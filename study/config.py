@@ -270,6 +270,23 @@ def validate(data, source="config", base_dir=None):
     return out
 
 
+def changed_keys(cfg):
+    """The keys whose value in the validated inputs ``cfg`` is not their default.
+
+    Parameters
+    ----------
+    cfg : dict
+        ``{section: {key: value}}`` as :func:`load` returns it.
+
+    Returns
+    -------
+    list of tuple
+        ``(section, key)`` in :data:`SCHEMA` order.
+    """
+    defaults = validate({})
+    return [(s, k) for s, keys in SCHEMA.items() for k in keys if cfg[s][k] != defaults[s][k]]
+
+
 def finger_inputs(cfg):
     """(material, section semi-axes [m]) of the finger in the validated inputs ``cfg``."""
     m = cfg["material"]

@@ -262,3 +262,63 @@ def test_an_empty_record_path_is_refused_not_read_as_the_folder(tmp_path):
     toml.write_text('[study]\nmeasured_records = ["data/measured/control_high.csv", " "]\n')
     with pytest.raises(InputError, match=r"\[study\] measured_records: entry 2 is an empty path"):
         load(toml)
+
+
+@pytest.mark.parametrize("record, length_in", [("control_low", 4.5), ("control_high", 4.5), ("control_low", 12.0)])
+def test_identify_refuses_a_record_its_declared_finger_cannot_ring_at(record, length_in, tmp_path, capsys):
+    """An 8-in finger's records identified as a 4.5-in or 12-in finger: the record's own
+    first frequency (4.4 Hz) lies outside what the declared finger reaches; exit 3 before
+    any FE run, one line naming both frequencies and --length-in, the evidence in --json."""
+    out = tmp_path / "id.json"
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(explicit, "_advance_numba", _no_step)
+        rc = main(["identify", str(ROOT / "data" / "measured" / f"{record}.csv"), "--length-in", str(length_in),
+                   "--json", str(out)])
+    err = capsys.readouterr().err
+    assert rc == 3 and len(err.strip().splitlines()) == 1 and "--length-in" in err, err
+    evidence = json.loads(out.read_text())
+    assert not evidence["model_adequate"] and "alpha_per_s" not in evidence
+    assert evidence["record_first_frequency_hz"] == pytest.approx(4.4, rel=0.05)
+    low, high = evidence["allowed_band_hz"]
+    assert not low <= evidence["record_first_frequency_hz"] <= high
+
+
+def test_identify_checks_the_frequency_and_says_so_when_it_fits(tmp_path, capsys):
+    """The same record with its true length (8 in) passes the check, named on stdout, and
+    identifies alpha within 15 % of the record's true 3.15 1/s (modal ROM of the finger,
+    6 modes; the record's E is 4 % below the declared one, which identify does not fit)."""
+    out = tmp_path / "id.json"
+    assert main(["identify", str(ROOT / "data" / "measured" / "control_low.csv"), "--length-in", "8", "--rom", "6",
+                 "--json", str(out)]) == 0
+    assert "declared model adequate" in capsys.readouterr().out
+    result = json.loads(out.read_text())
+    truth = json.loads((ROOT / "data" / "measured" / "manifest.json").read_text())["records"]["control_low"]
+    assert result["model_adequate"] and result["alpha_per_s"] == pytest.approx(truth["alpha_per_s"], rel=0.15)
+
+
+@pytest.mark.parametrize("command, argv, unused, used", [
+    ("table1", ["--no-stiffness", "--no-detailed-model"], "[drum] friction", "impulse_length_in"),
+    ("export", ["--case", "impulse"], "[drum] friction", "impulse_length_in"),
+    ("export", ["--case", "contact"], "[finger] impulse_length_in", "friction"),
+])
+def test_a_configured_key_the_command_does_not_use_is_named(command, argv, unused, used, tmp_path, capsys):
+    """A key the file sets (not to its default) that the command ignores is named in one
+    warning line before the command runs; the keys it uses and the keys left at their
+    defaults are not."""
+    toml = tmp_path / "c.toml"
+    toml.write_text("[finger]\nimpulse_length_in = 6.0\n[drum]\nfriction = 0.3\ndrum_radius_m = 0.08255\n")
+    out = tmp_path / ("t.json" if command == "table1" else "deck.k")
+    assert main([command, *argv, "--config", str(toml), "--" + ("json" if command == "table1" else "out"),
+                 str(out)]) == 0
+    lines = [line for line in capsys.readouterr().err.splitlines() if "does not use" in line]
+    assert len(lines) == 1 and unused in lines[0] and used not in lines[0] and "drum_radius_m" not in lines[0]
+
+
+def test_table1_takes_its_switches_from_the_config(tmp_path, capsys):
+    toml = tmp_path / "c.toml"
+    toml.write_text("[study]\ntable1_stiffness = false\ndetailed_model = false\n")
+    table = tmp_path / "t.json"
+    assert main(["table1", "--config", str(toml), "--json", str(table)]) == 0
+    rows = json.loads(table.read_text())
+    assert "DM" not in rows and not any("stiffness_N_per_m" in row for row in rows.values())
+    assert "does not use" not in capsys.readouterr().err

@@ -6,10 +6,11 @@ lost to a path it cannot write at the end.
 """
 import argparse
 import os
+import warnings
 from contextlib import contextmanager
 from pathlib import Path
 
-from ccedi.errors import InputError
+from ccedi.errors import InputError, ValidityWarning
 from ccedi.fea.budget import MAX_STEPS, STEPS_ENV
 from ccedi.fea.distributed import SERIAL, check_scheduler
 
@@ -70,25 +71,44 @@ def add_scheduler_argument(parser, default=SERIAL):
                              f"cluster) or a Dask scheduler address such as tcp://host:8786 ({said})")
 
 
-def add_config_argument(parser):
+MATERIAL_KEYS = ("material.E_Pa", "material.nu", "material.rho_kg_m3")
+FINGER_KEYS = MATERIAL_KEYS + ("finger.section_semi_axes_m", "finger.mesh", "finger.mesh_unit", "finger.clamp",
+                               "finger.tip", "finger.bending_direction")
+"""The keys that make a finger: its material and section, or its mesh."""
+IMPULSE_FINGER_KEYS = FINGER_KEYS + ("finger.impulse_length_in",)
+CONTACT_KEYS = FINGER_KEYS + ("finger.contact_length_in", "drum")
+"""The finger on the drum: the drum set-up and the contact finger's length."""
+
+
+def add_config_argument(parser, uses):
     """Add ``--config TOML`` (the finger's material and section, the drum set-up) to ``parser``.
 
     Parameters
     ----------
     parser : argparse.ArgumentParser
         The sub-command's parser.
+    uses : tuple of str or callable
+        What the command reads of the file: sections (``"drum"``) and keys
+        (``"finger.mesh"``), or a function of the parsed arguments giving them;
+        :func:`load_config` names every other key the file sets to a value other than
+        its default, which the command would otherwise ignore without a word.
     """
     parser.add_argument("--config", help="inputs TOML ([material], [finger], [drum]; see ccedi init); "
                         "default: the paper's rubber finger and drum test")
+    parser.set_defaults(config_uses=uses)
 
 
 def load_config(args):
     """The validated inputs of ``--config`` (all defaults when it is not given).
 
+    A key the file sets (to other than its default) that the command does not read is
+    named in one validity warning line, before anything runs.
+
     Parameters
     ----------
     args : argparse.Namespace
-        Parsed arguments, with an optional ``config`` path.
+        Parsed arguments, with an optional ``config`` path and the ``config_uses`` of
+        :func:`add_config_argument`.
 
     Returns
     -------
@@ -100,9 +120,19 @@ def load_config(args):
     ccedi.errors.InputError
         The file is missing, not TOML, or holds a bad key or value.
     """
-    from ccedi.study.config import load
+    from ccedi.study.config import changed_keys, load
 
-    return load(getattr(args, "config", None))
+    path = getattr(args, "config", None)
+    cfg = load(path)
+    uses = getattr(args, "config_uses", None)
+    if path is not None and uses is not None:
+        uses = uses(args) if callable(uses) else uses
+        unused = [f"[{s}] {k}" for s, k in changed_keys(cfg) if s not in uses and f"{s}.{k}" not in uses]
+        if unused:
+            warnings.warn(ValidityWarning(f"{path} sets {', '.join(unused)}, which ccedi {args.command} does not "
+                                          "use: its results are what they would be without "
+                                          + ("it" if len(unused) == 1 else "them")))
+    return cfg
 
 
 def add_output_argument(parser, flag, kind, **kwargs):

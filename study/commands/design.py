@@ -8,6 +8,7 @@ from pathlib import Path
 
 from ccedi.errors import InputError, RequirementsUnmet, ValidityWarning
 from ccedi.study.commands.arguments import (
+    CONTACT_KEYS,
     add_command,
     add_config_argument,
     add_output_argument,
@@ -80,7 +81,7 @@ def add_parsers(sub):
     add_output_argument(d, "--json", "file", required=True, help="result JSON path")
     add_output_argument(d, "--out", "dir", default="reports/design",
                         help="directory for the ROM cache, CSV, figures and the report")
-    add_config_argument(d)
+    add_config_argument(d, CONTACT_KEYS + ("material.alpha_per_s", "damping", "requirements"))
     d.set_defaults(func=cmd_design)
 
 

@@ -10,6 +10,8 @@ from pathlib import Path
 
 from ccedi.errors import InputError
 from ccedi.study.commands.arguments import (
+    CONTACT_KEYS,
+    IMPULSE_FINGER_KEYS,
     add_command,
     add_config_argument,
     add_output_argument,
@@ -217,12 +219,15 @@ def finger_of(cfg, length_in=None):
 def _cmd_table1(args):
     check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
     cfg = load_config(args)
-    print("table1: SM-A, SM-B and SM-C with their tip stiffness (nonlinear static solves, about 3 min here)"
-          + ("" if args.no_detailed_model else ", and the DM " + ("with its stiffness and first frequency (about "
-                                                                 "30 CPU-minutes more)" if args.detailed_model_solves
-                                                                 else "(its mesh and time step)")), flush=True)
+    stiffness = not args.no_stiffness and cfg["study"]["table1_stiffness"]
+    detailed = not args.no_detailed_model and cfg["study"]["detailed_model"]
+    print("table1: SM-A, SM-B and SM-C" + (" with their tip stiffness (nonlinear static solves, about 3 min here)"
+                                           if stiffness else "")
+          + ("" if not detailed else ", and the DM " + ("with its stiffness and first frequency (about "
+                                                        "30 CPU-minutes more)" if args.detailed_model_solves
+                                                        else "(its mesh and time step)")), flush=True)
     write_table1(cfg, cfg["finger"]["impulse_length_in"] if args.length_in is None else args.length_in, args.json,
-                 stiffness=not args.no_stiffness, detailed=not args.no_detailed_model,
+                 stiffness=stiffness, detailed=detailed,
                  detailed_stiffness=args.detailed_model_solves, detailed_omega1=args.detailed_model_solves)
 
 
@@ -347,7 +352,7 @@ def _contact_arguments(p):
                    "--config, else the calibrated one)")
     p.add_argument("--calibrate", action="store_true",
                    help="recalibrate theta0 so that alpha = 7.5 1/s first touches at t = 0.32 s")
-    add_config_argument(p)
+    add_config_argument(p, CONTACT_KEYS)
 
 
 def add_parsers(sub):
@@ -363,14 +368,16 @@ def add_parsers(sub):
     t.add_argument("--length-in", type=float, default=None,
                    help="finger length [in] (default: [finger] impulse_length_in of --config, 4.5)")
     add_output_argument(t, "--json", "file", help="write the table as JSON to this path")
-    t.add_argument("--no-stiffness", action="store_true", help="skip the static stiffness solves")
+    t.add_argument("--no-stiffness", action="store_true",
+                   help="skip the static stiffness solves (also: [study] table1_stiffness = false in --config)")
     t.add_argument("--no-detailed-model", action="store_true",
-                   help="leave out the detailed model DM (a 2.8 mm mesh of about 28 000 nodes)")
+                   help="leave out the detailed model DM, a 2.8 mm mesh of about 28 000 nodes (also: [study] "
+                        "detailed_model = false in --config)")
     t.add_argument("--detailed-model-solves", action="store_true",
                    help="also solve the DM's tip stiffness and first frequency (nonlinear and modal solves at "
                         "2.8 mm: about 30 CPU-minutes; without it the DM row has its nodes, elements and time step; "
                         "ccedi table1 then takes about 3 min here, most of it SM-B's and SM-C's stiffness solves)")
-    add_config_argument(t)
+    add_config_argument(t, IMPULSE_FINGER_KEYS + ("study.table1_stiffness", "study.detailed_model"))
     t.set_defaults(func=_cmd_table1)
     i = add_command(sub, "impulse", help="tip impulse response of the SM-A finger for several alpha "
                        "(paper Fig. 7): CSV, plot, JSON")
@@ -388,7 +395,8 @@ def add_parsers(sub):
                    help="simulated time [s] (default: [study] impulse_t_end_s, 0.2)")
     add_output_argument(i, "--out", "dir", default="reports/impulse", help="output directory")
     add_scheduler_argument(i)
-    add_config_argument(i)
+    add_config_argument(i, IMPULSE_FINGER_KEYS + ("study.impulse_alphas_per_s", "study.impulse_force_N",
+                                                  "study.impulse_duration_s", "study.impulse_t_end_s"))
     i.set_defaults(func=_cmd_impulse)
     c = add_command(sub, "contact", help="finger on the rotating drum over the elliptical object (paper 3.3-3.4)")
     c.add_argument("--alpha", type=float, required=True, help="mass-proportional damping [1/s]")

@@ -4,9 +4,13 @@
   damping-fits   alpha_cr of the 3/4.5/6/8-in fingers, the paper's Eq. (7) and (8) refitted
   rom-check      reduced models against the full FEA (impulse and contact cases)
 """
-from ccedi.errors import InputError
+import math
+
+from ccedi.errors import InputError, ModelInadequate
 from ccedi.quantities import QUANTITIES
 from ccedi.study.commands.arguments import (
+    CONTACT_KEYS,
+    FINGER_KEYS,
     add_command,
     add_config_argument,
     add_output_argument,
@@ -42,7 +46,7 @@ def add_parsers(sub):
                    help="fraction of the peak a measured crossing must exceed to count as oscillation")
     i.add_argument("--rtol", type=float, default=0.01, help="relative width of the final alpha_cr bracket")
     add_output_argument(i, "--json", "file", help="write the result as JSON to this path")
-    add_config_argument(i)
+    add_config_argument(i, FINGER_KEYS)
     i.set_defaults(func=cmd_identify)
     f = add_command(sub, "damping-fits", help="alpha_cr of the 3, 4.5, 6 and 8-in SM-A fingers and the paper's "
                        "Eq. (7) and (8) refitted from them (slow: ~30 FE runs)")
@@ -50,7 +54,7 @@ def add_parsers(sub):
                    help="finger lengths [in], one alpha_cr search each")
     add_output_argument(f, "--out", "dir", default="reports/damping_fits", help="output directory")
     add_scheduler_argument(f, default="local")
-    add_config_argument(f)
+    add_config_argument(f, FINGER_KEYS)
     f.set_defaults(func=cmd_damping_fits)
     r = add_command(sub, "rom-check", help="reduced models against the full FEA: modal ROM on the 4.5-in impulse, "
                        "superelement chain (co-rotational and linear) on the 8-in contact case (~7 min)")
@@ -77,7 +81,7 @@ def add_parsers(sub):
                    help="force transducer: damping ratio (default: 1/sqrt(2), Butterworth)")
     add_output_argument(r, "--forces-dir", "dir", default=None,
                         help="also write each contact case's raw FE and ROM reaction forces as CSV here")
-    add_config_argument(r)
+    add_config_argument(r, CONTACT_KEYS)
     r.set_defaults(func=cmd_rom_check)
 
 
@@ -199,6 +203,48 @@ def _impulse_run(args, t_end_s):
     return model, t_end, 400, 2.0 * omega1, omega1, finger
 
 
+def _pulse_end_s(data, duration_s):
+    """When a measured record's pulse ends [s]: the last sample of its force column at half
+    the peak or more, else ``duration_s`` from t = 0."""
+    import numpy as np
+
+    if data.force_N is None or not np.any(data.force_N):
+        return float(data.time_s[0]) + duration_s
+    on = np.flatnonzero(np.abs(data.force_N) >= 0.5 * np.max(np.abs(data.force_N)))
+    return float(data.time_s[on[-1]])
+
+
+def _frequency_adequacy(data, omega1, free_from_s):
+    """The ``frequency`` check of :mod:`ccedi.calibrate.adequacy` on a record for CCEDI:
+    its free decay's own first frequency against the declared finger's ``omega1``
+    [rad/s], E within :data:`ccedi.calibrate.experiment.DEFAULT_E_TOLERANCE`, the noise
+    estimated from the record (:func:`ccedi.rom.damping.noise_level`).
+
+    Returns
+    -------
+    dict
+        ``model_adequate``, ``record_first_frequency_hz`` (None when the record does not
+        ring long enough to show it), ``declared_first_frequency_hz``, ``allowed_band_hz``,
+        ``skipped_checks`` and a one-line ``message``.
+    """
+    from ccedi.calibrate.adequacy import free_decay_mode, frequency_band_hz, frequency_check
+    from ccedi.calibrate.experiment import DEFAULT_E_TOLERANCE
+    from ccedi.rom.damping import noise_level
+
+    declared_hz = omega1 / (2.0 * math.pi)
+    mode = free_decay_mode(data.time_s, data.tip_displacement_m, free_from_s=free_from_s,
+                           noise_std_m=noise_level(data.tip_displacement_m))
+    band = frequency_band_hz(declared_hz, DEFAULT_E_TOLERANCE)[1]
+    reason, skipped = frequency_check(mode, band, DEFAULT_E_TOLERANCE)
+    own = f"{mode.frequency_hz:.4g} Hz" if mode.measurable else "not measurable"
+    message = ((f"declared model inadequate (frequency): {reason}" if reason else "declared model adequate")
+               + f"; record's own first-mode frequency {own}, declared finger's {declared_hz:.4g} Hz"
+               + (f"; not checked: {skipped}" if skipped else ""))
+    return {"model_adequate": reason is None, "record_first_frequency_hz": mode.frequency_hz if mode.measurable else None,
+            "declared_first_frequency_hz": declared_hz, "allowed_band_hz": list(band),
+            "skipped_checks": [skipped] if skipped else [], "message": message}
+
+
 def cmd_identify(args):
     """``ccedi identify``: alpha_cr of the model (``--alpha-cr``), or the CCEDI procedure
     (:func:`ccedi.rom.ccedi.identify`) on a measured response CSV; every FE run goes
@@ -219,6 +265,10 @@ def cmd_identify(args):
         ``--rtol`` outside (0, 1), ``--noise-band`` outside [0, 1), neither a CSV nor
         ``--alpha-cr``, a finger without ``--length-in`` or with one outside the inputs
         schema's range, or a measured force column that is all zero.
+    ccedi.errors.ModelInadequate
+        The record rings at a first frequency the declared finger cannot reach (a wrong
+        ``--length-in``, section or material): no alpha is identified; ``--json`` has the
+        evidence (:mod:`ccedi.calibrate.adequacy`'s ``frequency`` check).
     """
     from ccedi.fea.outputs import write_json
     from ccedi.rom.ccedi import critical_alpha, identify
@@ -252,13 +302,22 @@ def cmd_identify(args):
             args.duration_s = duration if args.duration_s is None else args.duration_s
         model, t_end, n_outputs, guess, omega1, finger = _impulse_run(args, float(data.time_s[-1]))
         check_sampling(data.time_s, omega1, data.source)
+        adequacy = _frequency_adequacy(data, omega1, free_from_s=_pulse_end_s(data, args.duration_s))
+        if not adequacy["model_adequate"]:
+            if args.json:
+                write_json(args.json, {"model": args.model, "finger": finger, "source": data.source, **adequacy})
+            raise ModelInadequate(f"{data.source}: {adequacy['message']}; check --length-in, [finger] "
+                                  "section_semi_axes_m and [material] of --config against the finger measured"
+                                  + (f" (no alpha identified; {args.json} has the evidence)" if args.json else
+                                     " (no alpha identified)"))
+        print(f"identify: {adequacy['message']}", flush=True)
         model = RunLog(model, "identify")
         print(f"identify: CCEDI on {data.source}: FE runs of {t_end:.3g} s each, alpha_cr bracketed from "
               f"2 omega_1 = {guess:.4g} 1/s", flush=True)
         crit = critical_alpha(model, guess, t_end, rtol=args.rtol, n_outputs=n_outputs)
         ident = identify(data.time_s, data.tip_displacement_m, model, guess, noise_band=args.noise_band,
                          critical=crit, t_end_s=t_end, n_outputs=n_outputs)
-        result = {"model": args.model, "finger": finger, "source": data.source,
+        result = {"model": args.model, "finger": finger, "source": data.source, **adequacy,
                   "regime": ident.regime, "alpha_per_s": ident.alpha_per_s, "zeta": ident.zeta,
                   "alpha_cr_per_s": ident.alpha_cr_per_s, "n_fe_runs": crit.n_runs + ident.n_runs,
                   "impulse_force_N": args.force_N, "impulse_duration_s": args.duration_s,

@@ -8,6 +8,8 @@ from pathlib import Path
 
 from ccedi.errors import InputError
 from ccedi.study.commands.arguments import (
+    CONTACT_KEYS,
+    IMPULSE_FINGER_KEYS,
     add_command,
     add_config_argument,
     add_output_argument,
@@ -54,7 +56,7 @@ def add_parsers(sub):
                    help="SM-A finger length of the impulse case [in] (4.5 when not given; not with a [finger] mesh)")
     e.add_argument("--t-end-s", type=float, help="simulated time [s] (default 0.2 impulse, 1.5 contact)")
     e.add_argument("--out", required=True, help="file (lsdyna: .k; csv/parquet) or directory (vtu)")
-    add_config_argument(e)
+    add_config_argument(e, lambda args: IMPULSE_FINGER_KEYS if args.case == "impulse" else CONTACT_KEYS)
     e.set_defaults(func=cmd_export)
 
 
