@@ -401,9 +401,10 @@ def check_plausible(exp: Experiment):
     """Reject records whose units cannot be right for the declared finger.
 
     Checks: |tip displacement| below half the finger length; the largest sample interval
-    below a quarter of the first period at E x (1 + tolerance); for an impulse, the pulse
-    ends before the last sample and a ``force_N`` column peaks within 20 % of the
-    sidecar's ``load.force_N``. A contact record: :func:`_check_contact`.
+    below a quarter of the first period at E x (1 + tolerance); for an impulse, the record
+    starts by the pulse, the pulse ends before the last sample, and a ``force_N`` column
+    pulses where the sidecar says and peaks within 20 % of its ``load.force_N``. A contact
+    record: :func:`_check_contact`.
 
     Parameters
     ----------
@@ -426,6 +427,7 @@ def check_plausible(exp: Experiment):
                          f"{exp.finger.length_m:.4g} m finger ({limit:.4g} m): not metres, or not this finger")
     check_sampling(exp.time_s, exp.finger.omega1_rad_s(1.0 + exp.E_tolerance), src)
     end = exp.start_s + exp.duration_s
+    _check_pulse_timing(exp)
     if exp.kind == "impulse" and end >= exp.time_s[-1]:
         raise InputError(f"{src}: the pulse (load.start_s + load.duration_s) ends at {end:.4g} s but the record ends "
                          f"at {exp.time_s[-1]:.4g} s: the record must hold the response after the pulse")
@@ -435,6 +437,25 @@ def check_plausible(exp: Experiment):
         if abs(peak - exp.force_N) > FORCE_PEAK_TOLERANCE * exp.force_N:
             raise InputError(f"{src}: force_N column peaks at {peak:.4g} N but sidecar field 'load.force_N' is "
                              f"{exp.force_N:.4g} N (allowed: within {FORCE_PEAK_TOLERANCE:.0%})")
+
+
+def _check_pulse_timing(exp: Experiment):
+    """The record starts by the declared pulse (``load.start_s``), and a ``force_N`` column's
+    pulse (where |F| is at least half its peak) lies where the sidecar puts it, within a
+    sample and the pulse's length."""
+    src, t = exp.record.source, exp.time_s
+    slack = max(float(np.max(np.diff(t))), exp.duration_s)
+    if t[0] > exp.start_s + 0.5 * float(t[1] - t[0]):
+        raise InputError(f"{src}: time_s starts at {t[0]:.4g} s, after the pulse starts (load.start_s = "
+                         f"{exp.start_s:.4g} s): the record must hold the pulse; shift time_s or set load.start_s")
+    f = exp.record.force_N
+    if f is None or not np.any(f):
+        return
+    on = t[np.abs(f) >= 0.5 * np.max(np.abs(f))]
+    if abs(on[0] - exp.start_s) > slack:
+        raise InputError(f"{src}: the force_N column's pulse starts at {on[0]:.4g} s but the sidecar's at "
+                         f"{exp.start_s:.4g} s (load.start_s; allowed: within {slack:.3g} s): shift time_s or set "
+                         "load.start_s")
 
 
 CONTACT_FORCE_LIMIT_N = 1e4
@@ -447,6 +468,11 @@ def _check_contact(exp: Experiment):
     peak above the declared noise, when given, by 10 sigma)."""
     src = exp.record.source
     check_sampling(exp.time_s, exp.finger.omega1_rad_s(1.0 + exp.E_tolerance), src)
+    span = float(exp.time_s[-1] - exp.time_s[0])
+    if exp.time_s[0] > span:
+        raise InputError(f"{src}: time_s starts at {exp.time_s[0]:.4g} s, later than the record lasts ({span:.4g} s): "
+                         "a contact record's time counts from the drum's start (t = 0 at [drum] theta0_rad); "
+                         "shift time_s")
     f = exp.signal
     peak = float(np.max(np.abs(f)))
     if peak > CONTACT_FORCE_LIMIT_N:

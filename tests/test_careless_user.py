@@ -322,3 +322,33 @@ def test_table1_takes_its_switches_from_the_config(tmp_path, capsys):
     rows = json.loads(table.read_text())
     assert "DM" not in rows and not any("stiffness_N_per_m" in row for row in rows.values())
     assert "does not use" not in capsys.readouterr().err
+
+
+def _shifted_record(tmp_path, name, time_s, force_N):
+    """A copy of the 8-in control_low record and its sidecar with its time column and its
+    force column (None: dropped) replaced."""
+    table = pd.read_csv(ROOT / "data" / "measured" / "control_low.csv")
+    table["time_s"] = time_s(table["time_s"].to_numpy())
+    table = table.drop(columns="force_N") if force_N is None else table.assign(force_N=force_N(table["force_N"]))
+    csv = tmp_path / f"{name}.csv"
+    table.to_csv(csv, index=False)
+    csv.with_suffix(".json").write_text((ROOT / "data" / "measured" / "control_low.json").read_text())
+    return csv
+
+
+@pytest.mark.parametrize("name, time_s, force_N, identify_says, calibrate_says", [
+    ("in_ms", lambda t: 1e3 * t, lambda f: f, "is time_s in seconds?", "not seconds"),
+    ("late", lambda t: t + 100.0, lambda f: f, "shift time_s so that the pulse starts at 0", "time_s starts at 100 s"),
+    ("late_no_force", lambda t: t + 100.0, None, "time_s starts at 100 s", "time_s starts at 100 s"),
+    ("pulse_elsewhere", lambda t: t, lambda f: np.roll(f.to_numpy(), 500), "the force_N pulse starts at 0.5 s",
+     "pulse starts at 0.5 s"),
+])
+def test_a_record_whose_time_is_not_the_pulses_is_named_as_such(name, time_s, force_N, identify_says,
+                                                                 calibrate_says, tmp_path, capsys):
+    """Time in ms, a record starting 100 s late (with and without its force column), a
+    force pulse 0.5 s after the declared one: identify and calibrate name the time column
+    and the fix, not an inferred duration, a mass mismatch or a run of 100 s."""
+    csv = _shifted_record(tmp_path, name, time_s, force_N)
+    assert identify_says in _refused(capsys, ["identify", str(csv), "--length-in", "8"])
+    assert calibrate_says in _refused(capsys, ["calibrate", str(csv), "--json", str(tmp_path / "c.json")])
+    assert not (tmp_path / "c.json").exists()

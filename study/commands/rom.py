@@ -19,6 +19,8 @@ from ccedi.study.commands.arguments import (
     load_config,
 )
 
+DEFAULT_PULSE_S = 0.01
+"""The finger's impulse duration when neither --duration-s nor a force_N column gives it [s]."""
 
 def add_parsers(sub):
     """Register identify, damping-fits and rom-check on ``sub``.
@@ -86,8 +88,8 @@ def add_parsers(sub):
 
 
 def _pulse_from_force(t, force):
-    """(amplitude [N], duration [s]) of a measured force pulse: peak |F| and the time span
-    where |F| exceeds half of it."""
+    """(amplitude [N], start [s], duration [s]) of a measured force pulse: peak |F| and the
+    time span where |F| exceeds half of it."""
     import numpy as np
 
     peak = float(np.max(np.abs(force)))
@@ -95,7 +97,25 @@ def _pulse_from_force(t, force):
         raise InputError("force_N column is all zero: cannot infer the impulse")
     on = np.flatnonzero(np.abs(force) >= 0.5 * peak)
     dt = float(np.median(np.diff(t)))
-    return float(force[on[np.argmax(np.abs(force[on]))]]), float(t[on[-1]] - t[on[0]] + dt)
+    return float(force[on[np.argmax(np.abs(force[on]))]]), float(t[on[0]]), float(t[on[-1]] - t[on[0]] + dt)
+
+
+def _check_pulse_timing(data, start_s, duration_s):
+    """The record must start with identify's pulse, which the model applies at t = 0 for
+    ``duration_s``: a pulse of plausible length (time_s in seconds), starting at t = 0
+    (``start_s`` from the force column, None without one)."""
+    src, t0 = data.source, float(data.time_s[0])
+    q = QUANTITIES["pulse_duration_s"]
+    if not q.lo <= duration_s <= q.hi:
+        raise InputError(f"{src}: the force_N pulse lasts {duration_s:.4g} s by the time_s column, outside "
+                         f"{q.lo:g}..{q.hi:g} s: is time_s in seconds?")
+    dt = float(data.time_s[1] - data.time_s[0])
+    if start_s is not None and abs(start_s) > max(duration_s, dt):
+        raise InputError(f"{src}: the force_N pulse starts at {start_s:.4g} s; identify's model applies it at "
+                         "t = 0: shift time_s so that the pulse starts at 0")
+    if start_s is None and t0 > duration_s:
+        raise InputError(f"{src}: time_s starts at {t0:.4g} s; identify's model applies the pulse at t = 0 for "
+                         f"{duration_s:.4g} s and the record must start with it: shift time_s")
 
 
 class RunLog:
@@ -191,7 +211,7 @@ def _impulse_run(args, t_end_s):
     if args.length_in is not None:
         check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
     force = 1.0 if args.force_N is None else args.force_N
-    duration = 0.01 if args.duration_s is None else args.duration_s
+    duration = DEFAULT_PULSE_S if args.duration_s is None else args.duration_s
     material, semi_axes = finger_inputs(cfg)
     mesh, length_in, finger = finger_of(cfg, args.length_in)
     omega1 = finger_omega1(length_in, material, semi_axes, mesh=mesh)
@@ -201,17 +221,6 @@ def _impulse_run(args, t_end_s):
     if args.rom is not None:
         model = reduce_impulse_model(model, n_modes=args.rom)
     return model, t_end, 400, 2.0 * omega1, omega1, finger
-
-
-def _pulse_end_s(data, duration_s):
-    """When a measured record's pulse ends [s]: the last sample of its force column at half
-    the peak or more, else ``duration_s`` from t = 0."""
-    import numpy as np
-
-    if data.force_N is None or not np.any(data.force_N):
-        return float(data.time_s[0]) + duration_s
-    on = np.flatnonzero(np.abs(data.force_N) >= 0.5 * np.max(np.abs(data.force_N)))
-    return float(data.time_s[on[-1]])
 
 
 def _frequency_adequacy(data, omega1, free_from_s):
@@ -296,13 +305,15 @@ def cmd_identify(args):
         if not args.csv:
             raise InputError("give a measured response CSV, or --alpha-cr to compute alpha_cr only")
         data = load_response(args.csv)
-        if data.force_N is not None and (args.force_N is None or args.duration_s is None):
-            force, duration = _pulse_from_force(data.time_s, data.force_N)
+        start = None
+        if data.force_N is not None:
+            force, start, duration = _pulse_from_force(data.time_s, data.force_N)
             args.force_N = force if args.force_N is None else args.force_N
             args.duration_s = duration if args.duration_s is None else args.duration_s
+        _check_pulse_timing(data, start, DEFAULT_PULSE_S if args.duration_s is None else args.duration_s)
         model, t_end, n_outputs, guess, omega1, finger = _impulse_run(args, float(data.time_s[-1]))
         check_sampling(data.time_s, omega1, data.source)
-        adequacy = _frequency_adequacy(data, omega1, free_from_s=_pulse_end_s(data, args.duration_s))
+        adequacy = _frequency_adequacy(data, omega1, free_from_s=(start or 0.0) + model.duration_s)
         if not adequacy["model_adequate"]:
             if args.json:
                 write_json(args.json, {"model": args.model, "finger": finger, "source": data.source, **adequacy})
