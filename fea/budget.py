@@ -44,3 +44,35 @@ def step_budget(max_steps=None):
         where = "max_steps" if max_steps is not None else STEPS_ENV
         raise InputError(f"{where} = {value!r}: must be an integer >= 1 (steps)")
     return n
+
+
+MAX_OUTPUTS = 100_000
+"""Most output rows of one run (:func:`ccedi.fea.explicit.run`): every 15 us of the
+longest design run, 33 times the densest ccedi asks for (rom-check's 3000 over 1.5 s);
+beyond, the history's memory (a row per output, a snapshot of every node with a VTU
+animation) and the output overhead grow while the run resolves nothing more."""
+
+
+def check_outputs(n_outputs, name="n_outputs"):
+    """``n_outputs`` as an int in 1..:data:`MAX_OUTPUTS`.
+
+    Parameters
+    ----------
+    n_outputs : int
+        Output rows asked for.
+    name : str, optional
+        How the message names it (``--n-outputs`` on the command line).
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    InputError
+        Not an integer in 1..MAX_OUTPUTS.
+    """
+    if isinstance(n_outputs, bool) or not isinstance(n_outputs, (int, float)) or int(n_outputs) != n_outputs \
+            or not 1 <= n_outputs <= MAX_OUTPUTS:
+        raise InputError(f"{name} = {n_outputs!r}: must be an integer in 1..{MAX_OUTPUTS} (output rows of a run)")
+    return int(n_outputs)

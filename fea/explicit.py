@@ -41,7 +41,7 @@ import psutil
 from ccedi.errors import InputError, SolverError, require_finite_positive
 from ccedi.progress import progress_bar
 
-from .budget import STEPS_ENV, step_budget
+from .budget import STEPS_ENV, check_outputs, step_budget
 from .contact import PLANE, STEP_SHRINK, ContactGroup, contact_damping, contact_forces, penalty_stiffness
 from .fastmath import FASTMATH
 from .friction import coulomb_friction
@@ -928,7 +928,8 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     t_end_s : float
         End time [s], > 0.
     n_outputs : int, optional
-        Number of output rows, >= 1, at ``t_end_s k / n_outputs``. Default 400.
+        Number of output rows, 1..:data:`ccedi.fea.budget.MAX_OUTPUTS`, at
+        ``t_end_s k / n_outputs``. Default 400.
     dt_s : float, optional
         Fixed step [s], at most the CFL limit. Default None: CFL-controlled,
         TSSFAC x min dt_e recomputed every step (times 0.9 more when the model has
@@ -969,7 +970,7 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     ------
     InputError
         If ``model`` is not a :class:`ccedi.fea.model.Model`, ``t_end_s`` or ``dt_s`` is
-        not finite and positive, ``n_outputs`` is not an integer >= 1, ``backend`` is
+        not finite and positive, ``n_outputs`` is not an integer in 1..MAX_OUTPUTS, ``backend`` is
         unknown, ``dt_s`` exceeds the CFL limit, ``x0``/``v0`` are not finite arrays
         of the mesh's node shape, ``threads`` is out of range, or the run would take more
         steps than its budget (:func:`step_budget`; the message gives the step count, the
@@ -981,8 +982,7 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     if not isinstance(model, Model):
         raise InputError("model must be a fea.model.Model")
     t_end_s = require_finite_positive("t_end_s (end time, s)", t_end_s)
-    if int(n_outputs) != n_outputs or n_outputs < 1:
-        raise InputError(f"n_outputs must be an integer >= 1, got {n_outputs!r}")
+    n_outputs = check_outputs(n_outputs)
     if backend not in ("numba", "numpy"):
         raise InputError(f"backend must be 'numba' or 'numpy', got {backend!r}")
     n_threads = thread_count(threads)

@@ -352,3 +352,18 @@ def test_a_record_whose_time_is_not_the_pulses_is_named_as_such(name, time_s, fo
     assert identify_says in _refused(capsys, ["identify", str(csv), "--length-in", "8"])
     assert calibrate_says in _refused(capsys, ["calibrate", str(csv), "--json", str(tmp_path / "c.json")])
     assert not (tmp_path / "c.json").exists()
+
+
+@pytest.mark.parametrize("argv", [
+    ["contact", "--alpha", "7.5", "--n-outputs", "1000000000"],
+    ["contact-sweep", "--alphas", "7.5", "--n-outputs", "0", "--scheduler", "serial"],
+    ["rom-check", "--json", "r.json", "--n-outputs", "200000"],
+])
+def test_an_absurd_output_count_is_refused_with_its_range(argv, tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    err = _refused(capsys, argv + ["--out", str(tmp_path / "out")] if argv[0] != "rom-check" else argv,
+                   "--n-outputs", "1..100000")
+    assert not any(tmp_path.iterdir()), err
+    model = cantilever_model(elliptical_cantilever(0.05, 2, 6), RUBBER)
+    with pytest.raises(InputError, match=r"n_outputs = 100001: must be an integer in 1..100000"):
+        run(model, 1e-3, n_outputs=100_001)

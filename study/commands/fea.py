@@ -9,6 +9,7 @@
 from pathlib import Path
 
 from ccedi.errors import InputError
+from ccedi.fea.budget import check_outputs
 from ccedi.study.commands.arguments import (
     CONTACT_KEYS,
     IMPULSE_FINGER_KEYS,
@@ -167,8 +168,7 @@ def contact_setup(cfg, theta0_rad=None, calibrate=False):
 
 def _setup_of(args):
     check_flag("--t-end-s", args.t_end_s, "study", "contact_t_end_s")
-    if args.n_outputs < 1:
-        raise InputError(f"--n-outputs {args.n_outputs}: must be an integer >= 1")
+    check_outputs(args.n_outputs, "--n-outputs")
     check_flag("--theta0-rad", args.theta0_rad, "drum", "theta0_rad")
     return contact_setup(load_config(args), args.theta0_rad, args.calibrate)
 

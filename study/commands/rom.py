@@ -7,6 +7,7 @@
 import math
 
 from ccedi.errors import InputError, ModelInadequate
+from ccedi.fea.budget import check_outputs
 from ccedi.quantities import QUANTITIES
 from ccedi.study.commands.arguments import (
     CONTACT_KEYS,
@@ -455,8 +456,7 @@ def cmd_rom_check(args):
 
     if args.modes < 1:
         raise InputError(f"--modes must be >= 1, got {args.modes}")
-    if args.n_outputs < 1:
-        raise InputError(f"--n-outputs must be >= 1, got {args.n_outputs}")
+    check_outputs(args.n_outputs, "--n-outputs")
     from ccedi.rom.sensor import DEFAULT_DAMPING_RATIO, DEFAULT_NATURAL_FREQUENCY_HZ, Transducer
     from ccedi.study.config import drum_setup, finger_inputs, refuse_mesh
 
