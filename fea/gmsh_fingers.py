@@ -41,7 +41,7 @@ import numpy as np
 
 from ccedi.errors import InputError, SolverError, require_finite_positive
 
-from .mesh import SEMI_AXES, _finger_length_m, _finger_section
+from .mesh import SEMI_AXES, _finger_length_m, finger_section
 from .mesh_io import read_finger_mesh
 
 SM_C_ELEMENT_LENGTH = 4.0e-3
@@ -159,7 +159,7 @@ def sm_c(length_in=4.5, element_size_m=SM_C_ELEMENT_LENGTH, semi_axes_m=SEMI_AXE
         A length, semi-axis, size or order out of range, or a < b.
     """
     length_m = _finger_length_m(length_in=length_in)
-    a, b = _finger_section(semi_axes_m)
+    a, b = finger_section(semi_axes_m, length_m)
     if a < b:
         raise InputError(f"semi_axes_m = {semi_axes_m!r}: a (along x) must be >= b (along y)")
     size = _element_size(element_size_m)
@@ -203,7 +203,8 @@ def _tapered_geometry(length_m, root, tip, hole_radius_m):
 
 def _tapered_inputs(length_in, root_semi_axes_m, tip_semi_axes_m, hole_radius_m):
     length_m = _finger_length_m(length_in=length_in)
-    root, tip = _finger_section(root_semi_axes_m), _finger_section(tip_semi_axes_m)
+    root, tip = (finger_section(root_semi_axes_m, length_m, "root_semi_axes_m"),
+                 finger_section(tip_semi_axes_m, length_m, "tip_semi_axes_m"))
     for name, (a, b) in (("root_semi_axes_m", root), ("tip_semi_axes_m", tip)):
         if a < b:
             raise InputError(f"{name} = {(a, b)!r}: a (along x) must be >= b (along y)")
@@ -303,7 +304,7 @@ def tapered_volume(length_in=4.5, root_semi_axes_m=TAPERED_ROOT_SEMI_AXES, tip_s
         Volume [m^3].
     """
     length_m = _finger_length_m(length_in=length_in)
-    (a0, b0), (a1, b1) = _finger_section(root_semi_axes_m), _finger_section(tip_semi_axes_m)
+    (a0, b0), (a1, b1) = finger_section(root_semi_axes_m, length_m), finger_section(tip_semi_axes_m, length_m)
     da, db = a1 - a0, b1 - b0
     return float(np.pi * length_m * (a0 * b0 + (a0 * db + b0 * da) / 2 + da * db / 3))
 

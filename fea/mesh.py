@@ -265,12 +265,37 @@ def _finger_length_m(length_in=None, length_m=None):
     return QUANTITIES["length_m"].check(length_m, "length_m")
 
 
-def _finger_section(semi_axes_m):
-    """``semi_axes_m`` as (a, b) [m], each within :data:`ccedi.quantities.QUANTITIES`
-    ``section_semi_axis_m``."""
+def finger_section(semi_axes_m, length_m, name="semi_axes_m"):
+    """A finger's section semi-axes as (a, b) [m], each within :data:`ccedi.quantities.QUANTITIES`
+    ``section_semi_axis_m`` and both shorter than the finger.
+
+    Parameters
+    ----------
+    semi_axes_m : sequence of float
+        (a along x, b along y) [m].
+    length_m : float
+        The finger's length [m].
+    name : str, optional
+        How a message names the semi-axes.
+
+    Returns
+    -------
+    tuple of float
+
+    Raises
+    ------
+    InputError
+        Not a pair, a semi-axis out of range, or one as long as the finger or longer (a
+        finger is a cantilever longer than it is thick: a unit slip, or the wrong key).
+    """
     if not isinstance(semi_axes_m, (tuple, list, np.ndarray)) or len(semi_axes_m) != 2:
-        raise InputError(f"semi_axes_m = {semi_axes_m!r}: must be a pair (a, b) of semi-axes in metres")
-    return tuple(QUANTITIES["section_semi_axis_m"].check(x, "semi_axes_m") for x in semi_axes_m)
+        raise InputError(f"{name} = {semi_axes_m!r}: must be a pair (a, b) of semi-axes in metres")
+    a, b = (QUANTITIES["section_semi_axis_m"].check(x, name) for x in semi_axes_m)
+    if max(a, b) >= length_m:
+        raise InputError(f"{name} = ({1e3 * a:.4g}, {1e3 * b:.4g}) mm: a semi-axis as long as the "
+                         f"{1e3 * length_m:.4g} mm finger or longer; a finger is a cantilever longer than its section "
+                         "(units? the right length?)")
+    return a, b
 
 
 def sm_a_elements_along(length_m):
@@ -321,7 +346,7 @@ def sm_a(length_in=None, length_m=None, semi_axes_m=SEMI_AXES):
         (1e-4..0.1 m) is outside :data:`ccedi.quantities.QUANTITIES`.
     """
     L = _finger_length_m(length_in, length_m)
-    return elliptical_cantilever(L, 5, sm_a_elements_along(L), *_finger_section(semi_axes_m),
+    return elliptical_cantilever(L, 5, sm_a_elements_along(L), *finger_section(semi_axes_m, L),
                                  root_refinement=SM_A_ROOT_REFINEMENT)
 
 
@@ -352,7 +377,7 @@ def sm_b(length_in=None, length_m=None, semi_axes_m=SEMI_AXES):
         (1e-4..0.1 m) is outside :data:`ccedi.quantities.QUANTITIES`.
     """
     L = _finger_length_m(length_in, length_m)
-    return elliptical_cantilever(L, 9, 2 * sm_a_elements_along(L), *_finger_section(semi_axes_m))
+    return elliptical_cantilever(L, 9, 2 * sm_a_elements_along(L), *finger_section(semi_axes_m, L))
 
 
 def refine_hexes(mesh, n):

@@ -42,6 +42,7 @@ from ccedi.quantities import QUANTITIES
 
 from .lsdyna import keyword_blocks, solid_element_rows, solid_kind
 from .mesh import Mesh
+from .model import face_node_weights
 from .tetra import corner_volume
 
 UNITS = {"m": 1.0, "mm": 1e-3}
@@ -160,8 +161,10 @@ def read_finger_mesh(path, mesh_unit="m", clamp="z_min", tip="z_max", bending_di
         unsupported cell type; mixed solid types; no solid cells; an inverted or degenerate
         element (index among the file's solid cells, and centroid); a node on a boundary cell
         or set but on no solid element; disconnected parts (their sizes); a finger length
-        along z outside 1..12 in (is ``mesh_unit`` right?); an unknown or empty clamp or tip
-        (with the names available); clamp and tip sharing nodes; a bad argument value.
+        along z outside 1..12 in (is ``mesh_unit`` right?) or shorter than the mesh is wide
+        (a finger lying along x or y); an unknown or empty clamp or tip (with the names
+        available), or one that holds no complete element face (a rounded tip); clamp and
+        tip sharing nodes; a bad argument value.
     """
     scale = UNITS[_choice("mesh_unit", mesh_unit, tuple(UNITS))]
     _choice("bending_direction", bending_direction, BENDING_DIRECTIONS)
@@ -183,9 +186,9 @@ def read_finger_mesh(path, mesh_unit="m", clamp="z_min", tip="z_max", bending_di
     renumber[used] = np.arange(len(used))
     nodes = raw.points[used] * scale
     cells = renumber[cells]
-    _length_along_z(path, nodes, mesh_unit)
     _check_elements(path, kind, nodes, cells)
     _one_part(path, len(nodes), cells)
+    _length_along_z(path, nodes, mesh_unit)
     sets = {"root": _node_set(path, "clamp", clamp, raw, renumber, nodes),
             "tip": _node_set(path, "tip", tip, raw, renumber, nodes)}
     shared = np.intersect1d(sets["root"], sets["tip"])
@@ -194,7 +197,10 @@ def read_finger_mesh(path, mesh_unit="m", clamp="z_min", tip="z_max", bending_di
                          f"(e.g. node {shared[0]} at {_at(nodes[shared[0]])})")
     if bending_direction == "x":
         nodes = np.column_stack([-nodes[:, 1], nodes[:, 0], nodes[:, 2]])
-    return Mesh(nodes=nodes, node_sets=sets, **{_FIELD[kind]: cells})
+    mesh = Mesh(nodes=nodes, node_sets=sets, **{_FIELD[kind]: cells})
+    for role, name in (("clamp", clamp), ("tip", tip)):
+        _whole_faces(path, mesh, role, name)
+    return mesh
 
 
 def _at(point, unit="m"):
@@ -336,11 +342,33 @@ def _no_orphans(path, raw, used):
 
 
 def _length_along_z(path, nodes, mesh_unit):
+    """The finger's length runs along z: its z extent is its largest, within 1..12 in."""
+    extent = np.ptp(nodes, axis=0)
+    length, widest = float(extent[2]), int(np.argmax(extent[:2]))
+    if extent[widest] > length:
+        raise InputError(f"{path}: the finger is {length:.4g} m along z but {extent[widest]:.4g} m along "
+                         f"{'xy'[widest]}: ccedi's finger runs along z (root at z_min, tip at z_max); rotate the "
+                         "mesh so that its length runs along z")
     q = QUANTITIES["length_m"]
-    length = float(np.ptp(nodes[:, 2]))
     if not q.lo <= length <= q.hi:
         raise InputError(f"{path}: the finger is {length:.4g} m long along z with mesh_unit = {mesh_unit!r}, "
                          f"outside {q.lo:g}..{q.hi:g} m (the length runs along z): is mesh_unit right?")
+
+
+def _whole_faces(path, mesh, role, name):
+    """A clamp or tip must hold at least one complete element face (a load or a support
+    on separate nodes is no finger's)."""
+    ids = mesh.node_sets["root" if role == "clamp" else "tip"]
+    try:
+        face_node_weights(mesh, ids)
+    except InputError:
+        tol_mm = 1e3 * PLANE_TOLERANCE * float(np.linalg.norm(np.ptp(mesh.nodes, axis=0)))
+        plane = (f" ({name} takes only the nodes within {tol_mm:.2g} mm of the extreme {name[0]}: a rounded "
+                 f"{role}?)" if name in PLANES else "")
+        raise InputError(f"{path}: {role} = {name!r} picks {len(ids)} node(s), e.g. at {_at(mesh.nodes[ids[0]])}, "
+                         f"which make no complete element face{plane}; name a node set (physical group) of the "
+                         f"{role}'s faces in the mesh file as [finger] {role}, or give the finger a flat "
+                         f"{role}") from None
 
 
 # --- element geometry -------------------------------------------------------------------

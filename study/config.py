@@ -266,8 +266,36 @@ def validate(data, source="config", base_dir=None):
         study["design_calibration_record"] = _record_path(
             study["design_calibration_record"], base_dir if "design_calibration_record" in given else INSTALL_DIR)
     finger_mesh(out)
+    if out["finger"]["mesh"] is None:
+        for key in ("impulse_length_in", "contact_length_in"):
+            check_section_fits(out, out["finger"][key], f"[finger] {key}")
     drum_setup(out)             # the set-up as a whole: the object must clear the drum, ...
     return out
+
+
+def check_section_fits(cfg, length_in, name):
+    """Refuse a generated finger whose ``[finger] section_semi_axes_m`` is as long as the
+    finger or longer (a finger is a cantilever longer than its section).
+
+    Parameters
+    ----------
+    cfg : dict
+        ``{section: {key: value}}`` as :func:`load` returns it.
+    length_in : float
+        The finger's length [in].
+    name : str
+        Where the length came from (``--length-in``, ``[finger] impulse_length_in``).
+
+    Raises
+    ------
+    InputError
+        Naming both inputs and their values.
+    """
+    axes = cfg["finger"]["section_semi_axes_m"]
+    if max(axes) >= inch_to_m(length_in):
+        raise InputError(f"[finger] section_semi_axes_m = [{axes[0]:g}, {axes[1]:g}] m is as long as the "
+                         f"{1e3 * inch_to_m(length_in):.4g} mm finger of {name} = {length_in:g} in or longer: a "
+                         "finger is a cantilever longer than its section (units? the right length?)")
 
 
 def changed_keys(cfg):

@@ -8,6 +8,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 import matplotlib.pyplot as plt
+import meshio
 import numpy as np
 import pandas as pd
 import pytest
@@ -367,3 +368,52 @@ def test_an_absurd_output_count_is_refused_with_its_range(argv, tmp_path, capsys
     model = cantilever_model(elliptical_cantilever(0.05, 2, 6), RUBBER)
     with pytest.raises(InputError, match=r"n_outputs = 100001: must be an integer in 1..100000"):
         run(model, 1e-3, n_outputs=100_001)
+
+
+@pytest.mark.parametrize("toml, argv, named", [
+    ("[finger]\nsection_semi_axes_m = [0.09, 0.09]\nimpulse_length_in = 1.0\n", ["export"],
+     "[finger] impulse_length_in = 1 in"),
+    ("[finger]\nsection_semi_axes_m = [0.012, 0.09]\ncontact_length_in = 3.0\nimpulse_length_in = 8.0\n",
+     ["design", "--json", "d.json"], "[finger] contact_length_in = 3 in"),
+    ("[finger]\nsection_semi_axes_m = [0.03, 0.03]\n", ["impulse", "--length-in", "1"], "--length-in = 1 in"),
+    ("[finger]\nsection_semi_axes_m = [0.03, 0.03]\n", ["table1", "--length-in", "1.1"], "--length-in = 1.1 in"),
+])
+def test_a_section_as_long_as_the_finger_is_refused_by_every_command(toml, argv, named, tmp_path, capsys,
+                                                                      monkeypatch):
+    """A 1-in finger with 90 mm semi-axes (the sidecar's rule: the section shorter than
+    the finger), from the TOML or the --length-in flag: named with both inputs."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "c.toml").write_text(toml)
+    out = ["--out", "out.k" if argv[0] == "export" else "out"] if argv[0] in ("export", "impulse", "design") else []
+    err = _refused(capsys, argv + ["--config", "c.toml"] + out, "[finger] section_semi_axes_m", named)
+    assert "cantilever longer than its section" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.toml"]
+
+
+def test_an_imported_finger_lying_along_x_is_named_not_measured_along_z(tmp_path, capsys):
+    """The 6-in finger turned to lie along x: refused (its z extent, the section, would
+    have been its 'length'), with the extents and the fix."""
+    mesh = elliptical_cantilever(0.15, 3, 20)
+    along_x = mesh.nodes[:, [2, 1, 0]]
+    path = tmp_path / "along_x.vtu"
+    meshio.write(path, meshio.Mesh(along_x, [("hexahedron", mesh.hexes[:, [0, 3, 2, 1, 4, 7, 6, 5]])]))
+    (tmp_path / "c.toml").write_text(f'[finger]\nmesh = "{path.name}"\n')
+    err = _refused(capsys, ["export", "--config", str(tmp_path / "c.toml"), "--out", str(tmp_path / "o.k")],
+                   "along_x.vtu", "along x", "rotate the mesh")
+    assert "0.15 m along x" in err and "0.024 m along z" in err
+
+
+def test_a_rounded_tip_that_z_max_takes_as_one_node_names_tip_and_the_fix(tmp_path, capsys):
+    """The tip's centre node pushed 2 mm out: ``tip = "z_max"`` takes that node alone, no
+    element face; the message names ``tip``, the node and the two fixes."""
+    mesh = elliptical_cantilever(0.1, 2, 10)
+    nodes = mesh.nodes.copy()
+    centre = np.flatnonzero((nodes[:, 2] == nodes[:, 2].max()) & (np.abs(nodes[:, 0]) < 1e-9)
+                            & (np.abs(nodes[:, 1]) < 1e-9))
+    nodes[centre, 2] += 0.002
+    path = tmp_path / "rounded.vtu"
+    meshio.write(path, meshio.Mesh(nodes, [("hexahedron", mesh.hexes)]))
+    (tmp_path / "c.toml").write_text(f'[finger]\nmesh = "{path.name}"\n')
+    err = _refused(capsys, ["export", "--config", str(tmp_path / "c.toml"), "--out", str(tmp_path / "o.k")],
+                   "tip = 'z_max' picks 1 node(s)", "no complete element face", "rounded tip", "node set")
+    assert "[finger] tip" in err

@@ -7,6 +7,7 @@ from dataclasses import dataclass, fields, replace
 from pathlib import Path
 
 from ccedi.errors import InputError, RequirementsUnmet, ValidityWarning
+from ccedi.fea.units import inch_to_m
 from ccedi.study.commands.arguments import (
     CONTACT_KEYS,
     add_command,
@@ -280,6 +281,11 @@ def _check_options(setup, o):
             quantity.check(value, flag)
         if not 0.0 < lo < hi:
             raise InputError(f"{flag} {lo:g} {hi:g}: must satisfy 0 < LO < HI ({quantity.unit})")
+    if vary == "length" and max(setup.finger_semi_axes_m) >= inch_to_m(o.length_bounds_in[0]):
+        raise InputError(f"--length-bounds-in {o.length_bounds_in[0]:g} {o.length_bounds_in[1]:g}: a "
+                         f"{1e3 * inch_to_m(o.length_bounds_in[0]):.4g} mm finger is no longer than its section's "
+                         f"semi-axis {1e3 * max(setup.finger_semi_axes_m):.4g} mm ([finger] section_semi_axes_m); "
+                         "raise the lower bound")
     if o.fea_check_designs not in (1, 2, 3):
         raise InputError(f"fea_check_designs must be 1, 2 or 3, got {o.fea_check_designs}")
     for name, value, lo in (("--grid", min(o.grid), 4), ("--validation-runs", o.validation_runs, 1),

@@ -200,12 +200,14 @@ def finger_of(cfg, length_in=None):
     """
     from ccedi.fea.mesh import sm_a
     from ccedi.fea.validity import cantilever_length_m
-    from ccedi.study.config import configured_mesh
+    from ccedi.study.config import check_section_fits, configured_mesh
 
     mesh = configured_mesh(cfg)
     if mesh is not None and length_in is not None:
         raise InputError(f"--length-in {length_in:g}: the finger is [finger] mesh = {cfg['finger']['mesh']}, "
                          "whose length the mesh sets; drop --length-in")
+    if mesh is None and length_in is not None:
+        check_section_fits(cfg, length_in, "--length-in")
     length_in = None if mesh is not None else (cfg["finger"]["impulse_length_in"] if length_in is None else length_in)
     shown = mesh if mesh is not None else sm_a(length_in=length_in, semi_axes_m=cfg["finger"]["section_semi_axes_m"])
     finger = {"name": f"SM-A {length_in:g}-in finger" if mesh is None else Path(cfg["finger"]["mesh"]).name,
@@ -217,8 +219,12 @@ def finger_of(cfg, length_in=None):
 
 
 def _cmd_table1(args):
+    from ccedi.study.config import check_section_fits
+
     check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
     cfg = load_config(args)
+    if args.length_in is not None:
+        check_section_fits(cfg, args.length_in, "--length-in")
     stiffness = not args.no_stiffness and cfg["study"]["table1_stiffness"]
     detailed = not args.no_detailed_model and cfg["study"]["detailed_model"]
     print("table1: SM-A, SM-B and SM-C" + (" with their tip stiffness (nonlinear static solves, about 3 min here)"

@@ -344,13 +344,14 @@ def cmd_identify(args):
 
 def cmd_damping_fits(args):
     """``ccedi damping-fits``: :func:`write_damping_fits` of the parsed arguments."""
-    from ccedi.study.config import refuse_mesh
+    from ccedi.study.config import check_section_fits, refuse_mesh
 
     cfg = load_config(args)
     refuse_mesh(cfg, "damping-fits", "varies the generated finger's length and the mesh has one; its alpha_cr: "
                 "ccedi identify --alpha-cr --config FILE")
     for length in args.lengths_in:
         QUANTITIES["length_in"].check(length, "--lengths-in")
+        check_section_fits(cfg, length, "--lengths-in")
     write_damping_fits(cfg, args.lengths_in, args.out, scheduler=args.scheduler)
 
 
