@@ -393,7 +393,8 @@ def calibrate(exp: Experiment, candidates=None, progress=None, fea_correction=Fa
     candidates : iterable of str, optional
         Effect names to consider. Default: the whole catalogue of the record's kind.
     progress : callable, optional
-        Called with a one-line message before each candidate fit. Default None.
+        Called with a one-line message as each stage starts (the baseline fit, the
+        adequacy check, each candidate fit). Default None.
     fea_correction : bool, optional
         Correct a reduced base model by its full FE model at the baseline fit (module
         docstring, step 1; a contact record's chain by one full explicit run on the drum,
@@ -422,6 +423,8 @@ def calibrate(exp: Experiment, candidates=None, progress=None, fea_correction=Fa
         raise InputError(f"effect(s) {', '.join(unknown)} not in the {exp.kind} catalogue "
                          f"({', '.join(model.catalogue)})")
     n = len(exp.time_s)
+    say = progress or (lambda message: None)
+    say(f"{n} samples over {exp.time_s[-1] - exp.time_s[0]:.4g} s; fitting the declared finger's alpha and E")
     current = baseline = fit_baseline(model)
     kind = damping_kind_support(exp, baseline)
     chain_baseline = None
@@ -429,6 +432,7 @@ def calibrate(exp: Experiment, candidates=None, progress=None, fea_correction=Fa
         chain_baseline = baseline
         current = baseline = fit(model, (), start=baseline.values)
     sigma = float(np.hypot(noise_std(exp), model.model_error))
+    say("checking the declaration against the record's own first mode")
     adequacy = model.assess(baseline, sigma)
     rounds = []
     ambiguous = None
@@ -449,8 +453,7 @@ def calibrate(exp: Experiment, candidates=None, progress=None, fea_correction=Fa
         for name in names:
             if name in current.effects:
                 continue
-            if progress:
-                progress(f"round {len(rounds) + 1}: {'+'.join(current.effects + (name,))}")
+            say(f"round {len(rounds) + 1}: {'+'.join(current.effects + (name,))}")
             start, extra = model.candidate_starts(name, current, evidence)
             tried[name] = fit(model, current.effects + (name,), start=current.values | start, extra_starts=extra)
         qualified = {k: f for k, f in tried.items() if f.holdout_rms_m < current.holdout_rms_m

@@ -100,7 +100,8 @@ def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None, 
 
     t0 = time.perf_counter()
     exp = load_experiment(csv, meta)
-    cal = calibrate(exp, candidates=effects, fea_correction=fea_correction)
+    cal = calibrate(exp, candidates=effects, fea_correction=fea_correction,
+                    progress=lambda message: print(f"calibrate: {message}", flush=True))
     result = summary(cal) | {"wall_time_s": time.perf_counter() - t0}
     b = result["baseline"]
     if result["chain_baseline"]:
