@@ -261,17 +261,58 @@ def static_solve(model: Model, f_ext, n_increments=2, tol=1e-7, max_iter=30, lin
         u = np.zeros(x.size)
         u[free] = spla.spsolve(K.tocsc(), f_ext.ravel()[free])
         return x + u.reshape(x.shape)
-    load, step = 0.0, 1.0 / n_increments
-    while load < 1.0:
-        target = min(1.0, load + step)
-        try:
-            x = _newton(model, x, target * f_ext, free, tol * max(np.linalg.norm(f_ext), 1e-300), tol, max_iter)
-            load = target
-        except SolverError as err:
-            step /= 2.0
-            if step < MIN_LOAD_STEP:
-                raise SolverError(f"static solve failed at load factor {target:.3g}: {err}") from None
-    return x
+    return static_path(model, f_ext, np.arange(1, n_increments + 1) / n_increments, tol=tol, max_iter=max_iter)[-1]
+
+
+def static_path(model: Model, f_ext, load_factors, tol=1e-7, max_iter=30):
+    """Nonlinear static equilibria along a load path: f_int(x) = lambda f_ext at each
+    ``lambda`` of ``load_factors``, each reached from the one before by Newton-Raphson
+    (one increment, halved on failure as in :func:`static_solve`).
+
+    Parameters
+    ----------
+    model : Model
+        The model (fixed nodes stay at their reference positions).
+    f_ext : numpy.ndarray
+        External nodal forces at load factor 1, shape (n, 3) [N], finite.
+    load_factors : sequence of float
+        Increasing load factors in (0, 1].
+    tol : float, optional
+        Relative convergence tolerance [-], of ``f_ext``'s norm. Default 1e-7.
+    max_iter : int, optional
+        Newton iterations allowed per increment. Default 30.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        The equilibrium nodal positions (n, 3) [m] at each load factor.
+
+    Raises
+    ------
+    InputError
+        Load factors not increasing within (0, 1].
+    SolverError
+        As :func:`static_solve`.
+    """
+    factors = np.asarray(load_factors, dtype=float)
+    if factors.ndim != 1 or not len(factors) or factors[0] <= 0.0 or factors[-1] > 1.0 or np.any(np.diff(factors) <= 0):
+        raise InputError(f"load_factors = {load_factors!r}: must increase within (0, 1]")
+    free = free_dofs(model)
+    atol = tol * max(np.linalg.norm(f_ext), 1e-300)
+    x, load, path = model.mesh.nodes.copy(), 0.0, []
+    for stop in factors:
+        step = stop - load
+        while load < stop:
+            target = min(stop, load + step)
+            try:
+                x = _newton(model, x, target * f_ext, free, atol, tol, max_iter)
+                load = target
+            except SolverError as err:
+                step /= 2.0
+                if step < MIN_LOAD_STEP:
+                    raise SolverError(f"static solve failed at load factor {target:.3g}: {err}") from None
+        path.append(x)
+    return path
 
 
 def _newton(model, x, f, free, atol, tol, max_iter):
@@ -323,7 +364,9 @@ def tip_deflection(model: Model, force_N, direction=1, linear=False):
 def tip_stiffness(model: Model, loads_N=(1.0, 2.0), direction=1):
     """Equivalent tip stiffness as in the paper's Table 1.
 
-    The mean of F / delta over nonlinear static solves at the given tip loads.
+    The mean of F / delta over the nonlinear static equilibria at the given tip loads, one
+    load path through them (:func:`static_path`: from rest to the smallest load, then on
+    to the next, one Newton increment each).
 
     Parameters
     ----------
@@ -339,4 +382,14 @@ def tip_stiffness(model: Model, loads_N=(1.0, 2.0), direction=1):
     float
         Tip stiffness [N/m].
     """
-    return float(np.mean([F / tip_deflection(model, F, direction) for F in loads_N]))
+    loads = np.sort(np.asarray(loads_N, dtype=float))
+    if loads.ndim != 1 or not len(loads) or not np.all(np.isfinite(loads)) or loads[0] <= 0 \
+            or np.any(np.diff(loads) == 0):
+        raise InputError(f"loads_N = {loads_N!r}: must be distinct finite tip loads > 0 (N)")
+    mesh = model.mesh
+    tip = mesh.node_sets["tip"]
+    w = face_node_weights(mesh, tip)
+    f_ext = np.zeros_like(mesh.nodes)
+    f_ext[tip, direction] = w * loads[-1]
+    path = static_path(model, f_ext, loads / loads[-1])
+    return float(np.mean([F / (w @ (x[tip, direction] - mesh.nodes[tip, direction])) for F, x in zip(loads, path)]))

@@ -88,7 +88,7 @@ def table1_row(mesh, material, stiffness=True, omega1=False):
 
 
 def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES, finger=None, detailed=False,
-           detailed_stiffness=None, detailed_omega1=True):
+           detailed_stiffness=None, detailed_omega1=True, progress=None):
     """Table 1 of the paper for SM-A, SM-B (hexahedra) and SM-C (10-node tetrahedra,
     :func:`ccedi.fea.gmsh_fingers.sm_c`) with section semi-axes ``semi_axes_m`` [m] (the
     detailed model DM, and a finger of the user's), each row from :func:`table1_row`, with
@@ -118,6 +118,8 @@ def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES
     detailed_omega1 : bool, optional
         Solve the DM's first natural frequency (a modal solve of some 83 000 DOFs, about
         50 s here). Default True.
+    progress : callable, optional
+        Called with one line as each row starts (the model, its size and what it solves).
 
     Returns
     -------
@@ -130,12 +132,22 @@ def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES
     meshes = {"SM-A": sm_a(length_in=length_in, semi_axes_m=semi_axes_m),
               "SM-B": sm_b(length_in=length_in, semi_axes_m=semi_axes_m),
               "SM-C": sm_c(length_in=length_in, semi_axes_m=semi_axes_m)}
-    out = {name: table1_row(mesh, material, stiffness) for name, mesh in meshes.items()}
+    say = progress or (lambda line: None)
+
+    def row(name, mesh, solve_stiffness, omega1=False):
+        solves = [what for what, wanted in (("tip stiffness (nonlinear static solves)", solve_stiffness),
+                                            ("first frequency (modal solve)", omega1)) if wanted]
+        say(f"{name}: {mesh.n_nodes} nodes, {mesh.n_elements} {mesh.element_type} elements"
+            + (f"; {' and '.join(solves)}" if solves else ""))
+        return table1_row(mesh, material, solve_stiffness, omega1=omega1)
+
+    out = {name: row(name, mesh, stiffness) for name, mesh in meshes.items()}
     if detailed:
         dm_stiffness = stiffness if detailed_stiffness is None else detailed_stiffness
-        out["DM"] = table1_row(detailed_model(), material, dm_stiffness, omega1=detailed_omega1)
+        say("DM: meshing the detailed model (2.8 mm elements, about 28 000 nodes)")
+        out["DM"] = row("DM", detailed_model(), dm_stiffness, omega1=detailed_omega1)
     if finger is not None:
-        out["finger"] = table1_row(finger, material, stiffness, omega1=True)
+        out["finger"] = row("finger", finger, stiffness, omega1=True)
     for name in out:
         out[name]["step_ratio"] = out[name]["steps_to_0_2_s"] / out["SM-A"]["steps_to_0_2_s"]
     return out

@@ -417,3 +417,15 @@ def test_a_rounded_tip_that_z_max_takes_as_one_node_names_tip_and_the_fix(tmp_pa
     err = _refused(capsys, ["export", "--config", str(tmp_path / "c.toml"), "--out", str(tmp_path / "o.k")],
                    "tip = 'z_max' picks 1 node(s)", "no complete element face", "rounded tip", "node set")
     assert "[finger] tip" in err
+
+
+def test_a_run_in_a_log_states_its_steps_and_expected_time_before_it_starts(tmp_path, capsys):
+    """stdout and stderr not terminals (a batch job): the run's progress is a plain line on
+    stdout when it starts, with its step count and expected time; stderr stays empty."""
+    assert main(["contact", "--alpha", "180", "--t-end-s", "0.01", "--n-outputs", "5", "--out", str(tmp_path)]) == 0
+    captured = capsys.readouterr()
+    started = [line for line in captured.out.splitlines() if "steps" in line and "0 % (0/5 outputs)" in line]
+    assert len(started) == 1 and started[0].startswith("t_end 0.01 s, ~") and "elapsed" in started[0]
+    steps = float(started[0].split("~")[1].split(" steps")[0])
+    summary = json.loads((tmp_path / "contact_alpha180_global.json").read_text())
+    assert captured.err == "" and steps == pytest.approx(summary["steps"], rel=0.1)
