@@ -3,10 +3,11 @@ import numpy as np
 import pytest
 from conftest import finite_difference_tangent
 
+from ccedi.errors import InputError
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import elliptical_cantilever, sm_a, sm_b
 from ccedi.fea.model import cantilever_model
-from ccedi.fea.static import static_solve, tangent_stiffness, tip_deflection
+from ccedi.fea.static import static_path, static_solve, tangent_stiffness, tip_deflection, tip_stiffness
 from ccedi.fea.studies import table1_row
 
 
@@ -47,3 +48,25 @@ def test_static_solve_rejects_bad_load(mesh_a):
     f[0, 0] = np.nan
     with pytest.raises(InputError, match="f_ext"):
         static_solve(model, f)
+
+
+def test_a_load_path_reaches_the_equilibria_of_separate_solves():
+    """The equilibria along one load path (1 N, then 2 N at the tip of a coarse 4.5-in
+    finger, 14 % of its length at 2 N) are those of separate solves from rest, and the
+    Table 1 stiffness from the path is the mean of F / delta of the separate solves."""
+    model = cantilever_model(elliptical_cantilever(0.1143, 3, 20), RUBBER)
+    tip = model.mesh.node_sets["tip"]
+    f = np.zeros_like(model.mesh.nodes)
+    f[tip, 1] = 2.0 / len(tip)
+    path = static_path(model, f, (0.5, 1.0))
+    for factor, x in zip((0.5, 1.0), path):
+        alone = static_solve(model, factor * f)
+        np.testing.assert_allclose(x, alone, atol=1e-9)
+    assert np.max(np.abs(path[1] - path[0])) > 1e-3                 # two different equilibria
+    separate = np.mean([F / tip_deflection(model, F) for F in (1.0, 2.0)])
+    assert tip_stiffness(model) == pytest.approx(separate, rel=1e-7)
+    for loads in ((0.0, 1.0), (1.0, 1.0), (-1.0,)):
+        with pytest.raises(InputError, match="loads_N"):
+            tip_stiffness(model, loads)
+    with pytest.raises(InputError, match="load_factors"):
+        static_path(model, f, (1.0, 0.5))
