@@ -427,10 +427,10 @@ def check_plausible(exp: Experiment):
                          f"{exp.finger.length_m:.4g} m finger ({limit:.4g} m): not metres, or not this finger")
     check_sampling(exp.time_s, exp.finger.omega1_rad_s(1.0 + exp.E_tolerance), src)
     end = exp.start_s + exp.duration_s
-    _check_pulse_timing(exp)
     if exp.kind == "impulse" and end >= exp.time_s[-1]:
         raise InputError(f"{src}: the pulse (load.start_s + load.duration_s) ends at {end:.4g} s but the record ends "
                          f"at {exp.time_s[-1]:.4g} s: the record must hold the response after the pulse")
+    _check_pulse_timing(exp)
     f = exp.record.force_N
     if exp.kind == "impulse" and f is not None:
         peak = float(np.max(np.abs(f)))

@@ -381,6 +381,13 @@ def tip_stiffness(model: Model, loads_N=(1.0, 2.0), direction=1):
     -------
     float
         Tip stiffness [N/m].
+
+    Raises
+    ------
+    InputError
+        Loads that are not distinct, finite and positive.
+    SolverError
+        As :func:`static_solve`.
     """
     loads = np.sort(np.asarray(loads_N, dtype=float))
     if loads.ndim != 1 or not len(loads) or not np.all(np.isfinite(loads)) or loads[0] <= 0 \
