@@ -23,7 +23,7 @@ from ccedi.design.optimise import OBJECTIVES, Design
 from ccedi.design.recheck import fea_check
 from ccedi.design.requirements import Requirements
 from ccedi.fea.drum import DrumSetup
-from ccedi.fea.units import inch_to_m
+from ccedi.units import inch_to_m
 
 OUT = Path(__file__).with_suffix(".json")
 ALPHA_FACTORS = (0.6, 0.8, 1.0, 1.25, 1.6)

@@ -18,7 +18,7 @@ from pathlib import Path
 
 from ccedi.design.rubber import alpha_cr_of_length
 from ccedi.fea.drum import DrumSetup, FullContactModel
-from ccedi.fea.units import inch_to_m
+from ccedi.units import inch_to_m
 
 CACHE = Path(__file__).parent / "cache" / "design_fea"
 LENGTHS_IN = (8.0, 5.0, 3.0)

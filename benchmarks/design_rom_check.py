@@ -27,7 +27,7 @@ from ccedi.design.model_error import TOLERANCE, model_errors, output_error
 from ccedi.design.outputs import OUTPUTS, design_outputs
 from ccedi.design.surrogate import rom_factory
 from ccedi.fea.drum import DrumSetup, ObjectStress
-from ccedi.fea.units import inch_to_m
+from ccedi.units import inch_to_m
 
 OUT = Path(__file__).with_suffix(".json")
 CASES = Path(__file__).resolve().parents[1] / "data" / "design" / "rom_check.json"

@@ -43,8 +43,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from .experiment import Experiment
-from .fit import Fit
-from .model import FingerModel, e_factor_bound
+from .fit import Fit, e_factor_bound
 
 MIN_PERIODS = 2.0
 """Periods of the declared first mode (at E (1 - tol)) the free decay must cover."""
@@ -330,7 +329,7 @@ class Adequacy:
                 "min_periods": MIN_PERIODS, "message": self.message()}
 
 
-def assess(model: FingerModel, baseline: Fit, noise_std_m):
+def assess(model, baseline: Fit, noise_std_m):
     """Check that the declared finger can explain the record (module docstring).
 
     Parameters

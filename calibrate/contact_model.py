@@ -37,6 +37,7 @@ from ccedi.rom.sensor import DEFAULT_DAMPING_RATIO, DEFAULT_NATURAL_FREQUENCY_HZ
 
 from .effects import CONTACT_CATALOGUE, ContactScales, Parameter
 from .experiment import Experiment
+from .fit import e_factor_bound
 from .residual import noise_std
 from .sparse import SparseTerm, _stlsq
 
@@ -626,7 +627,6 @@ class DrumContactModel:
         ContactAdequacy
             The verdict and its evidence.
         """
-        from .model import e_factor_bound
 
         tol = self.exp.E_tolerance
         e = baseline.values["E_factor"]

@@ -51,8 +51,8 @@ from ccedi.fea.drum import DrumSetup, FullContactModel
 from ccedi.fea.material import RUBBER, NeoHookean
 from ccedi.fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR
 from ccedi.fea.outputs import write_csv, write_json
-from ccedi.fea.units import m_to_inch
 from ccedi.rom.sensor import Transducer
+from ccedi.units import m_to_inch
 
 from .contact_model import radially_offset
 

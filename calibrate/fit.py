@@ -214,3 +214,26 @@ def fit_baseline(model):
         if err < best_err:
             best, best_err = v, err
     return fit(model, (), start=best)
+
+
+def e_factor_bound(E_factor, tol):
+    """Which tolerance bound a fitted E_factor sits on.
+
+    On a bound means within 1 % of the tolerance (at least 1e-5) of it.
+
+    Parameters
+    ----------
+    E_factor : float
+        Fitted Young's modulus over the declared one [-].
+    tol : float
+        Relative tolerance of the declared E [-].
+
+    Returns
+    -------
+    int
+        -1 on the lower bound 1 - tol, +1 on the upper bound 1 + tol, else 0.
+    """
+    width = 0.01 * max(tol, 1e-3)
+    if E_factor - (1.0 - tol) < width:
+        return -1
+    return 1 if (1.0 + tol) - E_factor < width else 0

@@ -228,40 +228,6 @@ def excess_explained(current: Fit, candidate: Fit, sigma):
     return 1.0 if excess <= 0.0 else (current.rms_m**2 - candidate.rms_m**2) / excess
 
 
-def observables(model: FingerModel, values):
-    """What a measurement could show of a fitted model: its first three frequencies and
-    its static tip flexibility.
-
-    Parameters
-    ----------
-    model : FingerModel
-        The calibration model.
-    values : dict
-        Fitted parameter values.
-
-    Returns
-    -------
-    dict
-        ``mode_1_frequency_hz``, ``mode_2_frequency_hz``, ``mode_3_frequency_hz`` [Hz] and
-        ``static_tip_flexibility_m_N`` [m/N] (a static tip load test) and
-        ``turned_over_change_m`` [m] (the change of the rest reading with the finger
-        turned over: twice the gravity sag).
-    """
-    m = model.modes(values)
-    out = {f"mode_{i + 1}_frequency_hz": float(m.omega_rad_s[i] / (2.0 * np.pi)) for i in range(3)}
-    out["static_tip_flexibility_m_N"] = m.static_flexibility_m_N
-    out["turned_over_change_m"] = -2.0 * values.get("gravity_m_s2", 0.0) * m.static_sag_per_g
-    return out
-
-
-MEASUREMENTS = {"mode_1_frequency_hz": "the first mode's frequency",
-                "mode_2_frequency_hz": "the second mode's frequency (a shorter pulse or a hammer tap rings it)",
-                "mode_3_frequency_hz": "the third mode's frequency (a hammer tap rings it)",
-                "static_tip_flexibility_m_N": "the static tip deflection under a known tip load",
-                "turned_over_change_m": "the rest reading with the finger turned over (gravity reversed)"}
-"""The measurements :func:`separating_measurement` can name."""
-
-
 def separating_measurement(model: FingerModel, a: Fit, b: Fit):
     """The measurement that best tells two fitted models apart: the observable
     (:func:`observables`) whose predictions differ most, relatively.

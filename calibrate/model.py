@@ -29,10 +29,13 @@ import numpy as np
 
 from ccedi.rom.modal import ModalROM
 
+from .adequacy import assess
 from .dynamics import integrate_tip, viscoelastic_pulse_response
 from .effects import CATALOGUE, Parameter, Scales
 from .experiment import Experiment
 from .finger_modes import finger_basis
+from .residual import analyse, suggest
+from .sparse import sparse_term
 
 MIN_MODES = 3
 """Fewest y-bending modes kept, whatever the pulse."""
@@ -93,27 +96,13 @@ def baseline_parameters(exp: Experiment, s: Scales):
             (Parameter("E_factor", 1.0 - tol, 1.0 + tol + 1e-9, log=False, scale=0.01), 1.0)]
 
 
-def e_factor_bound(E_factor, tol):
-    """Which tolerance bound a fitted E_factor sits on.
-
-    On a bound means within 1 % of the tolerance (at least 1e-5) of it.
-
-    Parameters
-    ----------
-    E_factor : float
-        Fitted Young's modulus over the declared one [-].
-    tol : float
-        Relative tolerance of the declared E [-].
-
-    Returns
-    -------
-    int
-        -1 on the lower bound 1 - tol, +1 on the upper bound 1 + tol, else 0.
-    """
-    width = 0.01 * max(tol, 1e-3)
-    if E_factor - (1.0 - tol) < width:
-        return -1
-    return 1 if (1.0 + tol) - E_factor < width else 0
+MEASUREMENTS = {"mode_1_frequency_hz": "the first mode's frequency",
+                "mode_2_frequency_hz": "the second mode's frequency (a shorter pulse or a hammer tap rings it)",
+                "mode_3_frequency_hz": "the third mode's frequency (a hammer tap rings it)",
+                "static_tip_flexibility_m_N": "the static tip deflection under a known tip load",
+                "turned_over_change_m": "the rest reading with the finger turned over (gravity reversed)"}
+"""The measurements a fitted impulse model can name (:meth:`FingerModel.observables`,
+:func:`ccedi.calibrate.loop.separating_measurement`)."""
 
 
 N_E_STARTS = 17
@@ -240,8 +229,6 @@ class FingerModel:
         ccedi.calibrate.adequacy.Adequacy
             The verdict and its evidence.
         """
-        from .adequacy import assess
-
         return assess(self, baseline, sigma)
 
     def analyse(self, fitted, sigma):
@@ -259,8 +246,6 @@ class FingerModel:
         dict
             The signatures.
         """
-        from .residual import analyse
-
         return analyse(self, fitted)
 
     def suggest(self, evidence):
@@ -276,12 +261,11 @@ class FingerModel:
         list of (str, str)
             (effect, reason).
         """
-        from .residual import suggest
-
         return suggest(evidence)
 
     def observables(self, v):
-        """What a measurement could show of a fitted model (:func:`ccedi.calibrate.loop.observables`).
+        """What a measurement could show of a fitted model: its first three frequencies and
+        its static tip flexibility.
 
         Parameters
         ----------
@@ -291,17 +275,20 @@ class FingerModel:
         Returns
         -------
         dict
-            Observable by name.
+            ``mode_1_frequency_hz``, ``mode_2_frequency_hz``, ``mode_3_frequency_hz`` [Hz],
+            ``static_tip_flexibility_m_N`` [m/N] (a static tip load test) and
+            ``turned_over_change_m`` [m] (the change of the rest reading with the finger
+            turned over: twice the gravity sag).
         """
-        from .loop import observables
-
-        return observables(self, v)
+        m = self.modes(v)
+        out = {f"mode_{i + 1}_frequency_hz": float(m.omega_rad_s[i] / (2.0 * np.pi)) for i in range(3)}
+        out["static_tip_flexibility_m_N"] = m.static_flexibility_m_N
+        out["turned_over_change_m"] = -2.0 * v.get("gravity_m_s2", 0.0) * m.static_sag_per_g
+        return out
 
     @property
     def measurements(self):
-        """The measurements :meth:`observables` can name (:data:`ccedi.calibrate.loop.MEASUREMENTS`)."""
-        from .loop import MEASUREMENTS
-
+        """The measurements :meth:`observables` can name (:data:`MEASUREMENTS`)."""
         return MEASUREMENTS
 
     def unexplained_term(self, fitted):
@@ -317,8 +304,6 @@ class FingerModel:
         ccedi.calibrate.sparse.SparseTerm
             The term.
         """
-        from .sparse import sparse_term
-
         m = self.modes(fitted.values)
         v = fitted.values
         zeta = v["alpha_per_s"] / (2.0 * m.omega_rad_s) + v.get("beta_s", 0.0) * m.omega_rad_s / 2.0

@@ -27,8 +27,7 @@ from ccedi.errors import InputError
 from ccedi.rom.damping import log_decrement, noise_level
 
 from .adequacy import record_first_mode
-from .fit import Fit
-from .model import FingerModel, e_factor_bound
+from .fit import Fit, e_factor_bound
 
 SIGNIFICANT_CORRELATION = 0.2
 SIGNIFICANT_T = 5.0
@@ -82,7 +81,7 @@ def _corr(r, x):
     return float(np.sum((r - r.mean()) * x) / d) if d > 0 else 0.0
 
 
-def analyse(model: FingerModel, fitted: Fit):
+def analyse(model, fitted: Fit):
     """The residual signatures of a fitted model (module docstring), as a flat dict.
 
     Parameters

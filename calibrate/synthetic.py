@@ -62,7 +62,7 @@ from ccedi.fea.model import cantilever_model, face_node_weights
 from ccedi.fea.outputs import write_csv, write_json
 from ccedi.fea.static import free_dofs, tangent_stiffness
 from ccedi.fea.studies import impulse_response
-from ccedi.fea.units import inch_to_m
+from ccedi.units import inch_to_m
 
 N_GEN_MODES = 40
 DT_S = 2.5e-5

@@ -5,7 +5,7 @@ through them): one table, one check, one message format,
 from dataclasses import dataclass
 
 from ccedi.errors import InputError, brief_repr
-from ccedi.fea.units import INCH
+from ccedi.units import INCH
 
 
 @dataclass(frozen=True)

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ccedi.errors import InputError
-from ccedi.fea.units import INCH
+from ccedi.units import INCH
 
 from .optimise import ModelError
 from .outputs import UNITS

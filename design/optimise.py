@@ -26,7 +26,7 @@ import casadi as ca
 import numpy as np
 
 from ccedi.errors import InputError, RequirementsUnmet, SolverError
-from ccedi.fea.units import m_to_inch
+from ccedi.units import m_to_inch
 
 from .requirements import Limit, Requirements
 from .rubber import alpha_of_length

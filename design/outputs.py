@@ -58,9 +58,9 @@ from ccedi.errors import InputError
 from ccedi.fea.contact_study import tip_drum_frame_displacement_m
 from ccedi.fea.drum import DrumSetup, ObjectStress, first_contact_angle, front_distance_m
 from ccedi.fea.mesh import sm_a_elements_along
-from ccedi.fea.units import INCH, RPM
 from ccedi.models import contact_timing
 from ccedi.rom.sensor import Transducer
+from ccedi.units import INCH, RPM
 
 OUTPUT_STEP_S = 0.0005
 """Output interval of the design runs [s]: resolves the full FE finger's ~400 Hz friction

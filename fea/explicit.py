@@ -47,9 +47,10 @@ from .fastmath import FASTMATH
 from .friction import coulomb_friction
 from .hex8 import characteristic_length as hex_characteristic_length
 from .hex8 import element_geometry, internal_forces_numpy
-from .kernels import internal_forces_numba
+from .kernels import SolidMaterial, internal_forces_numba
 from .loads import pulse_forces, pulse_loads
 from .material import max_von_mises_of
+from .mesh import element_name
 from .model import Model, face_node_weights
 from .prescribed import prescribed_rotation
 from .rod import rod_forces_numba, rod_forces_numpy, rod_max_stress
@@ -110,20 +111,6 @@ constrained : (c,) int ndarray
 v_pres : (n_nodes, 3) ndarray
     Prescribed velocities of the constrained nodes [m/s] (zero for fixed nodes,
     updated every step for nodes carried by the rotating frame).
-"""
-SolidMaterial = namedtuple("SolidMaterial", "mu lam rho c")
-SolidMaterial.__doc__ = """The solid elements' neo-Hookean constants.
-
-Attributes
-----------
-mu : float
-    Shear modulus [Pa].
-lam : float
-    First Lame constant [Pa].
-rho : float
-    Mass density [kg/m^3].
-c : float
-    Dilatational wave speed [m/s].
 """
 RodGroup = namedtuple("RodGroup", "segments rest_length axial_stiffness hinges bending_stiffness dt_crit")
 RodGroup.__doc__ = """Rod elements as :func:`ccedi.fea.rod.rod_forces_numba` takes them.
@@ -502,31 +489,6 @@ def _hex_forces_numpy(x, v, group, material, f):
                                      group.length_factor, *material, f)
     f[:] = 0.0
     return np.inf, 0.0, 0.0, 0.0, -1
-
-
-def element_name(mesh, index):
-    """Name of a solid element from its index over the hexahedra, then the 4-node, then
-    the 10-node tetrahedra.
-
-    Parameters
-    ----------
-    mesh : Mesh
-        The mesh.
-    index : int
-        Element index over all solid elements, 0 <= index < ``mesh.n_elements``.
-
-    Returns
-    -------
-    str
-        E.g. ``"element 12"`` (a hexahedron, as before tetrahedra existed),
-        ``"tet4 element 3"`` or ``"tet10 element 0"`` (index within its type).
-    """
-    n_hex, n_tet4 = len(mesh.hexes), len(mesh.tets4)
-    if index < n_hex:
-        return f"element {index}"
-    if index < n_hex + n_tet4:
-        return f"tet4 element {index - n_hex}"
-    return f"tet10 element {index - n_hex - n_tet4}"
 
 
 def rod_time_step(model):

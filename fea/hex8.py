@@ -59,6 +59,9 @@ characteristic length ``Le = V / A_max`` (current volume over the largest face a
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
+
+from ccedi.errors import SolverError
 
 from .material import first_piola, strain_energy_density
 
@@ -459,3 +462,95 @@ def internal_forces_numpy(x, v, hexes, b, volume, gamma, kappa, length_factor, m
     hourglass_energy = float(0.5 * np.sum(qt * Qt))
     bulk_power = float(np.sum(-q_bv * e_v * J * volume))
     return dt_min, strain_energy, hourglass_energy, bulk_power, -1
+
+
+def tangent_stiffness(x, hexes, geometry, *, kappa, material):
+    """Consistent tangent stiffness of one-point hexahedra at positions ``x``:
+    ``K_(ki)(lm) = (1/V0) sum_jL b_kj A_ijmL b_lL + d f_hg,ki / d x_lm`` with the
+    neo-Hookean elasticity tensor ``A = dP/dF`` (:mod:`ccedi.fea.static`) and the exact
+    hourglass derivative (:func:`hourglass_tangent`).
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Nodal positions, shape (n, 3) [m].
+    hexes : numpy.ndarray
+        Connectivity (e, 8).
+    geometry : ElementGeometry
+        Reference geometry of the elements (b, volume, gamma).
+    kappa : numpy.ndarray
+        Hourglass stiffness K_hg, shape (e, 12, 12) [N/m].
+    material : ccedi.fea.material.NeoHookean
+        The solid (its Lame constants mu, lam).
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix
+        K, shape (3 n, 3 n) [N/m], DOF index node*3 + direction, no constraints applied.
+
+    Raises
+    ------
+    SolverError
+        If an element is inverted (J <= 0) at ``x``.
+    """
+    g, mat = geometry, material
+    F = deformation_gradient(x[hexes], g)
+    J = np.linalg.det(F)
+    if np.any(J <= 0.0):
+        raise SolverError(f"element {int(np.argmax(J <= 0.0))} inverted (J <= 0)")
+    Fi = np.linalg.inv(F)
+    eye = np.eye(3)
+    c1 = (mat.mu - mat.lam * np.log(J))[:, None, None, None, None]
+    A = (mat.mu * np.einsum("im,jl->ijml", eye, eye)[None]
+         + c1 * np.einsum("eli,ejm->eijml", Fi, Fi)
+         + mat.lam * np.einsum("eji,elm->eijml", Fi, Fi))
+    Ke = np.einsum("ekj,eijml,ebl->ekibm", g.b, A, g.b) / g.volume[:, None, None, None, None]
+    Ke += hourglass_tangent(x[hexes], g, kappa, Fi)
+    dofs = (3 * hexes[:, :, None] + np.arange(3)[None, None, :]).reshape(len(hexes), 24)
+    rows = np.repeat(dofs, 24, axis=1).ravel()
+    cols = np.tile(dofs, (1, 24)).ravel()
+    n = 3 * len(x)
+    return sp.csr_matrix((Ke.reshape(len(hexes), -1).ravel(), (rows, cols)), shape=(n, n))
+
+
+def hourglass_tangent(x_e, geometry, kappa, Finv):
+    """Exact derivative of the hourglass nodal forces of :mod:`ccedi.fea.hex8`.
+
+    With ``qt_a = F^-1 q_a``, ``Qt = K_hg qt``, ``A_a = F^-T Qt_a``, ``T = F^-T S``,
+    ``S = sum_a Qt_a (x) qt_a``, the forces are ``f_k = sum_a gamma_ak A_a - T b_k / V0``.
+    For a perturbation of node l along m (``dF = e_m (x) b_l / V0``)::
+
+        dqt_a = F^-1 e_m (gamma_al - b_l . qt_a / V0),        dQt = K_hg dqt
+        dA_a  = F^-T dQt_a - (F^-T b_l) A_am / V0
+        dT    = F^-T dS - (F^-T b_l) (x) T_m. / V0,   dS = sum_a dQt_a (x) qt_a + Qt_a (x) dqt_a
+
+    Parameters
+    ----------
+    x_e : numpy.ndarray
+        Element nodal positions, shape (e, 8, 3) [m].
+    geometry : ElementGeometry
+        Reference geometry (b, volume, gamma).
+    kappa : numpy.ndarray
+        Hourglass stiffness K_hg, shape (e, 12, 12) [N/m].
+    Finv : numpy.ndarray
+        Inverse deformation gradients, shape (e, 3, 3).
+
+    Returns
+    -------
+    numpy.ndarray
+        d f_(ki) / d x_(lm), shape (e, 8, 3, 8, 3) [N/m].
+    """
+    b, V, gamma = geometry.b, geometry.volume[:, None, None], geometry.gamma
+    e = len(x_e)
+    qt, Qt = hourglass_displacements(x_e, gamma, kappa, Finv)
+    A = np.einsum("eji,eaj->eai", Finv, Qt)
+    T = np.einsum("eji,ejn->ein", Finv, np.einsum("eai,eaj->eij", Qt, qt))
+    Fb = np.einsum("eji,elj->eli", Finv, b) / V                          # F^-T b_l / V0
+    c = gamma.swapaxes(1, 2) - np.einsum("elj,eaj->ela", b, qt) / V       # (e, l, a)
+    dqt = np.einsum("eim,ela->elmai", Finv, c)                            # (e, l, m, a, i)
+    dQt = np.einsum("eAB,elmB->elmA", kappa, dqt.reshape(e, 8, 3, 12)).reshape(dqt.shape)
+    dA = np.einsum("eji,elmaj->elmai", Finv, dQt) - np.einsum("eli,eam->elmai", Fb, A)
+    dS = np.einsum("elmai,eaj->elmij", dQt, qt) + np.einsum("eai,elmaj->elmij", Qt, dqt)
+    dT = np.einsum("epi,elmpj->elmij", Finv, dS) - np.einsum("eli,emj->elmij", Fb, T)
+    df = np.einsum("eak,elmai->elmki", gamma, dA) - np.einsum("elmij,ekj->elmki", dT, b) / V[:, :, :, None, None]
+    return df.transpose(0, 3, 4, 1, 2)

@@ -53,6 +53,20 @@ _UPPER = np.array([[min(r, c) * 12 - min(r, c) * (min(r, c) - 1) // 2 + abs(r - 
 # rows of the per-element output: 24 nodal forces, then these
 _J, _DT, _WS, _WHG, _PB = range(24, 29)
 
+SolidMaterial = namedtuple("SolidMaterial", "mu lam rho c")
+SolidMaterial.__doc__ = """The solid elements' neo-Hookean constants.
+
+Attributes
+----------
+mu : float
+    Shear modulus [Pa].
+lam : float
+    First Lame constant [Pa].
+rho : float
+    Mass density [kg/m^3].
+c : float
+    Dilatational wave speed [m/s].
+"""
 HexGroup = namedtuple("HexGroup", "hexes b volume gamma kappa length_factor "
                                   "block_nodes block_b block_centre block_stiffness block_volume "
                                   "node_start node_slots element_out")
@@ -349,7 +363,7 @@ def internal_forces_numba(x, v, group, material, f):
         The hexahedra (:func:`hex_group`); its ``element_out`` is overwritten.
     material : tuple
         (mu [Pa], lam [Pa], rho [kg/m^3], c [m/s]): shear modulus, first Lame constant,
-        density, dilatational wave speed (:class:`ccedi.fea.explicit.SolidMaterial`).
+        density, dilatational wave speed (:class:`SolidMaterial`).
     f : (n_nodes, 3) ndarray
         Output: overwritten with the internal nodal forces [N].
 

@@ -28,8 +28,7 @@ from scipy.spatial import cKDTree
 
 from ccedi.errors import InputError, require_finite_positive
 from ccedi.quantities import QUANTITIES
-
-from .units import inch_to_m
+from ccedi.units import inch_to_m
 
 SEMI_AXIS_MAJOR = 12.0e-3
 """Finger cross-section semi-axis along x [m] (paper: 'major radius 12 mm')."""
@@ -444,3 +443,28 @@ def refine_hexes(mesh, n):
         node_sets[name] = np.unique(np.concatenate([new_id[np.asarray(ids)],
                                                     new_id[len(mesh.nodes) + np.flatnonzero(inside)]]))
     return Mesh(nodes=all_points[keep], hexes=hexes, node_sets=node_sets)
+
+
+def element_name(mesh, index):
+    """Name of a solid element from its index over the hexahedra, then the 4-node, then
+    the 10-node tetrahedra.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh.
+    index : int
+        Element index over all solid elements, 0 <= index < ``mesh.n_elements``.
+
+    Returns
+    -------
+    str
+        E.g. ``"element 12"`` (a hexahedron, as before tetrahedra existed),
+        ``"tet4 element 3"`` or ``"tet10 element 0"`` (index within its type).
+    """
+    n_hex, n_tet4 = len(mesh.hexes), len(mesh.tets4)
+    if index < n_hex:
+        return f"element {index}"
+    if index < n_hex + n_tet4:
+        return f"tet4 element {index - n_hex}"
+    return f"tet10 element {index - n_hex - n_tet4}"

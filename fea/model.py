@@ -12,6 +12,7 @@ import numpy as np
 from ccedi.errors import InputError, require_finite_positive
 
 from .hex8 import FACES, ElementGeometry, characteristic_length, element_geometry, hourglass_stiffness
+from .hex8 import tangent_stiffness as hex_tangent
 from .kernels import HexGroup, hex_group
 from .material import NeoHookean
 from .mesh import Mesh
@@ -248,9 +249,8 @@ class Model:
         there are no hexahedra or Lanczos does not converge."""
         if not len(self.mesh.hexes) or self.material is None:
             return 1.0
-        from .static import hexahedra_tangent  # static imports this module
-        omega = largest_frequency(hexahedra_tangent(self, None), lumped_mass(self.mesh, self.geometry,
-                                                                            self.material.rho))
+        K = hex_tangent(self.mesh.nodes, self.mesh.hexes, self.geometry, kappa=self.kappa, material=self.material)
+        omega = largest_frequency(K, lumped_mass(self.mesh, self.geometry, self.material.rho))
         if not omega > 0.0:
             return 1.0
         Le = characteristic_length(self.mesh.nodes[self.mesh.hexes], self.geometry.volume)

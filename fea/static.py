@@ -1,6 +1,6 @@
 """Consistent tangent stiffness and nonlinear static equilibrium (Newton-Raphson).
 
-Element tangent of the one-point hexahedron (total Lagrangian, see :mod:`ccedi.fea.hex8`)::
+Element tangent of the one-point hexahedron (total Lagrangian, :func:`ccedi.fea.hex8.tangent_stiffness`)::
 
     K_(ki)(lm) = (1/V0) sum_{j,L} b_kj A_ijmL b_lL + d f_hg,ki / d x_lm
 
@@ -8,7 +8,7 @@ with the neo-Hookean elasticity tensor A = dP/dF::
 
     A_ijmL = mu d_im d_jL + (mu - lam ln J) Finv_Li Finv_jm + lam Finv_ji Finv_Lm
 
-and the exact derivative of the hourglass forces (:func:`hourglass_tangent`), which at
+and the exact derivative of the hourglass forces (:func:`ccedi.fea.hex8.hourglass_tangent`), which at
 the reference state is ``sum_ab gamma_ak K_hg,(ai)(bm) gamma_bl``.
 
 The tetrahedra add their tangents (:func:`ccedi.fea.tet4.tangent_stiffness`,
@@ -22,9 +22,10 @@ import scipy.sparse.linalg as spla
 
 from ccedi.errors import InputError, SolverError
 
-from . import tet4, tet10
-from .explicit import SolidMaterial, element_name
-from .hex8 import deformation_gradient, hourglass_displacements, internal_forces_numpy
+from . import hex8, tet4, tet10
+from .hex8 import internal_forces_numpy
+from .kernels import SolidMaterial
+from .mesh import element_name
 from .model import Model, face_node_weights
 
 
@@ -55,48 +56,10 @@ def tangent_stiffness(model: Model, x=None):
     """
     x = model.mesh.nodes if x is None else x
     K = _tetrahedra_tangent(model, x)
-    return K + hexahedra_tangent(model, x) if len(model.mesh.hexes) else K
-
-
-def hexahedra_tangent(model, x):
-    """Tangent stiffness of the model's hexahedra (module docstring).
-
-    Parameters
-    ----------
-    model : Model
-        The model (its hexahedra contribute).
-    x : numpy.ndarray or None
-        Nodal positions, shape (n, 3) [m]; None for the reference positions.
-
-    Returns
-    -------
-    scipy.sparse.csr_matrix
-        K, shape (3 n, 3 n) [N/m], DOF index node*3 + direction, no constraints applied.
-
-    Raises
-    ------
-    SolverError
-        If an element is inverted (J <= 0) at ``x``.
-    """
-    mesh, g, mat = model.mesh, model.geometry, model.material
-    x = mesh.nodes if x is None else x
-    F = deformation_gradient(x[mesh.hexes], g)
-    J = np.linalg.det(F)
-    if np.any(J <= 0.0):
-        raise SolverError(f"element {int(np.argmax(J <= 0.0))} inverted (J <= 0)")
-    Fi = np.linalg.inv(F)
-    eye = np.eye(3)
-    c1 = (mat.mu - mat.lam * np.log(J))[:, None, None, None, None]
-    A = (mat.mu * np.einsum("im,jl->ijml", eye, eye)[None]
-         + c1 * np.einsum("eli,ejm->eijml", Fi, Fi)
-         + mat.lam * np.einsum("eji,elm->eijml", Fi, Fi))
-    Ke = np.einsum("ekj,eijml,ebl->ekibm", g.b, A, g.b) / g.volume[:, None, None, None, None]
-    Ke += hourglass_tangent(x[mesh.hexes], g, model.kappa, Fi)
-    dofs = (3 * mesh.hexes[:, :, None] + np.arange(3)[None, None, :]).reshape(len(mesh.hexes), 24)
-    rows = np.repeat(dofs, 24, axis=1).ravel()
-    cols = np.tile(dofs, (1, 24)).ravel()
-    n = 3 * mesh.n_nodes
-    return sp.csr_matrix((Ke.reshape(len(mesh.hexes), -1).ravel(), (rows, cols)), shape=(n, n))
+    if not len(model.mesh.hexes):
+        return K
+    return K + hex8.tangent_stiffness(x, model.mesh.hexes, model.geometry, kappa=model.kappa,
+                                      material=model.material)
 
 
 def _tetrahedra_tangent(model, x):
@@ -110,49 +73,6 @@ def _tetrahedra_tangent(model, x):
         except ValueError as err:
             raise SolverError(f"{name} {err}") from None
     return K
-
-
-def hourglass_tangent(x_e, geometry, kappa, Finv):
-    """Exact derivative of the hourglass nodal forces of :mod:`ccedi.fea.hex8`.
-
-    With ``qt_a = F^-1 q_a``, ``Qt = K_hg qt``, ``A_a = F^-T Qt_a``, ``T = F^-T S``,
-    ``S = sum_a Qt_a (x) qt_a``, the forces are ``f_k = sum_a gamma_ak A_a - T b_k / V0``.
-    For a perturbation of node l along m (``dF = e_m (x) b_l / V0``)::
-
-        dqt_a = F^-1 e_m (gamma_al - b_l . qt_a / V0),        dQt = K_hg dqt
-        dA_a  = F^-T dQt_a - (F^-T b_l) A_am / V0
-        dT    = F^-T dS - (F^-T b_l) (x) T_m. / V0,   dS = sum_a dQt_a (x) qt_a + Qt_a (x) dqt_a
-
-    Parameters
-    ----------
-    x_e : numpy.ndarray
-        Element nodal positions, shape (e, 8, 3) [m].
-    geometry : ElementGeometry
-        Reference geometry (b, volume, gamma).
-    kappa : numpy.ndarray
-        Hourglass stiffness K_hg, shape (e, 12, 12) [N/m].
-    Finv : numpy.ndarray
-        Inverse deformation gradients, shape (e, 3, 3).
-
-    Returns
-    -------
-    numpy.ndarray
-        d f_(ki) / d x_(lm), shape (e, 8, 3, 8, 3) [N/m].
-    """
-    b, V, gamma = geometry.b, geometry.volume[:, None, None], geometry.gamma
-    e = len(x_e)
-    qt, Qt = hourglass_displacements(x_e, gamma, kappa, Finv)
-    A = np.einsum("eji,eaj->eai", Finv, Qt)
-    T = np.einsum("eji,ejn->ein", Finv, np.einsum("eai,eaj->eij", Qt, qt))
-    Fb = np.einsum("eji,elj->eli", Finv, b) / V                          # F^-T b_l / V0
-    c = gamma.swapaxes(1, 2) - np.einsum("elj,eaj->ela", b, qt) / V       # (e, l, a)
-    dqt = np.einsum("eim,ela->elmai", Finv, c)                            # (e, l, m, a, i)
-    dQt = np.einsum("eAB,elmB->elmA", kappa, dqt.reshape(e, 8, 3, 12)).reshape(dqt.shape)
-    dA = np.einsum("eji,elmaj->elmai", Finv, dQt) - np.einsum("eli,eam->elmai", Fb, A)
-    dS = np.einsum("elmai,eaj->elmij", dQt, qt) + np.einsum("eai,elmaj->elmij", Qt, dqt)
-    dT = np.einsum("epi,elmpj->elmij", Finv, dS) - np.einsum("eli,emj->elmij", Fb, T)
-    df = np.einsum("eak,elmai->elmki", gamma, dA) - np.einsum("elmij,ekj->elmki", dT, b) / V[:, :, :, None, None]
-    return df.transpose(0, 3, 4, 1, 2)
 
 
 def internal_force(model: Model, x):

@@ -35,10 +35,10 @@ from ccedi.fea.drum import DrumSetup, FullContactModel
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import SEMI_AXES
 from ccedi.fea.studies import finger_impulse_model, impulse_response
-from ccedi.fea.units import m_to_inch
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.rom.modal import fit_to_response, nrmse, reduce_impulse_model
 from ccedi.rom.sensor import Transducer
+from ccedi.units import m_to_inch
 
 SMOOTHING_S = 0.025
 """Moving-average window [s] for ``smoothed_peak_force_error``."""

@@ -29,8 +29,8 @@ from ccedi.fea.drum import DEFAULT_FINGER_LENGTH_M, DrumSetup
 from ccedi.fea.material import RUBBER, NeoHookean
 from ccedi.fea.mesh import SEMI_AXES
 from ccedi.fea.mesh_io import BENDING_DIRECTIONS, PLANES, UNITS, FingerMeshSpec
-from ccedi.fea.units import inch_to_m, m_to_inch
 from ccedi.quantities import QUANTITIES, Quantity
+from ccedi.units import inch_to_m, m_to_inch
 
 _DRUM = {f.name: f.default for f in fields(DrumSetup)}
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]{1,60}")
@@ -60,6 +60,9 @@ def _key(quantity, default, help, *list_args):
     q = QUANTITIES[quantity]
     return Key(float, q.unit, q.lo, q.hi, default, help, *list_args)
 
+
+CONFIG_NAME = "config.toml"
+"""The resolved inputs of a study, written to its output directory before any step."""
 
 SCHEMA = {
     "material": {

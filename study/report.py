@@ -11,6 +11,8 @@ import pandas as pd
 
 from ccedi.fea.outputs import write_pdf_figures, write_text
 
+from .config import CONFIG_NAME
+
 UNITS = (("_per_s", "1/s"), ("_rad_s", "rad/s"), ("_m_s", "m/s"), ("_N_s", "N s"), ("_N_per_m", "N/m"), ("_us", "us"),
          ("_cm3", "cm^3"), ("_rpm", "rpm"), ("_mm", "mm"), ("_Pa", "Pa"), ("_N", "N"), ("_in", "in"), ("_s", "s"), ("_m", "m"), ("_J", "J"))
 """Column/key suffix -> unit, longest match first."""
@@ -79,7 +81,6 @@ def _inputs_of(out):
     import tomllib
 
     from .config import validate
-    from .run import CONFIG_NAME
 
     path = out / CONFIG_NAME
     return validate(tomllib.loads(path.read_text()) if path.exists() else {})
@@ -370,7 +371,6 @@ def _warnings(out):
 def _inputs(out):
     """The finger and drum inputs of this run (``config.toml``), each with its unit."""
     from .config import SCHEMA
-    from .run import CONFIG_NAME
 
     if not (out / CONFIG_NAME).exists():
         return ""

@@ -36,7 +36,7 @@ from ccedi.fea.outputs import write_json, write_text
 from ccedi.progress import progress_bar
 
 from . import paper_steps
-from .config import SCHEMA, finger_inputs, to_toml
+from .config import CONFIG_NAME, SCHEMA, finger_inputs, to_toml
 from .report import write_index
 
 QUICK = {"study": {"impulse_t_end_s": 0.05, "mesh_comparison_t_end_s": 0.03, "identification_lengths_in": [3.0, 4.5],
@@ -155,9 +155,6 @@ def calibrate_records(records, out):
             inadequate.append(str(err))
     return inadequate
 
-
-CONFIG_NAME = "config.toml"
-"""The resolved inputs of a study, written to its output directory before any step."""
 
 STEP_NAMES = ("table1", "steel_rod", "impulse", "mesh", "damping_fits", "contact", "design", "calibrate")
 LONGEST_FIRST = ("design", "contact", "damping_fits", "steel_rod", "mesh", "table1", "impulse", "calibrate")

@@ -8,7 +8,7 @@ from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_proper
 from ccedi.fea.hex8 import internal_forces_numpy
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import sm_a
-from ccedi.fea.units import inch_to_m
+from ccedi.units import inch_to_m
 
 LENGTH_M = inch_to_m(4.5)
 

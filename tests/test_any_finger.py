@@ -12,8 +12,8 @@ from ccedi.fea.mesh_io import read_finger_mesh
 from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import cantilever_model
 from ccedi.fea.static import tip_deflection
-from ccedi.fea.units import inch_to_m
 from ccedi.study.cli import main
+from ccedi.units import inch_to_m
 
 SIZE_M = 6e-3          # the coarsest of the refinement sizes: a few seconds per solve
 

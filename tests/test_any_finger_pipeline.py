@@ -19,10 +19,10 @@ from ccedi.fea.gmsh_fingers import write_tapered_finger
 from ccedi.fea.lsdyna import read_keyword
 from ccedi.fea.mesh import Mesh
 from ccedi.fea.mesh_io import read_finger_mesh
-from ccedi.fea.units import inch_to_m
 from ccedi.models import ContactResponse
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.study.cli import main
+from ccedi.units import inch_to_m
 
 SIZE_M = 0.012         # coarse: 933 nodes, 417 ten-node tetrahedra
 LEAD_S = 0.001         # the finger reaches the object this long after the start

@@ -16,9 +16,9 @@ from ccedi.calibrate.model import MODE_AMPLITUDE, rung_modes
 from ccedi.calibrate.synthetic import Truth, declared_finger, solid_response, solid_system
 from ccedi.errors import InputError
 from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties
-from ccedi.fea.units import inch_to_m
 from ccedi.rom.modal import ModalROM, nrmse
 from ccedi.study.cli import main
+from ccedi.units import inch_to_m
 
 DATA = Path(__file__).parents[1] / "data" / "measured"
 RECORD = "time_delay_low"

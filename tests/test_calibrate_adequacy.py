@@ -19,8 +19,8 @@ from ccedi.calibrate.fit import fit_baseline
 from ccedi.calibrate.model import FingerModel
 from ccedi.calibrate.residual import noise_std
 from ccedi.calibrate.synthetic import Truth, record, solid_system
-from ccedi.fea.units import inch_to_m
 from ccedi.study.cli import main
+from ccedi.units import inch_to_m
 
 DATA = Path(__file__).parents[1] / "data" / "measured"
 ALPHA = 4.2

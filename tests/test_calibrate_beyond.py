@@ -11,10 +11,10 @@ from ccedi.calibrate.experiment import load_experiment
 from ccedi.calibrate.finger_modes import finger_basis
 from ccedi.calibrate.loop import calibrate, separating_measurement, summary
 from ccedi.calibrate.sparse import impulse_response, sparse_term
-from ccedi.fea.units import inch_to_m
 from ccedi.rom.modal import ModalROM
 from ccedi.study.cli import main
 from ccedi.study.config import drum_setup, load
+from ccedi.units import inch_to_m
 
 DATA = Path(__file__).parents[1] / "data" / "measured"
 

@@ -31,10 +31,10 @@ from ccedi.design.rubber import alpha_of_length
 from ccedi.design.surrogate import cached_rom_runs, grid_points, run_rom, speed_space
 from ccedi.errors import InputError, RequirementsUnmet
 from ccedi.fea.drum import DrumSetup, ObjectStress
-from ccedi.fea.units import inch_to_m, m_to_inch, rpm_to_rad_s
 from ccedi.rom.ccedi import paper_alpha
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.study.cli import main
+from ccedi.units import inch_to_m, m_to_inch, rpm_to_rad_s
 
 GRID = (8, 6)
 

@@ -19,8 +19,8 @@ from ccedi.fea.gmsh_fingers import (
 )
 from ccedi.fea.material import RUBBER
 from ccedi.fea.studies import PAPER_TABLE1, finger_impulse_model, table1
-from ccedi.fea.units import inch_to_m
 from ccedi.rom.modal import nrmse, reduce_impulse_model
+from ccedi.units import inch_to_m
 
 COARSE_M = 8e-3
 

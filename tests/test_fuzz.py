@@ -36,12 +36,12 @@ from hypothesis import strategies as st
 
 from ccedi.calibrate.experiment import DEFAULT_E_TOLERANCE, KINDS, load_experiment
 from ccedi.errors import InputError
-from ccedi.fea.units import inch_to_m
 from ccedi.quantities import QUANTITIES
 from ccedi.rom.measurement import MIN_SAMPLES, check_sampling, load_response
 from ccedi.study.cli import main
 from ccedi.study.config import SCHEMA, load, to_toml
 from ccedi.study.config import example as init_toml
+from ccedi.units import inch_to_m
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "measured"
 RECORDS = ("control_low", "control_fea_solid")

@@ -4,7 +4,7 @@ import pytest
 from ccedi.errors import InputError
 from ccedi.fea.hex8 import FACES, element_geometry
 from ccedi.fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR, Mesh, elliptical_cantilever, refine_hexes, sm_a, sm_b
-from ccedi.fea.units import inch_to_m
+from ccedi.units import inch_to_m
 
 
 @pytest.mark.parametrize("make, nodes, elements", [(sm_a, 1080, 725), (sm_b, 5900, 4698)])

@@ -4,7 +4,7 @@ import numpy as np
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import elliptical_cantilever
 from ccedi.fea.modal import natural_frequencies
-from ccedi.fea.units import inch_to_m
+from ccedi.units import inch_to_m
 
 
 def test_first_frequency_converges_under_refinement(euler_bernoulli):

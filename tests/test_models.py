@@ -13,7 +13,6 @@ from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import cantilever_model
 from ccedi.fea.steel_rod import steel_rod_impulse_model
 from ccedi.fea.studies import FullImpulseModel, finger_impulse_model
-from ccedi.fea.units import inch_to_m
 from ccedi.models import (
     CONTACT_CORE_COLUMNS,
     CONTACT_CORE_SUMMARY,
@@ -29,6 +28,7 @@ from ccedi.models import (
 from ccedi.rom.ccedi import critical_alpha
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.rom.modal import ModalImpulseModel, reduce_impulse_model
+from ccedi.units import inch_to_m
 
 COARSE = DrumSetup(finger_section_elements=3, finger_elements_along=26)
 """The 8-in contact case on a 3 x 3 x 26 finger mesh (as tests/test_contact_rom.py)."""

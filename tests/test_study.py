@@ -80,8 +80,7 @@ def test_export_csv_vtu_and_parquet(tmp_path, capsys):
 
 
 def test_index_shows_the_inputs_and_the_paper_table_only_for_the_paper_finger(tmp_path):
-    from ccedi.study.config import to_toml, validate
-    from ccedi.study.run import CONFIG_NAME
+    from ccedi.study.config import CONFIG_NAME, to_toml, validate
 
     write_json(tmp_path / "table1.json", {"SM-A": {"nodes": 1080, "elements": 725, "dt_us": 3.438,
                                                    "steps_to_0_2_s": 58179, "step_ratio": 1.0,

@@ -7,7 +7,6 @@ from dataclasses import dataclass, fields, replace
 from pathlib import Path
 
 from ccedi.errors import InputError, RequirementsUnmet, ValidityWarning
-from ccedi.fea.units import inch_to_m
 from ccedi.study.commands.arguments import (
     CONTACT_KEYS,
     add_command,
@@ -16,6 +15,7 @@ from ccedi.study.commands.arguments import (
     add_scheduler_argument,
     load_config,
 )
+from ccedi.units import inch_to_m
 
 MODEL_ERROR_FILE = Path(__file__).resolve().parents[2] / "data" / "design" / "rom_check.json"
 """The ROM-against-FEA check the design takes its model-error margins from
@@ -262,8 +262,8 @@ def second_variable(setup, o):
 def _check_options(setup, o):
     """Everything about the request that can be checked before the first ROM run."""
     from ccedi.design.outputs import OUTPUTS
-    from ccedi.fea.units import RPM
     from ccedi.quantities import QUANTITIES
+    from ccedi.units import RPM
 
     vary = second_variable(setup, o)
     if vary == "drum_speed" and o.alpha_of_length != "free":

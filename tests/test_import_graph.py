@@ -1,0 +1,132 @@
+"""The project's import graph, read from the source (every import, at module top or inside
+a function): no circle, and the libraries (ccedi's core modules, fea, rom, design,
+calibrate) never import the application layer (study)."""
+import ast
+from functools import lru_cache
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = {"ccedi": ROOT / "ccedi", "ccedi.fea": ROOT / "fea", "ccedi.rom": ROOT / "rom",
+            "ccedi.design": ROOT / "design", "ccedi.calibrate": ROOT / "calibrate", "ccedi.study": ROOT / "study",
+            "ccedi.study.commands": ROOT / "study" / "commands"}
+APPLICATION = "ccedi.study"
+ENTRY_POINTS = {"ccedi.__main__"}
+"""``python -m ccedi`` runs the command line: the one core module that may import it."""
+
+
+def _modules():
+    """{module name: source path} of every project module."""
+    return {(package if path.stem == "__init__" else f"{package}.{path.stem}"): path
+            for package, folder in PACKAGES.items() for path in folder.glob("*.py")}
+
+
+def _targets(module, path, modules):
+    """The project modules ``module`` imports anywhere in its source."""
+    package = module if path.stem == "__init__" else module.rsplit(".", 1)[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            names = [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                parts = package.split(".")[:len(package.split(".")) - node.level + 1]
+                base = ".".join(parts + ([node.module] if node.module else []))
+            names = [f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base for alias in node.names]
+        else:
+            continue
+        for name in names:
+            while name and name not in modules:
+                name = name.rsplit(".", 1)[0] if "." in name else ""
+            if name and name != module:
+                found.add(name)
+    return found
+
+
+@lru_cache(maxsize=1)
+def import_graph():
+    """{module: set of project modules it imports}."""
+    modules = _modules()
+    return {module: _targets(module, path, modules) for module, path in modules.items()}
+
+
+def circles(graph):
+    """The strongly connected components of more than one module (Tarjan's algorithm,
+    iterative), each sorted."""
+    index, low, stack, on_stack, found, counter = {}, {}, [], set(), [], [0]
+
+    def visit(root):
+        work = [(root, iter(sorted(graph[root])))]
+        index[root] = low[root] = counter[0]
+        counter[0] += 1
+        stack.append(root)
+        on_stack.add(root)
+        while work:
+            node, children = work[-1]
+            child = next(children, None)
+            if child is not None:
+                if child not in index:
+                    index[child] = low[child] = counter[0]
+                    counter[0] += 1
+                    stack.append(child)
+                    on_stack.add(child)
+                    work.append((child, iter(sorted(graph[child]))))
+                elif child in on_stack:
+                    low[node] = min(low[node], index[child])
+                continue
+            work.pop()
+            if work:
+                low[work[-1][0]] = min(low[work[-1][0]], low[node])
+            if low[node] == index[node]:
+                component = []
+                while True:
+                    member = stack.pop()
+                    on_stack.discard(member)
+                    component.append(member)
+                    if member == node:
+                        break
+                if len(component) > 1:
+                    found.append(sorted(component))
+
+    for module in sorted(graph):
+        if module not in index:
+            visit(module)
+    return found
+
+
+def test_no_import_circle():
+    assert circles(import_graph()) == []
+
+
+def test_the_circle_finder_finds_circles():
+    graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}, "e": {"e2"}, "e2": set()}
+    assert circles(graph) == [["a", "b", "c"]]
+    assert circles({"x": {"y"}, "y": {"x"}, "z": set()}) == [["x", "y"]]
+
+
+@pytest.mark.parametrize("module", sorted(m for m in _modules() if not m.startswith(APPLICATION)))
+def test_libraries_do_not_import_the_application(module):
+    if module in ENTRY_POINTS:
+        return
+    upward = sorted(t for t in import_graph()[module] if t.startswith(APPLICATION))
+    assert upward == [], f"{module} imports the application layer: {upward}"
+
+
+def test_core_modules_import_no_subpackage():
+    """ccedi's shared modules (errors, units, quantities, progress, models) sit under the
+    libraries: none imports fea, rom, design, calibrate or study."""
+    graph = import_graph()
+    core = [m for m in graph if m.count(".") == 1 and m.split(".")[1] in {p.stem for p in PACKAGES["ccedi"].glob("*.py")}]
+    for module in core:
+        if module in ENTRY_POINTS:
+            continue
+        assert not [t for t in graph[module] if t.split(".")[1] not in {p.stem for p in PACKAGES["ccedi"].glob("*.py")}], module
+
+
+def test_the_graph_sees_relative_absolute_and_in_function_imports():
+    graph = import_graph()
+    assert "ccedi.fea.model" in graph["ccedi.fea.explicit"]                  # from .model import Model
+    assert "ccedi.units" in graph["ccedi.quantities"] or "ccedi.units" in graph["ccedi.fea.mesh"]
+    assert "ccedi.study.config" in graph["ccedi.study.commands.arguments"]    # imported inside load_config
