@@ -20,7 +20,7 @@ PAPER_ZETA = {6.0: 0.17, 8.0: 0.15}
 """The paper's measured damping ratios of the 6 and 8-in fingers (log-decrement)."""
 
 FIT_ALPHA_CR = (3525.0, -1.997)
-"""Our alpha_cr(x) = c x^p [1/s], x in inches (README, "Damping identification")."""
+"""Our alpha_cr(x) = c x^p [1/s], x in inches (docs/validation.md, "Damping identification")."""
 
 
 def alpha_cr_of_length(length_in):

@@ -112,7 +112,7 @@ def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES
         (:func:`ccedi.fea.gmsh_fingers.detailed_model`, 4.5 in, 2.8 mm; its own geometry,
         whatever ``length_in`` and ``semi_axes_m``), with ``omega1_rad_s``. Its mesh (about
         28 000 nodes) adds a minute or so without its stiffness, and the nonlinear solves of
-        some 83 000 DOFs with it (README: measured times).
+        some 83 000 DOFs with it (docs/validation.md: measured times).
     detailed_stiffness : bool, optional
         Solve the DM's stiffness too (default: as ``stiffness``).
     detailed_omega1 : bool, optional

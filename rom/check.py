@@ -16,7 +16,7 @@ same ``run`` interface. Per case:
 * ``peak_force_error``: peak of the raw (sampled) reaction force, ROM / FEA - 1 [-];
   ``smoothed_peak_force_error`` the same after a ``SMOOTHING_S`` moving average of both
   histories (the lightly damped FE finger chatters on the object: its sampled peak
-  moves by +-10 % under last-bit changes, see README);
+  moves by +-10 % under last-bit changes, see docs/validation.md);
 * ``contact_start_error_s``, ``contact_end_error_s``: ROM - FEA [s];
 * ``max_stress_error``: largest finger von Mises stress, ROM / FEA - 1 [-];
 * ``impulse_error``: contact impulse (time integral of the reaction force over the run,

@@ -21,7 +21,7 @@ filter and not the transducer's structure: the paper (Liu & Lee 2012, Table 2) m
 in series with bending 3 E I / h^3 = 8.8e8 N/m, is 3.8e8 N/m, so the object rings on it
 at sqrt(k / m) / 2 pi = 2.6 kHz; small 6-axis F/T transducers are made stiff for the same
 reason (kHz resonances). A structure resonating in the kHz passes the FE finger's 400 Hz
-friction chatter unchanged (README, rom.check): what a record shows of the chatter is set
+friction chatter unchanged (docs/validation.md, rom.check): what a record shows of the chatter is set
 by the acquisition's low-pass. The paper names neither the transducer model nor its
 filter, so the 100 Hz is a declared choice, not a published figure: it keeps the contact
 load (rise over ~0.1 s, content below ~20 Hz: |H| >= 0.9994 there) and attenuates 400 Hz
