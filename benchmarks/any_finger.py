@@ -1,6 +1,6 @@
 """A finger that is not a prism, imported from a Gmsh file, through ccedi and a peer solver.
 
-The tapered finger with a transverse hole of :func:`ccedi.fea.gmsh_fingers.tapered_finger`
+The tapered finger with a transverse hole of :func:`ccedi.fea.mesh.gmsh_fingers.tapered_finger`
 (10-node tetrahedra) at the three sizes of ``TAPERED_REFINEMENT_SIZES`` and at 2 mm
 (:data:`SIZES_M`), each written to a
 ``.msh`` file and read back through the importer, as a user's finger would be:
@@ -29,13 +29,13 @@ from pathlib import Path
 
 from _output import report  # (benchmarks/ is on sys.path when run as a script)
 
-from ccedi.fea.calculix import ccx_version, run_calculix
-from ccedi.fea.gmsh_fingers import TAPERED_REFINEMENT_SIZES, write_tapered_finger
+from ccedi.fea.cases.studies import finger_impulse_model, table1_row
+from ccedi.fea.io.calculix import ccx_version, run_calculix
 from ccedi.fea.material import RUBBER
-from ccedi.fea.mesh_io import read_finger_mesh
+from ccedi.fea.mesh.gmsh_fingers import TAPERED_REFINEMENT_SIZES, write_tapered_finger
+from ccedi.fea.mesh.readers import read_finger_mesh
 from ccedi.fea.model import cantilever_model, face_node_weights
-from ccedi.fea.static import tip_deflection
-from ccedi.fea.studies import finger_impulse_model, table1_row
+from ccedi.fea.solvers.static import tip_deflection
 from ccedi.rom.finger_identification import finger_alpha_cr
 from ccedi.rom.modal import reduce_impulse_model
 

@@ -1,10 +1,10 @@
 """An imported finger that is not a prism on the drum: energy balance and cost of the contact run.
 
-The tapered finger with a hole (:func:`ccedi.fea.gmsh_fingers.write_tapered_finger`, written
+The tapered finger with a hole (:func:`ccedi.fea.mesh.gmsh_fingers.write_tapered_finger`, written
 to a Gmsh file and read back as an imported mesh), 4-node and 10-node tetrahedra at a coarse
 size, goes on the drum (``DrumSetup(finger=mesh)``) and sweeps over the object at
 alpha = 180 1/s with global damping. The initial angle puts the undeformed finger on the
-object 20 ms after the start (:func:`ccedi.fea.drum.first_contact_angle`), so that
+object 20 ms after the start (:func:`ccedi.fea.contact.drum.first_contact_angle`), so that
 ``T_END_S`` covers the approach, the contact and the sliding; the object stress is off
 (its static solves are not what is measured). Prints and writes to
 benchmarks/any_finger_contact.json, per element type: nodes, elements, steps, wall time [s],
@@ -21,9 +21,9 @@ from pathlib import Path
 
 from _output import report  # benchmarks/ is on sys.path when run as a script
 
-from ccedi.fea.drum import DrumSetup, contact_run, contact_summary, first_contact_angle
-from ccedi.fea.gmsh_fingers import write_tapered_finger
-from ccedi.fea.mesh_io import read_finger_mesh
+from ccedi.fea.contact.drum import DrumSetup, contact_run, contact_summary, first_contact_angle
+from ccedi.fea.mesh.gmsh_fingers import write_tapered_finger
+from ccedi.fea.mesh.readers import read_finger_mesh
 
 OUT = Path(__file__).with_suffix(".json")
 SIZE_M = 0.012

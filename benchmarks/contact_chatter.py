@@ -20,8 +20,8 @@ from pathlib import Path
 import numpy as np
 from _output import report  # benchmarks/ is on sys.path when run as a script
 
-from ccedi.fea.contact_study import window_mean
-from ccedi.fea.drum import DrumSetup, FullContactModel
+from ccedi.fea.cases.contact_study import window_mean
+from ccedi.fea.contact.drum import DrumSetup, FullContactModel
 from ccedi.rom.contact_rom import ReducedContactModel
 
 OUT = Path(__file__).with_suffix(".json")

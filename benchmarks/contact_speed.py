@@ -19,7 +19,7 @@ from pathlib import Path
 import numba as nb
 from _output import report  # benchmarks/ is on sys.path when run as a script
 
-from ccedi.fea.drum import DrumSetup, contact_run, contact_summary
+from ccedi.fea.contact.drum import DrumSetup, contact_run, contact_summary
 
 OUT = Path(__file__).with_suffix(".json")
 REPEATS = 3

@@ -22,7 +22,7 @@ from _output import report  # benchmarks/ is on sys.path when run as a script
 from ccedi.design.optimise import OBJECTIVES, Design
 from ccedi.design.recheck import fea_check
 from ccedi.design.requirements import Requirements
-from ccedi.fea.drum import DrumSetup
+from ccedi.fea.contact.drum import DrumSetup
 from ccedi.units import inch_to_m
 
 OUT = Path(__file__).with_suffix(".json")

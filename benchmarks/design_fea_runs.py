@@ -3,7 +3,7 @@
 The design's outputs are computed from a run's history (:func:`ccedi.design.objectives.design_outputs`),
 so the expensive part, the full explicit FE runs, is done once and kept: every case of
 :data:`CASES` (finger length x alpha x damping kind) is run with
-:class:`ccedi.fea.drum.FullContactModel` (no per-output object stress: the design computes
+:class:`ccedi.fea.contact.drum.FullContactModel` (no per-output object stress: the design computes
 its own) for :data:`T_END_S` at :data:`OUTPUT_STEP_S`, and its history written to
 ``benchmarks/cache/design_fea/L{L}_a{alpha}_{kind}.csv.gz`` with a JSON sidecar (summary,
 wall time). ``benchmarks/design_rom_check.py`` reads them.
@@ -17,7 +17,7 @@ import time
 from pathlib import Path
 
 from ccedi.design.rubber import alpha_cr_of_length
-from ccedi.fea.drum import DrumSetup, FullContactModel
+from ccedi.fea.contact.drum import DrumSetup, FullContactModel
 from ccedi.units import inch_to_m
 
 CACHE = Path(__file__).parent / "cache" / "design_fea"

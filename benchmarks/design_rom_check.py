@@ -26,7 +26,7 @@ from design_fea_runs import LENGTHS_IN, T_END_S, alphas, case_path
 from ccedi.design.model_error import TOLERANCE, model_errors, output_error
 from ccedi.design.outputs import OUTPUTS, design_outputs
 from ccedi.design.surrogate import rom_factory
-from ccedi.fea.drum import DrumSetup, ObjectStress
+from ccedi.fea.contact.drum import DrumSetup, ObjectStress
 from ccedi.units import inch_to_m
 
 OUT = Path(__file__).with_suffix(".json")

@@ -16,7 +16,7 @@ from ccedi.design.optimise import DesignProblem, sensitivities
 from ccedi.design.pareto import pareto_front
 from ccedi.design.recheck import verified_optimum
 from ccedi.design.surrogate import Surrogate, design_space, grid_points, run_rom
-from ccedi.fea.drum import DrumSetup
+from ccedi.fea.contact.drum import DrumSetup
 
 OUT = Path(__file__).with_suffix(".json")
 

@@ -11,8 +11,8 @@ from pathlib import Path
 
 from _output import report  # (benchmarks/ is on sys.path when run as a script)
 
-from ccedi.fea.gmsh_fingers import detailed_model
-from ccedi.fea.studies import finger_impulse_model
+from ccedi.fea.cases.studies import finger_impulse_model
+from ccedi.fea.mesh.gmsh_fingers import detailed_model
 from ccedi.rom.finger_identification import finger_alpha_cr
 from ccedi.rom.modal import reduce_impulse_model
 

@@ -1,6 +1,6 @@
 """Paper Fig. 6 with the detailed model: the DM's modal ROM against a full explicit run.
 
-The DM of :func:`ccedi.fea.gmsh_fingers.detailed_model` (at ``--size-mm``, default the
+The DM of :func:`ccedi.fea.mesh.gmsh_fingers.detailed_model` (at ``--size-mm``, default the
 paper's 2.8 mm) under the paper's impulse (1 N for 10 ms at the tip, alpha = 180 1/s):
 
 * its cost, first estimated (steps = t_end / dt, ~1.6 us per 10-node element-cycle,
@@ -25,10 +25,10 @@ from pathlib import Path
 import numpy as np
 from _output import report  # (benchmarks/ is on sys.path when run as a script)
 
-from ccedi.fea.explicit import TSSFAC, critical_time_step
-from ccedi.fea.gmsh_fingers import DM_CONE_RADIUS, DM_RIB_THICKNESS, detailed_model
+from ccedi.fea.cases.studies import finger_impulse_model
 from ccedi.fea.mesh import sm_a
-from ccedi.fea.studies import finger_impulse_model
+from ccedi.fea.mesh.gmsh_fingers import DM_CONE_RADIUS, DM_RIB_THICKNESS, detailed_model
+from ccedi.fea.solvers.explicit import TSSFAC, critical_time_step
 from ccedi.rom.ccedi import match_alpha
 from ccedi.rom.finger_identification import PAPER_FIG6, detailed_model_comparison
 from ccedi.rom.modal import ModalImpulseModel, fit_to_response, nrmse, reduce_impulse_model

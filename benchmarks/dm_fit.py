@@ -1,6 +1,6 @@
 """The detailed model's free dimensions fitted to Table 1, and its Table 1 row.
 
-:func:`ccedi.fea.gmsh_fingers.fit_detailed_model`: the rib thickness to the volume (30 cm^3,
+:func:`ccedi.fea.mesh.gmsh_fingers.fit_detailed_model`: the rib thickness to the volume (30 cm^3,
 two CAD volumes per cone radius) and the cone's root radius to the tip stiffness (81.2 N/m)
 within ``--rtol`` (default 1 %) at the paper's 2.8 mm. Table 1's stiffness is the nonlinear
 one (mean of F / delta at 1 N and 2 N); at 2.8 mm (about 83 000 DOFs) its Newton solves take
@@ -29,7 +29,10 @@ from pathlib import Path
 
 from _output import report  # (benchmarks/ is on sys.path when run as a script)
 
-from ccedi.fea.gmsh_fingers import (
+from ccedi.fea.cases.studies import PAPER_TABLE1, table1_row
+from ccedi.fea.material import RUBBER
+from ccedi.fea.mesh import sm_a
+from ccedi.fea.mesh.gmsh_fingers import (
     DM_CONE_RADIUS,
     DM_ELEMENT_LENGTH,
     DM_RIB_THICKNESS,
@@ -38,11 +41,8 @@ from ccedi.fea.gmsh_fingers import (
     fit_detailed_model,
     rib_thickness_for_volume,
 )
-from ccedi.fea.material import RUBBER
-from ccedi.fea.mesh import sm_a
 from ccedi.fea.model import cantilever_model
-from ccedi.fea.static import tip_deflection, tip_stiffness
-from ccedi.fea.studies import PAPER_TABLE1, table1_row
+from ccedi.fea.solvers.static import tip_deflection, tip_stiffness
 
 OUT = Path(__file__).with_suffix(".json")
 

@@ -3,10 +3,10 @@
 SM-A and SM-B (4.5-in finger), every hexahedron split into n x n x n
 (:func:`ccedi.fea.mesh.refine_hexes`, the same polygonal geometry at every n), rubber
 E = 6.1 MPa, nu = 0.49. For each n: nodes, elements, linear tip stiffness F / delta
-(1 N spread over the tip face, :func:`ccedi.fea.static.tip_deflection` with
-``linear=True``), first natural frequency (:func:`ccedi.fea.modal.natural_frequencies`)
+(1 N spread over the tip face, :func:`ccedi.fea.solvers.static.tip_deflection` with
+``linear=True``), first natural frequency (:func:`ccedi.fea.solvers.modal.natural_frequencies`)
 and, for the unrefined meshes (n = 1), the paper's Table-1 nonlinear tip stiffness (mean
-of 1 N and 2 N, :func:`ccedi.fea.static.tip_stiffness`). The peer reference is CalculiX 2.20 C3D20R on
+of 1 N and 2 N, :func:`ccedi.fea.solvers.static.tip_stiffness`). The peer reference is CalculiX 2.20 C3D20R on
 SM-A split 2 x 2 x 2 (the same geometry): 69.25 N/m, 14.194 Hz.
 
 Prints and writes benchmarks/hex_convergence.json (rewritten after every mesh).
@@ -24,9 +24,9 @@ from _output import report  # noqa: E402  (benchmarks/ is on sys.path when run a
 
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import refine_hexes, sm_a, sm_b
-from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import cantilever_model
-from ccedi.fea.static import tip_deflection, tip_stiffness
+from ccedi.fea.solvers.modal import natural_frequencies
+from ccedi.fea.solvers.static import tip_deflection, tip_stiffness
 
 OUT = Path(__file__).with_suffix(".json")
 C3D20R_SM_A = {"linear_stiffness_N_per_m": 69.25, "f1_Hz": 14.194}

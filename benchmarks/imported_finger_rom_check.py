@@ -1,6 +1,6 @@
 """The contact ROM on an imported tetrahedral finger against its full FEA.
 
-The tapered finger with a transverse hole (:func:`ccedi.fea.gmsh_fingers.write_tapered_finger`,
+The tapered finger with a transverse hole (:func:`ccedi.fea.mesh.gmsh_fingers.write_tapered_finger`,
 4-node tetrahedra of ``SIZE_M``, written as a Gmsh file and read back as an imported
 mesh) on the drum with relative damping at the alphas of ``ALPHAS``: the design's ROM
 (:func:`ccedi.design.surrogate.rom_factory`: the superelement chain cut at evenly spaced
@@ -27,9 +27,9 @@ from ccedi.design.model_error import output_error
 from ccedi.design.outputs import OUTPUTS
 from ccedi.design.recheck import full_fea_factory
 from ccedi.design.surrogate import rom_factory, run_rom
-from ccedi.fea.drum import DrumSetup
-from ccedi.fea.gmsh_fingers import write_tapered_finger
-from ccedi.fea.mesh_io import read_finger_mesh
+from ccedi.fea.contact.drum import DrumSetup
+from ccedi.fea.mesh.gmsh_fingers import write_tapered_finger
+from ccedi.fea.mesh.readers import read_finger_mesh
 
 OUT = Path(__file__).with_suffix(".json")
 SIZE_M = 0.008

@@ -5,7 +5,7 @@ rho = 1000 kg/m^3, root clamped, 1 N along y over the tip face for 10 ms, mass-
 proportional damping alpha = 180 1/s. ccedi runs it (one thread, compiled kernels, its
 own stable step), then CalculiX 2.20 (``*DYNAMIC, EXPLICIT`` with C3D8R on the same mesh,
 ``*DAMPING, ALPHA=180``, NLGEOM, the linear elastic material ccedi's neo-Hookean reduces
-to at small strain, its own stable increment; :func:`ccedi.fea.calculix.calculix_impulse_deck`).
+to at small strain, its own stable increment; :func:`ccedi.fea.io.calculix.calculix_impulse_deck`).
 CalculiX 2.20's C3D8R hourglass vectors are defective (``shape8hr.f``, replaced upstream in
 2025): this compares speed; accuracy is compared with its C3D20R/C3D8I implicit runs in
 ``benchmarks/peer_reference.py``. The tip histories are still compared (the weighted tip
@@ -31,7 +31,8 @@ import numpy as np  # noqa: E402
 from _output import report  # noqa: E402  (benchmarks/ is on sys.path when run as a script)
 
 from ccedi.errors import SolverError  # noqa: E402
-from ccedi.fea.calculix import (  # noqa: E402
+from ccedi.fea.cases.studies import impulse_model  # noqa: E402
+from ccedi.fea.io.calculix import (  # noqa: E402
     CCX_INSTALL_HINT,
     calculix_impulse_deck,
     ccx_executable,
@@ -39,9 +40,8 @@ from ccedi.fea.calculix import (  # noqa: E402
     parse_tip_history,
     run_ccx,
 )
-from ccedi.fea.explicit import run  # noqa: E402
 from ccedi.fea.material import RUBBER  # noqa: E402
-from ccedi.fea.studies import impulse_model  # noqa: E402
+from ccedi.fea.solvers.explicit import run  # noqa: E402
 
 OUT = Path(__file__).with_suffix(".json")
 ALPHA = 180.0

@@ -1,7 +1,7 @@
 """Peer-solver reference of the finger: CalculiX on ccedi's meshes, refined until converged.
 
 The 4.5-in finger of the paper (rubber E = 6.1 MPa, nu = 0.49, rho = 1000 kg/m^3), root
-clamped, 1 N along y spread over the tip face (:func:`ccedi.fea.calculix.tip_weights`).
+clamped, 1 N along y spread over the tip face (:func:`ccedi.fea.io.calculix.tip_weights`).
 For each mesh CalculiX 2.20 gives the linear tip stiffness F / delta and the first natural
 frequency f1 (consistent mass):
 
@@ -11,8 +11,8 @@ frequency f1 (consistent mass):
 (ii)  SM-B the same (n = 1, 2);
       C3D20R meshes of more than BIG_C3D20R hexahedra only with ``--big``;
 (iii) 10-node tetrahedra as C3D10: SM-A's hexahedra each split into six (Kuhn) tetrahedra
-      (:mod:`ccedi.fea.tet_mesh`), and SM-C, the Gmsh mesh of the elliptical prism (curved
-      surface, :func:`ccedi.fea.gmsh_fingers.sm_c`) at 4 mm and 2 mm average length.
+      (:mod:`ccedi.fea.mesh.tet_mesh`), and SM-C, the Gmsh mesh of the elliptical prism (curved
+      surface, :func:`ccedi.fea.mesh.gmsh_fingers.sm_c`) at 4 mm and 2 mm average length.
 
 A finger that is not a prism is compared with CalculiX mesh for mesh in
 benchmarks/any_finger.py.
@@ -31,11 +31,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ccedi.fea.calculix import ccx_version, run_calculix
-from ccedi.fea.gmsh_fingers import sm_c
+from ccedi.fea.io.calculix import ccx_version, run_calculix
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import refine_hexes, sm_a, sm_b
-from ccedi.fea.tet_mesh import quadratic_tets, split_hexes
+from ccedi.fea.mesh.gmsh_fingers import sm_c
+from ccedi.fea.mesh.tet_mesh import quadratic_tets, split_hexes
 
 OUT = Path(__file__).with_suffix(".json")
 LENGTH_IN = 4.5

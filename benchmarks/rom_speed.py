@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 from _output import report  # benchmarks/ is on sys.path when run as a script
 
-from ccedi.fea.drum import DrumSetup, FullContactModel
-from ccedi.fea.studies import impulse_model, impulse_response
+from ccedi.fea.cases.studies import impulse_model, impulse_response
+from ccedi.fea.contact.drum import DrumSetup, FullContactModel
 from ccedi.rom.check import compare_contact
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.rom.modal import nrmse, tip_modal_rom

@@ -24,7 +24,7 @@ import numpy as np
 import pandas as pd
 from _output import report  # benchmarks/ is on sys.path when run as a script
 
-from ccedi.fea.drum import DrumSetup
+from ccedi.fea.contact.drum import DrumSetup
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.rom.sensor import Transducer
 

@@ -1,9 +1,9 @@
 """SM-C's stable step against element estimates of paper Eq. (6), and against Table 1's 1.26 us.
 
 ccedi's step for 10-node tetrahedra is the real limit of central differences on the mesh
-at rest (2 / omega_max, :func:`ccedi.fea.tetra.time_step_length_factors`), reported x 0.9
+at rest (2 / omega_max, :func:`ccedi.fea.elements.tetra.time_step_length_factors`), reported x 0.9
 (TSSFAC) in Table 1: 1.616 us on the Gmsh SM-C against the paper's 1.26 us (+28 %). This
-script measures, on the same mesh (:func:`ccedi.fea.gmsh_fingers.sm_c`, nu = 0.49):
+script measures, on the same mesh (:func:`ccedi.fea.mesh.gmsh_fingers.sm_c`, nu = 0.49):
 
 * the real limit (ccedi's step at rest) and two element estimates of Eq. (6),
   ``dt = L_e / c``: L_e = the smallest corner altitude h_min (the 4-node rule), and
@@ -23,13 +23,13 @@ from pathlib import Path
 import numpy as np
 from _output import report  # (benchmarks/ is on sys.path when run as a script)
 
-from ccedi.fea import tet10
-from ccedi.fea.explicit import TSSFAC, SolidMaterial, critical_time_step
-from ccedi.fea.gmsh_fingers import sm_c
+from ccedi.fea.cases.studies import PAPER_TABLE1
+from ccedi.fea.elements import tet10
+from ccedi.fea.elements.tetra import min_altitude
 from ccedi.fea.material import RUBBER
+from ccedi.fea.mesh.gmsh_fingers import sm_c
 from ccedi.fea.model import cantilever_model
-from ccedi.fea.studies import PAPER_TABLE1
-from ccedi.fea.tetra import min_altitude
+from ccedi.fea.solvers.explicit import TSSFAC, SolidMaterial, critical_time_step
 
 OUT = Path(__file__).with_suffix(".json")
 STEPS = 4000

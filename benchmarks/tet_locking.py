@@ -4,7 +4,7 @@ The test suite's BOX cantilever (60 mm along z, 12 mm along x, 8 mm along y, roo
 clamped, 0.01 N along y spread over the tip face, linear static tip stiffness F / delta)
 at nu = 0.499 (E = 6.1 MPa): hexahedra at 2 and 1 mm (their Richardson limit is the
 converged reference), the 4-node tetrahedron (hexahedra split into 6,
-:func:`ccedi.fea.tet_mesh.split_hexes`) at 4, 2 and 1 mm, as ccedi builds it (``tet4``:
+:func:`ccedi.fea.mesh.tet_mesh.split_hexes`) at 4, 2 and 1 mm, as ccedi builds it (``tet4``:
 nodal pressure and alpha-FEM shear, alpha = 0.7) and with the element shear alone
 (``tet4_alpha0``: Bonet & Burton's average nodal pressure element, LS-DYNA solid 13), and
 the 10-node tetrahedron at 4 and 2 mm. The constant-strain shear is stiff in bending at
@@ -23,11 +23,11 @@ from pathlib import Path
 
 from _output import report  # (benchmarks/ is on sys.path when run as a script)
 
+from ccedi.fea.elements.tet4 import tet4_group
 from ccedi.fea.material import NeoHookean
+from ccedi.fea.mesh.tet_mesh import box_cantilever, quadratic_tets, split_hexes
 from ccedi.fea.model import cantilever_model
-from ccedi.fea.static import tip_deflection
-from ccedi.fea.tet4 import tet4_group
-from ccedi.fea.tet_mesh import box_cantilever, quadratic_tets, split_hexes
+from ccedi.fea.solvers.static import tip_deflection
 
 OUT = Path(__file__).with_suffix(".json")
 BOX = (0.06, 0.012, 0.008)

@@ -23,13 +23,13 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 from _output import report  # noqa: E402  (benchmarks/ is on sys.path when run as a script)
 
-from ccedi.fea import tet4, tet10  # noqa: E402
-from ccedi.fea.explicit import TSSFAC, SolidMaterial, critical_time_step, run  # noqa: E402
-from ccedi.fea.kernels import internal_forces_numba  # noqa: E402
+from ccedi.fea.elements import tet4, tet10  # noqa: E402
+from ccedi.fea.elements.hex8_kernels import internal_forces_numba  # noqa: E402
 from ccedi.fea.material import RUBBER  # noqa: E402
 from ccedi.fea.mesh import sm_a  # noqa: E402
+from ccedi.fea.mesh.tet_mesh import quadratic_tets, split_hexes  # noqa: E402
 from ccedi.fea.model import cantilever_model, tip_pulse  # noqa: E402
-from ccedi.fea.tet_mesh import quadratic_tets, split_hexes  # noqa: E402
+from ccedi.fea.solvers.explicit import TSSFAC, SolidMaterial, critical_time_step, run  # noqa: E402
 
 OUT = Path(__file__).with_suffix(".json")
 STEPS = 4000

@@ -30,7 +30,7 @@ from functools import lru_cache
 import numpy as np
 from scipy.signal import butter, sosfiltfilt
 
-from ccedi.fea.drum import DrumSetup, FullContactModel
+from ccedi.fea.contact.drum import DrumSetup, FullContactModel
 from ccedi.fea.material import NeoHookean
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.rom.sensor import DEFAULT_DAMPING_RATIO, DEFAULT_NATURAL_FREQUENCY_HZ, Transducer
@@ -105,7 +105,7 @@ def declared_setup(exp: Experiment):
 
     Returns
     -------
-    ccedi.fea.drum.DrumSetup
+    ccedi.fea.contact.drum.DrumSetup
         The generated elliptical finger of the declared length, section and material on
         the declared drum.
     """
@@ -242,7 +242,7 @@ class DrumContactModel:
     ----------
     exp : Experiment
         The experiment.
-    setup : ccedi.fea.drum.DrumSetup
+    setup : ccedi.fea.contact.drum.DrumSetup
         The declared set-up.
     rom : ccedi.rom.contact_rom.ReducedContactModel
         The chain on it.
@@ -292,7 +292,7 @@ class DrumContactModel:
 
     def fea_force(self, v):
         """Magnitude of the full FEA's in-plane force on the object [N], at the FEA's own
-        output times: :class:`ccedi.fea.drum.FullContactModel` on the set-up of ``v`` (:meth:`setup_of`)
+        output times: :class:`ccedi.fea.contact.drum.FullContactModel` on the set-up of ``v`` (:meth:`setup_of`)
         at Young's modulus x ``E_factor`` and ``alpha_per_s``, output every record sample
         (at most every :data:`FEA_OUTPUT_S`) up to the record's end.
 
@@ -536,7 +536,7 @@ class DrumContactModel:
 
         Returns
         -------
-        ccedi.fea.drum.DrumSetup
+        ccedi.fea.contact.drum.DrumSetup
             The declared set-up with friction, drum speed, initial angle, object
             centre (:func:`radially_offset`) and contact damping replaced where ``v`` has
             them.

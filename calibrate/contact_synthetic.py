@@ -1,7 +1,7 @@
 """Synthetic "measured" contact records of the 8-in finger on the drum (the paper's
 set-up, Table 2, Fig. 9) with injected effects: the bundled set under ``data/contact/``.
 
-The records come from the FULL explicit FEA (:class:`ccedi.fea.drum.FullContactModel`:
+The records come from the FULL explicit FEA (:class:`ccedi.fea.contact.drum.FullContactModel`:
 the 3-D neo-Hookean SM-A solid, 1872 nodes, penalty contact with Coulomb friction), NOT
 from the calibration's model (the superelement chain ROM,
 :class:`ccedi.rom.contact_rom.ReducedContactModel`). Each FE run is made at the record's
@@ -47,10 +47,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ccedi.fea.drum import DrumSetup, FullContactModel
+from ccedi.fea.contact.drum import DrumSetup, FullContactModel
 from ccedi.fea.material import RUBBER, NeoHookean
 from ccedi.fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR
-from ccedi.fea.outputs import write_csv, write_json
+from ccedi.outputs import write_csv, write_json
 from ccedi.rom.sensor import Transducer
 from ccedi.units import m_to_inch
 
@@ -93,11 +93,11 @@ class ContactTruth:
 
 
 def declared_setup():
-    """The set-up every sidecar declares: the default :class:`ccedi.fea.drum.DrumSetup`.
+    """The set-up every sidecar declares: the default :class:`ccedi.fea.contact.drum.DrumSetup`.
 
     Returns
     -------
-    ccedi.fea.drum.DrumSetup
+    ccedi.fea.contact.drum.DrumSetup
         8-in SM-A finger of the paper's rubber on the paper's drum.
     """
     return DrumSetup()
@@ -113,7 +113,7 @@ def true_setup(truth: ContactTruth):
 
     Returns
     -------
-    ccedi.fea.drum.DrumSetup
+    ccedi.fea.contact.drum.DrumSetup
         The declared set-up at the true E with the physical effect applied.
     """
     s = declared_setup()
@@ -292,7 +292,7 @@ def write_bundled_set(out_dir, cached_only=False):
 def _write_manifest(out_dir, manifest):
     """The truths written so far (after every record: a long generation can be stopped)."""
     write_json(out_dir / "manifest.json", {
-        "generator": "ccedi.calibrate.contact_synthetic (full explicit FEA, ccedi.fea.drum.FullContactModel, "
+        "generator": "ccedi.calibrate.contact_synthetic (full explicit FEA, ccedi.fea.contact.drum.FullContactModel, "
                      "8-in SM-A finger, 0.5 ms outputs; transducer ccedi.rom.sensor.Transducer)",
         "noise_fraction_of_peak": NOISE_FRACTION, "sample_rate_hz": SAMPLE_RATE_HZ, "damping": DAMPING,
         "records": manifest})

@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from ccedi.errors import InputError, brief_repr, one_line
-from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties
+from ccedi.fea.cases.beam_theory import cantilever_frequencies, ellipse_section_properties
 from ccedi.quantities import QUANTITIES
 from ccedi.rom.measurement import CONTACT_COLUMNS, REQUIRED_COLUMNS, MeasuredResponse, check_sampling, load_response
 from ccedi.units import inch_to_m

@@ -3,7 +3,7 @@ mass and a compliant root added as Ritz terms.
 
 The declared finger (length, elliptical section, nu, rho) is meshed as SM-A
 (:func:`ccedi.fea.mesh.sm_a`), clamped at its root, and its lowest modes are solved once
-(:func:`ccedi.fea.modal.natural_frequencies`, tangent stiffness at the reference, lumped
+(:func:`ccedi.fea.solvers.modal.natural_frequencies`, tangent stiffness at the reference, lumped
 mass M) at the declared E. Of those, the modes that move the tip along the bending
 direction y are kept (tip value above ``MIN_TIP_FRACTION`` of the largest), up to
 ``N_MAX_MODES``. Per kept mode i (mass-normalised phi_i):
@@ -39,8 +39,8 @@ from scipy.linalg import eigh
 from ccedi.errors import InputError
 from ccedi.fea.material import NeoHookean
 from ccedi.fea.mesh import sm_a
-from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import cantilever_model, face_node_weights
+from ccedi.fea.solvers.modal import natural_frequencies
 
 N_SOLVED_MODES = 30
 """FE modes solved (every kind: both bending planes, torsion, axial); the y-bending ones are kept."""

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ccedi.fea.outputs import write_csv, write_figure, write_text
+from ccedi.outputs import write_csv, write_figure, write_text
 
 from .loop import Calibration
 

@@ -40,7 +40,7 @@ of std ``NOISE_FRACTION`` x range is added. The true Young's modulus and alpha d
 the declared ones (seeded, within +-8 % and 3-5 1/s).
 
 One more clean control comes from the full 3-D explicit FEA of the 4.5-in SM-A finger
-(:func:`ccedi.fea.studies.impulse_response`, hexahedral neo-Hookean solid, 1 s): the
+(:func:`ccedi.fea.cases.studies.impulse_response`, hexahedral neo-Hookean solid, 1 s): the
 nonlinear, lumped-mass explicit solid the calibration's linear modes must match without
 an effect. It is kept when present (regenerating it takes minutes; ``--solid`` forces it).
 
@@ -56,12 +56,12 @@ import pandas as pd
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from ccedi.fea.cases.studies import impulse_response
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR, sm_a
 from ccedi.fea.model import cantilever_model, face_node_weights
-from ccedi.fea.outputs import write_csv, write_json
-from ccedi.fea.static import free_dofs, tangent_stiffness
-from ccedi.fea.studies import impulse_response
+from ccedi.fea.solvers.static import free_dofs, tangent_stiffness
+from ccedi.outputs import write_csv, write_json
 from ccedi.units import inch_to_m
 
 N_GEN_MODES = 40
@@ -435,7 +435,7 @@ def write_bundled_set(out_dir, solid=False):
     manifest = {"control_fea_solid": {"E_factor": 1.0, "alpha_per_s": SOLID["alpha_per_s"],
                                       "force_N": SOLID["force_N"], "duration_s": PULSE_S, "effects": {},
                                       "in_catalogue": True,
-                                      "generator": "ccedi.fea.studies.impulse_response (3-D SM-A solid)"}}
+                                      "generator": "ccedi.fea.cases.studies.impulse_response (3-D SM-A solid)"}}
     for i, (name, truth) in enumerate(bundled_set().items()):
         frame, meta = record(truth, seed=1000 + i)
         write_csv(out_dir / f"{name}.csv", frame)

@@ -51,7 +51,7 @@ class RequirementsUnmet(Exception):
 
 class ValidityWarning(UserWarning):
     """A run's results leave the model's range of validity, but the numbers still mean
-    something (see :mod:`ccedi.fea.validity`).
+    something (see :mod:`ccedi.fea.solvers.validity`).
 
     The run records the same message in its summary (``warnings``); the command line
     prints each one as ``ccedi <command>: warning: <message>`` on stderr.

@@ -7,14 +7,14 @@ interface, so a study (the CCEDI search, the design surrogate, the FEA re-check,
 * an **impulse model** (:class:`ImpulseModel`): a clamped structure under a tip force
   pulse of ``force_N`` [N] held for ``duration_s`` [s], with mass-proportional
   (Rayleigh) damping ``alpha``; ``run(alpha, t_end_s, n_outputs)`` answers an
-  :class:`ImpulseResponse`. Full: :class:`ccedi.fea.studies.FullImpulseModel` (the explicit
-  FE finger, :func:`ccedi.fea.studies.finger_impulse_model`, and the steel rod,
-  :func:`ccedi.fea.steel_rod.steel_rod_impulse_model`). Reduced:
+  :class:`ImpulseResponse`. Full: :class:`ccedi.fea.cases.studies.FullImpulseModel` (the explicit
+  FE finger, :func:`ccedi.fea.cases.studies.finger_impulse_model`, and the steel rod,
+  :func:`ccedi.fea.cases.steel_rod.steel_rod_impulse_model`). Reduced:
   :class:`ccedi.rom.modal.ModalImpulseModel` (from :func:`ccedi.rom.modal.reduce_impulse_model`).
 * a **contact model** (:class:`ContactModel`): the finger on the rotating drum sweeping
-  over the object (:class:`ccedi.fea.drum.DrumSetup`); ``run(alpha, damping, t_end_s,
+  over the object (:class:`ccedi.fea.contact.drum.DrumSetup`); ``run(alpha, damping, t_end_s,
   n_outputs, progress)`` answers a :class:`ContactResponse`. Full:
-  :class:`ccedi.fea.drum.FullContactModel`; reduced:
+  :class:`ccedi.fea.contact.drum.FullContactModel`; reduced:
   :class:`ccedi.rom.contact_rom.ReducedContactModel` ('stations' and 'face' contact).
 
 Each response holds a history (one row per output time) whose **core columns**
@@ -74,7 +74,7 @@ IMPULSE_CORE_SUMMARY = (
     Column("alpha_per_s", "1/s", "mass-proportional damping coefficient of the run"),
     Column("wall_time_s", "s", "wall time of the run"),
     Column("warnings", "-", "list of the run's validity warnings (str; empty for a healthy run), see "
-                            "ccedi.fea.validity"),
+                            "ccedi.fea.solvers.validity"),
 )
 """Summary keys every impulse model answers."""
 
@@ -84,7 +84,7 @@ FE_IMPULSE_EXTRA_COLUMNS = (
     Column("max_von_mises_Pa", "Pa", "largest element von Mises stress"),
     Column("max_log_strain", "-", "largest principal logarithmic strain of the solid elements (NaN without them)"),
     Column("reaction_y_N", "N", "clamp reaction along y (and the other solver columns: energies, "
-                                "reaction_x/z_N, ... of ccedi.fea.explicit.run)"),
+                                "reaction_x/z_N, ... of ccedi.fea.solvers.explicit.run)"),
 )
 """Extra history columns of the full FE impulse model (the explicit solver's history)."""
 
@@ -131,10 +131,10 @@ CONTACT_CORE_SUMMARY = (
     Column("last_contact_point_m", "m", "[x, y] contact point at contact_end_s (None without contact)"),
     Column("peak_reaction_force_N", "N", "largest reaction_force_N over the run (0 without contact)"),
     Column("warnings", "-", "list of the run's validity warnings (str; empty for a healthy run), see "
-                            "ccedi.fea.validity"),
+                            "ccedi.fea.solvers.validity"),
 )
 """Summary keys every contact model answers (the timing keys from :func:`contact_timing`;
-``warnings`` from the model's validity checks, :mod:`ccedi.fea.validity`)."""
+``warnings`` from the model's validity checks, :mod:`ccedi.fea.solvers.validity`)."""
 
 FE_CONTACT_EXTRA_SUMMARY = (
     Column("theta0_rad", "rad", "initial finger angle"),
@@ -144,7 +144,7 @@ FE_CONTACT_EXTRA_SUMMARY = (
     Column("max_penetration_m", "m", "deepest penetration over the run"),
     Column("penetration_to_thickness", "-", "max_penetration_m over the finger's soft thickness"),
     Column("energy_balance_error", "-", "largest |initial energy + external work - kinetic, stored and dissipated "
-                                        "energy| over the largest energy (ccedi.fea.validity.energy_balance_error)"),
+                                        "energy| over the largest energy (ccedi.fea.solvers.validity.energy_balance_error)"),
     Column("hourglass_energy_fraction", "-", "largest hourglass energy over largest internal energy"),
     Column("max_log_strain", "-", "largest principal logarithmic strain in the finger over the run"),
     Column("friction_work_J", "J", "friction work at the end"),
@@ -332,7 +332,7 @@ class ContactModel(Protocol):
     ----------
     name : str
         Name of the model (the ``model`` summary key).
-    setup : ccedi.fea.drum.DrumSetup
+    setup : ccedi.fea.contact.drum.DrumSetup
         Geometry, speeds and materials.
     """
 

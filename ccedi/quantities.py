@@ -94,7 +94,7 @@ deviation of a displacement sensor's (and a force transducer's) white noise; and
 speed, the finger's initial angle (and the object's rotation), each coordinate of the
 object's centre (an object 10 m away takes no part), each semi-axis of the object, and
 the Coulomb friction coefficient between finger and object, and the normal contact damping
-as a fraction of critical (up to ccedi.fea.contact.MAX_DAMPING_RATIO, the explicit step's limit)."""
+as a fraction of critical (up to ccedi.fea.contact.penalty.MAX_DAMPING_RATIO, the explicit step's limit)."""
 
 QUANTITIES["length_m"] = QUANTITIES["length_in"].in_unit(INCH, "m")
 """The finger length in metres: the same range as ``length_in``, for inputs given in SI."""

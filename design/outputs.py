@@ -3,14 +3,14 @@
 A run (:class:`ccedi.models.ContactResponse`, any contact model: only the core columns
 are read) starts with the finger turning rigidly with the drum, its steady running shape
 under relative damping (the drum frame's centrifugal stretch aside, radial and small), and
-lasts until the next object arrives, one cycle (:attr:`ccedi.fea.drum.DrumSetup.cycle_s`)
+lasts until the next object arrives, one cycle (:attr:`ccedi.fea.contact.drum.DrumSetup.cycle_s`)
 after the first contact. :func:`design_outputs` reads from its history (SI units):
 
 * ``sensor_peak_force_N`` [N]: the largest force on the object as the force transducer
   reads it (:class:`ccedi.rom.sensor.Transducer`, 100 Hz Butterworth by default), the
   load the object feels once the finger's ~400 Hz friction chatter is filtered;
 * ``max_object_stress_Pa`` [Pa]: largest object von Mises stress, a linear static solve
-  of the object (:class:`ccedi.fea.drum.ObjectStress`) under the transducer-filtered
+  of the object (:class:`ccedi.fea.contact.drum.ObjectStress`) under the transducer-filtered
   contact force at the force-weighted contact point, at up to
   :data:`OBJECT_STRESS_SAMPLES` outputs where the force is at least half its peak;
 * ``root_stress_before_contact_Pa`` [Pa]: largest finger von Mises stress before the
@@ -33,20 +33,20 @@ after the first contact. :func:`design_outputs` reads from its history (SI units
   full FE finger's small high-frequency jitter, unlike a count of extrema;
 * ``first_contact_front_m`` [m]: signed distance of the first contact point from the
   object's minor axis, positive on the front half that the sweep reaches first
-  (:func:`ccedi.fea.drum.front_distance_m`); a drag-bent finger first touches the rear;
+  (:func:`ccedi.fea.contact.drum.front_distance_m`); a drag-bent finger first touches the rear;
 * ``contact_patch_from_root_m`` [m]: closest approach of the force-weighted contact
   point to the finger's root, its distance from the drum axis minus the drum radius;
 * ``contact_impulse_N_s`` [N s]: integral of the contact force magnitude over the run;
 * ``contact_start_s``, ``contact_duration_s`` [s]: first output with contact, and the
   last minus the first;
-* ``cycle_time_s`` [s]: time between two objects (:attr:`ccedi.fea.drum.DrumSetup.cycle_s`),
+* ``cycle_time_s`` [s]: time between two objects (:attr:`ccedi.fea.contact.drum.DrumSetup.cycle_s`),
   whose inverse is the throughput; it moves with the drum speed when that is a design
   variable;
 * ``settling_time_s`` [s] (not in :data:`OUTPUTS`; None when it does not settle within
   the run): time from breakaway until the tip stays within ``settle_tolerance_m`` of its
   running position.
 
-The design variables (:data:`VARIABLES`) are set on a :class:`ccedi.fea.drum.DrumSetup` by
+The design variables (:data:`VARIABLES`) are set on a :class:`ccedi.fea.contact.drum.DrumSetup` by
 :func:`setup_at`. Lengths enter the CLI/JSON in inches (``length_in``), drum speeds in rpm
 (``drum_speed_rpm``); everything here is SI.
 """
@@ -55,8 +55,8 @@ from dataclasses import replace
 import numpy as np
 
 from ccedi.errors import InputError
-from ccedi.fea.contact_study import tip_drum_frame_displacement_m
-from ccedi.fea.drum import DrumSetup, ObjectStress, first_contact_angle, front_distance_m
+from ccedi.fea.cases.contact_study import tip_drum_frame_displacement_m
+from ccedi.fea.contact.drum import DrumSetup, ObjectStress, first_contact_angle, front_distance_m
 from ccedi.fea.mesh import sm_a_elements_along
 from ccedi.models import contact_timing
 from ccedi.rom.sensor import Transducer

@@ -1,5 +1,5 @@
 """Re-check of designs with a full model run (by default the explicit FEA,
-:class:`ccedi.fea.drum.FullContactModel`): the same design outputs
+:class:`ccedi.fea.contact.drum.FullContactModel`): the same design outputs
 (:func:`ccedi.design.outputs.design_outputs`) from the full model beside the surrogate's,
 output by output, with the error of the surrogate (:func:`ccedi.design.model_error.output_error`:
 (surrogate - full) / |full|, lengths at the 5 mm scale of their requirements) and whether
@@ -12,9 +12,9 @@ drum speed; a design of another length is refused in one line
 from dataclasses import replace
 from functools import partial
 
+from ccedi.distributed import map_runs
 from ccedi.errors import RequirementsUnmet
-from ccedi.fea.distributed import map_runs
-from ccedi.fea.drum import DrumSetup, FullContactModel, ObjectStress
+from ccedi.fea.contact.drum import DrumSetup, FullContactModel, ObjectStress
 
 from .model_error import output_error
 from .optimise import solve
@@ -25,7 +25,7 @@ from .surrogate import design_space, rom_factory
 
 def full_fea_factory(setup: DrumSetup):
     """The re-check's default contact model: the full FEA without the per-output object
-    stress (the design outputs compute their own, :class:`ccedi.fea.drum.ObjectStress`).
+    stress (the design outputs compute their own, :class:`ccedi.fea.contact.drum.ObjectStress`).
 
     Parameters
     ----------
@@ -34,7 +34,7 @@ def full_fea_factory(setup: DrumSetup):
 
     Returns
     -------
-    ccedi.fea.drum.FullContactModel
+    ccedi.fea.contact.drum.FullContactModel
     """
     return FullContactModel(setup, object_stress=False)
 
@@ -99,7 +99,7 @@ def fea_check(setup: DrumSetup, designs, *, damping="relative", limits=(), model
 
     For each design: run ``model_factory(setup at its length)`` at its alpha until the
     next object arrives (:func:`ccedi.design.outputs.run_time_s`); the designs are mapped
-    through :func:`ccedi.fea.distributed.map_runs` (``scheduler``). A finger mesh
+    through :func:`ccedi.distributed.map_runs` (``scheduler``). A finger mesh
     (``setup.finger``) is re-checked as it is, at its own length.
 
     Parameters
@@ -119,7 +119,7 @@ def fea_check(setup: DrumSetup, designs, *, damping="relative", limits=(), model
     progress : callable or None, optional
         Called with one line per design.
     scheduler : str, optional
-        :func:`ccedi.fea.distributed.map_runs` scheduler.
+        :func:`ccedi.distributed.map_runs` scheduler.
     extra_outputs : dict, optional
         User-defined outputs (:func:`ccedi.design.outputs.design_outputs`); module-level
         functions when the scheduler is not serial.

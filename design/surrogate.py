@@ -17,7 +17,7 @@ and predicted 10 N where the ROM gives 14.5 N.) A further set of ROM runs off th
 measures the interpolation error (:func:`validation_errors`).
 
 More variables (cross-section, drum speed) only need another :class:`Variable` and a
-way to set them on the :class:`ccedi.fea.drum.DrumSetup` (:func:`run_rom`).
+way to set them on the :class:`ccedi.fea.contact.drum.DrumSetup` (:func:`run_rom`).
 """
 import hashlib
 import itertools
@@ -31,8 +31,8 @@ import numpy as np
 import pandas as pd
 
 from ccedi.errors import InputError
-from ccedi.fea.drum import DrumSetup, ObjectStress
-from ccedi.fea.outputs import write_csv, write_json
+from ccedi.fea.contact.drum import DrumSetup, ObjectStress
+from ccedi.outputs import write_csv, write_json
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.rom.superelement import fitting_segments
 

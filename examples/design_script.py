@@ -29,8 +29,8 @@ from ccedi.design import (
 )
 from ccedi.design.recheck import full_fea_factory, verified_optimum
 from ccedi.design.surrogate import rom_factory
-from ccedi.fea.contact_study import tip_lag_series_m
-from ccedi.fea.drum import DrumSetup
+from ccedi.fea.cases.contact_study import tip_lag_series_m
+from ccedi.fea.contact.drum import DrumSetup
 from ccedi.models import contact_timing
 from ccedi.units import m_to_inch
 

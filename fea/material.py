@@ -19,9 +19,8 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
+from ccedi.fea.elements.fastmath import FASTMATH
 from ccedi.quantities import QUANTITIES
-
-from .fastmath import FASTMATH
 
 
 @dataclass(frozen=True)

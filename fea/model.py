@@ -10,18 +10,17 @@ from functools import cached_property
 import numpy as np
 
 from ccedi.errors import InputError, require_finite_positive
-
-from .hex8 import FACES, ElementGeometry, characteristic_length, element_geometry, hourglass_stiffness
-from .hex8 import tangent_stiffness as hex_tangent
-from .kernels import HexGroup, hex_group
-from .material import NeoHookean
-from .mesh import Mesh
-from .rod import Rod, RodArrays, rod_arrays, rod_lumped_mass
-from .tet4 import Tet4Group, tet4_group
-from .tet4 import lumped_mass as tet4_lumped_mass
-from .tet10 import Tet10Group, tet10_group
-from .tet10 import lumped_mass as tet10_lumped_mass
-from .tetra import CORNER_FACES, QUADRATIC_FACES, largest_frequency
+from ccedi.fea.elements.hex8 import FACES, ElementGeometry, characteristic_length, element_geometry, hourglass_stiffness
+from ccedi.fea.elements.hex8 import tangent_stiffness as hex_tangent
+from ccedi.fea.elements.hex8_kernels import HexGroup, hex_group
+from ccedi.fea.elements.rod import Rod, RodArrays, rod_arrays, rod_lumped_mass
+from ccedi.fea.elements.tet4 import Tet4Group, tet4_group
+from ccedi.fea.elements.tet4 import lumped_mass as tet4_lumped_mass
+from ccedi.fea.elements.tet10 import Tet10Group, tet10_group
+from ccedi.fea.elements.tet10 import lumped_mass as tet10_lumped_mass
+from ccedi.fea.elements.tetra import CORNER_FACES, QUADRATIC_FACES, largest_frequency
+from ccedi.fea.material import NeoHookean
+from ccedi.fea.mesh import Mesh
 
 
 @dataclass(frozen=True)
@@ -142,15 +141,15 @@ class Model:
         Nodes driven in a prescribed rigid rotation (the drum). Default None.
     hourglass_coefficient : float, optional
         Q_hg, the scale on the physical hourglass stiffness of
-        :func:`ccedi.fea.hex8.hourglass_stiffness` [-], > 0. Default 1 (the
+        :func:`ccedi.fea.elements.hex8.hourglass_stiffness` [-], > 0. Default 1 (the
         incompatible-modes stiffness, LS-DYNA hourglass type 6 with QM = 1).
     rods : tuple of Rod, optional
-        :class:`ccedi.fea.rod.Rod` chains on mesh nodes (beam elements); they may
+        :class:`ccedi.fea.elements.rod.Rod` chains on mesh nodes (beam elements); they may
         share nodes with the solids. Default none.
     point_masses : dict, optional
         {node id: mass [kg]} lumped point-mass elements, masses > 0. Default none.
     contact : Contact or None, optional
-        :class:`ccedi.fea.contact.Contact` of mesh nodes against a rigid surface.
+        :class:`ccedi.fea.contact.penalty.Contact` of mesh nodes against a rigid surface.
         Default None.
     damping : {"global", "relative"}, optional
         Mass damping on the absolute velocity (LS-DYNA *DAMPING_GLOBAL) or on the
@@ -162,9 +161,9 @@ class Model:
     geometry : ElementGeometry
         Reference geometry of the hexahedra.
     tet4 : Tet4Group
-        Reference geometry of the 4-node tetrahedra (:mod:`ccedi.fea.tet4`).
+        Reference geometry of the 4-node tetrahedra (:mod:`ccedi.fea.elements.tet4`).
     tet10 : Tet10Group
-        Reference geometry of the 10-node tetrahedra (:mod:`ccedi.fea.tet10`).
+        Reference geometry of the 10-node tetrahedra (:mod:`ccedi.fea.elements.tet10`).
     kappa : numpy.ndarray
         Hourglass stiffness K_hg per element, shape (e, 12, 12) [N/m].
     rod_arrays : RodArrays
@@ -243,7 +242,7 @@ class Model:
         so that at rest the stable step ``min_e s L_e / c`` is the real limit of central
         differences on this mesh, 2 / omega_max, with omega_max the largest natural
         frequency of the hexahedra alone (unconstrained tangent at the reference state,
-        their lumped mass; Lanczos, :func:`ccedi.fea.tetra.largest_frequency`). During a
+        their lumped mass; Lanczos, :func:`ccedi.fea.elements.tetra.largest_frequency`). During a
         run L_e follows the deformation. Measured: s = 0.84 on a mesh of cubes (Eq. 6 alone
         would run at 1.07 of the limit and diverge), 0.9986 on SM-A, 0.962 on SM-B; 1 when
         there are no hexahedra or Lanczos does not converge."""
@@ -258,7 +257,7 @@ class Model:
 
     @cached_property
     def hexahedra(self) -> HexGroup:
-        """The hexahedra as the compiled kernel takes them (:func:`ccedi.fea.kernels.hex_group`:
+        """The hexahedra as the compiled kernel takes them (:func:`ccedi.fea.elements.hex8_kernels.hex_group`:
         reference arrays, element blocks, node-to-element slots)."""
         return hex_group(self.mesh.nodes, self.mesh.hexes, self.geometry, self.kappa, self.hex_length_factor)
 

@@ -10,7 +10,7 @@ damping ratios are ``zeta_i = alpha / (2 omega_i)`` (paper Eq. 3b).
   measured one in the least-squares sense (:func:`match_alpha`).
 
 Both take an impulse model (:class:`ccedi.models.ImpulseModel`: the full FE model,
-:class:`ccedi.fea.studies.FullImpulseModel`, or its modal ROM,
+:class:`ccedi.fea.cases.studies.FullImpulseModel`, or its modal ROM,
 :class:`ccedi.rom.modal.ModalImpulseModel`) with the length ``t_end_s`` [s] and the
 output count ``n_outputs`` of every run, so the full and a reduced model are swapped with
 one argument; they read only the core ``time_s`` and ``tip_uy_m`` columns of each

@@ -19,7 +19,7 @@ and each station (mass m, rotary inertia I) obeys::
 
 Global damping acts on the absolute velocity (the drag that makes a damped finger
 trail the drum), relative damping on the velocity in the drum's frame, as in
-:mod:`ccedi.fea.drum`. Station 0 is clamped to the drum.
+:mod:`ccedi.fea.contact.drum`. Station 0 is clamped to the drum.
 
 Internal forces, co-rotational (``nonlinear=True``): each segment's chord of current
 length l and angle psi defines its frame; the natural deformations
@@ -40,8 +40,8 @@ conservative). The step is TSSFAC x 2 / omega_c, omega_c the chain's highest fre
 with one face's contact springs all engaged (:func:`contact_omega`). The earlier
 station-only model (``contact="stations"`` in :mod:`ccedi.rom.contact_rom`) takes
 ``k = (1/0.81 - 1) (2/dt_cfl)^2 / (1/m + h^2/I)`` per station point (the rule of
-:mod:`ccedi.fea.contact`, for the point's effective mass) and the step shrunk by 0.9. Friction
-is Coulomb, applied as in :mod:`ccedi.fea.explicit`: the impulse that would stop the point's
+:mod:`ccedi.fea.contact.penalty`, for the point's effective mass) and the step shrunk by 0.9. Friction
+is Coulomb, applied as in :mod:`ccedi.fea.solvers.explicit`: the impulse that would stop the point's
 tangential velocity within the step (through the stations' masses and inertias, the
 point's flexibility t J M^-1 J^T t), clipped to mu f_n.
 
@@ -55,10 +55,10 @@ import numpy as np
 from scipy.linalg import eigh
 
 from ccedi.errors import InputError
-from ccedi.fea.contact import STEP_SHRINK, _ellipse_gap, penalty_stiffness
-from ccedi.fea.explicit import TSSFAC
-from ccedi.fea.fastmath import FASTMATH
-from ccedi.fea.rotating_frame import drum_to_object, planar_frame_velocity_along, rotate, rotate_back
+from ccedi.fea.contact.penalty import STEP_SHRINK, _ellipse_gap, penalty_stiffness
+from ccedi.fea.elements.fastmath import FASTMATH
+from ccedi.fea.solvers.explicit import TSSFAC
+from ccedi.fea.solvers.rotating_frame import drum_to_object, planar_frame_velocity_along, rotate, rotate_back
 
 # per-output contact record slots
 _FX, _FY, _NPTS, _PX, _PY, _PEN = range(6)
@@ -244,12 +244,12 @@ k : (p,) ndarray
 zeta : float
     Normal contact damping, a fraction of each point's critical damping
     2 sqrt(k m_eff) [-] (m_eff: the point's effective mass, 1 / (n J M^-1 J^T n));
-    :func:`ccedi.fea.contact.contact_damping` is the FE's.
+    :func:`ccedi.fea.contact.penalty.contact_damping` is the FE's.
 mu : float
     Coulomb friction coefficient [-] (0: frictionless).
 obj : (6,) ndarray
     The elliptical object: centre x, y [m], semi-axes a, b [m], cos and sin of its
-    angle [-] (first six entries of :meth:`ccedi.fea.contact.RigidEllipse.params`).
+    angle [-] (first six entries of :meth:`ccedi.fea.contact.penalty.RigidEllipse.params`).
 """
 ChainOutputs = namedtuple("ChainOutputs", "t_out P_out TH_out C_out")
 ChainOutputs.__doc__ = """Output times and the arrays that receive the records at them.
@@ -782,7 +782,7 @@ def chain_run_numpy(state, chain, drum, points, dt, outputs):
 
 
 def stable_step(omega_max):
-    """Time step of the station-contact chain, as :mod:`ccedi.fea.explicit` chooses it.
+    """Time step of the station-contact chain, as :mod:`ccedi.fea.solvers.explicit` chooses it.
 
     ``dt = TSSFAC x STEP_SHRINK x 2 / omega_max`` (0.9 x 0.9 x the central-difference
     limit 2 / omega_max).
@@ -803,7 +803,7 @@ def stable_step(omega_max):
 def contact_point_stiffness(mass, inertia, half_thickness_m, omega_max):
     """Penalty stiffness per station contact point.
 
-    :func:`ccedi.fea.contact.penalty_stiffness` with ``dt_cfl = 2 / omega_max`` for the
+    :func:`ccedi.fea.contact.penalty.penalty_stiffness` with ``dt_cfl = 2 / omega_max`` for the
     point's effective mass ``m_eff = 1 / (1/m + h^2 / I)`` (a face point at lever arm h
     from the station centre).
 

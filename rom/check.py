@@ -4,12 +4,12 @@ Impulse cases (acceptance 1): the 4.5-in finger, a small tip pulse, the modal RO
 ``n_modes`` modes before and after its least-squares fit to the FE response.
 
 Contact cases (acceptance 2): the 8-in finger on the drum, the full explicit FE model
-(:class:`ccedi.fea.drum.FullContactModel`) against the superelement chain
+(:class:`ccedi.fea.contact.drum.FullContactModel`) against the superelement chain
 (:class:`ccedi.rom.contact_rom.ReducedContactModel`), co-rotational and linear, through the
 same ``run`` interface. Per case:
 
 * ``nrmse``: NRMSE of the tip lag behind the rigidly turning finger
-  (:func:`ccedi.fea.contact_study.tip_lag_series_m`) over the run [-];
+  (:func:`ccedi.fea.cases.contact_study.tip_lag_series_m`) over the run [-];
 * ``sensor_peak_force_error``: peak of the reaction force as the force transducer reads
   it (:class:`ccedi.rom.sensor.Transducer`, default a 100 Hz second-order low-pass, applied
   to both histories), ROM / FEA - 1 [-]: the acceptance figure of the peak force;
@@ -30,11 +30,11 @@ import time
 
 import numpy as np
 
-from ccedi.fea.contact_study import tip_lag_series_m, window_mean
-from ccedi.fea.drum import DrumSetup, FullContactModel
+from ccedi.fea.cases.contact_study import tip_lag_series_m, window_mean
+from ccedi.fea.cases.studies import finger_impulse_model, impulse_response
+from ccedi.fea.contact.drum import DrumSetup, FullContactModel
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import SEMI_AXES
-from ccedi.fea.studies import finger_impulse_model, impulse_response
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.rom.modal import fit_to_response, nrmse, reduce_impulse_model
 from ccedi.rom.sensor import Transducer
@@ -126,7 +126,7 @@ def contact_cases(setup: DrumSetup, alphas=(7.5, 180.0, 600.0), damping="global"
         The default ROMs' contact model(s) ("stations" and/or "face"; None: its default);
         each gets a co-rotational and a linear ROM, all against the same full runs.
     full : ccedi.models.ContactModel, optional
-        The reference (default :class:`ccedi.fea.drum.FullContactModel` of ``setup``).
+        The reference (default :class:`ccedi.fea.contact.drum.FullContactModel` of ``setup``).
     reduced : sequence of ccedi.models.ContactModel, optional
         The models checked (default: the co-rotational and the linear
         :class:`ccedi.rom.contact_rom.ReducedContactModel` with ``contact``).
@@ -196,7 +196,7 @@ def impulse_cases(alphas=(20.0, 180.0), n_modes=6, force_N=0.1, duration_s=0.01,
         Finger material (of the default full model).
     semi_axes_m : tuple, optional
         Section semi-axes [m] (of the default full model).
-    full : ccedi.fea.studies.FullImpulseModel, optional
+    full : ccedi.fea.cases.studies.FullImpulseModel, optional
         The full model (default: the 4.5-in finger of ``material`` and ``semi_axes_m``
         under ``force_N`` for ``duration_s``); reduced per alpha by
         :func:`ccedi.rom.modal.reduce_impulse_model`.

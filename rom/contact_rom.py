@@ -4,7 +4,7 @@
 (:mod:`ccedi.rom.superelement`), fits its bending stiffness to the full FE model's static tip
 stiffness, and runs the chain's explicit dynamics in the drum's rotating frame
 (:mod:`ccedi.rom.chain_dynamics`). It answers the same question as
-:class:`ccedi.fea.drum.FullContactModel`, through the same interface
+:class:`ccedi.fea.contact.drum.FullContactModel`, through the same interface
 (:class:`ccedi.models.ContactModel`: ``run(alpha, damping, t_end_s, n_outputs, progress)
 -> ContactResponse``, with the same core history columns and summary keys), so a study
 swaps one for the other with one argument.
@@ -13,7 +13,7 @@ swaps one for the other with one argument.
 enhancement); ``nonlinear=False`` the linear Craig-Bampton model in the drum frame.
 
 Which fingers: any straight finger along z with a clamped root face and a flat tip face.
-The generated elliptical finger of :class:`ccedi.fea.drum.DrumSetup` is cut at node planes
+The generated elliptical finger of :class:`ccedi.fea.contact.drum.DrumSetup` is cut at node planes
 z = const of its structured hexahedral mesh; a finger mesh given as ``DrumSetup(finger=...)``
 (an imported or Gmsh finger, tetrahedra) at evenly spaced stations, the nodes its
 neighbouring segments share moving as a rigid section
@@ -29,11 +29,11 @@ import numpy as np
 import pandas as pd
 
 from ccedi.errors import InputError, SolverError, require_finite_positive
-from ccedi.fea.contact import penalty_stiffness
-from ccedi.fea.drum import DrumSetup, finger_mesh, finger_on_drum
-from ccedi.fea.explicit import TSSFAC, critical_time_step
+from ccedi.fea.contact.drum import DrumSetup, finger_mesh, finger_on_drum
+from ccedi.fea.contact.penalty import penalty_stiffness
 from ccedi.fea.model import cantilever_model
-from ccedi.fea.static import static_solve
+from ccedi.fea.solvers.explicit import TSSFAC, critical_time_step
+from ccedi.fea.solvers.static import static_solve
 from ccedi.models import ContactResponse, contact_timing, validate_run_args
 from ccedi.rom.chain_dynamics import (
     _FX,
@@ -123,7 +123,7 @@ def fe_face_stiffness_per_length(setup: DrumSetup, patch_nodes=FACE_PATCH_NODES)
     the ROM's rigid sections (fitted from the FEA).
 
     The FE face yields to a contact load twice: its nodes penetrate the object by
-    f / k_pen, k_pen = (1/0.81 - 1) m_node (2 / dt_cfl)^2 (:func:`ccedi.fea.contact.penalty_stiffness`),
+    f / k_pen, k_pen = (1/0.81 - 1) m_node (2 / dt_cfl)^2 (:func:`ccedi.fea.contact.penalty.penalty_stiffness`),
     and the section flattens (the loaded apex moves against the section's mean). The ROM
     section is rigid, so its springs must carry both::
 
@@ -194,7 +194,7 @@ def _face_flattening(mesh, material, patch_nodes):
 
 
 class ReducedContactModel:
-    """Superelement-chain ROM of :class:`ccedi.fea.drum.DrumSetup`'s finger, a
+    """Superelement-chain ROM of :class:`ccedi.fea.contact.drum.DrumSetup`'s finger, a
     :class:`ccedi.models.ContactModel`.
 
     Parameters
@@ -222,7 +222,7 @@ class ReducedContactModel:
     Notes
     -----
     contact : "stations" (default, ``DEFAULT_CONTACT``): points at the stations only,
-    penalty rule of :mod:`ccedi.fea.contact` for the station's effective mass, the chain's own
+    penalty rule of :mod:`ccedi.fea.contact.penalty` for the station's effective mass, the chain's own
     step (points 12 mm apart, 2.8e6 N/m^2 per length). "face": contact points on both
     faces at every FE node plane,
     moved with the segment's cubic centre line (:func:`ccedi.rom.chain_dynamics._face_point`),
@@ -297,7 +297,7 @@ class ReducedContactModel:
             History: the core columns (:data:`ccedi.models.CONTACT_CORE_COLUMNS`;
             ``contact_nodes`` counts the contact points in penetration); summary: the core
             keys and :data:`ccedi.models.ROM_CONTACT_EXTRA_SUMMARY`. ``warnings`` is
-            empty: none of the checks of :mod:`ccedi.fea.validity` applies to the chain
+            empty: none of the checks of :mod:`ccedi.fea.solvers.validity` applies to the chain
             (it has no energy record, elements or impulse); its range is checked against
             the full model by ``ccedi rom-check``, and a chain that leaves it raises.
 

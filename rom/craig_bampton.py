@@ -22,7 +22,7 @@ from scipy.linalg import eigh
 
 from ccedi.errors import InputError
 from ccedi.fea.model import Model
-from ccedi.fea.static import free_dofs, tangent_stiffness
+from ccedi.fea.solvers.static import free_dofs, tangent_stiffness
 
 
 def fe_matrices(model: Model, x=None):

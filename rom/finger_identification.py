@@ -4,19 +4,19 @@ Impulse models (:class:`ccedi.models.ImpulseModel`) for :mod:`ccedi.rom.ccedi`, 
 lengths chosen from the first natural frequency so that a nearly critical response has
 time to cross zero: t_end = load duration + 12 / omega_1 (:func:`run_length_s`). The
 searches take any impulse model of the structure (default: the full FE one,
-:func:`ccedi.fea.studies.finger_impulse_model` or :func:`ccedi.fea.steel_rod.steel_rod_impulse_model`; e.g. its
+:func:`ccedi.fea.cases.studies.finger_impulse_model` or :func:`ccedi.fea.cases.steel_rod.steel_rod_impulse_model`; e.g. its
 modal ROM from :func:`ccedi.rom.modal.reduce_impulse_model`).
 """
 from dataclasses import dataclass
 
 import numpy as np
 
+from ccedi.fea.cases.steel_rod import steel_rod_impulse_model
+from ccedi.fea.cases.studies import finger_impulse_model
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import SEMI_AXES, sm_a
-from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import cantilever_model
-from ccedi.fea.steel_rod import steel_rod_impulse_model
-from ccedi.fea.studies import finger_impulse_model
+from ccedi.fea.solvers.modal import natural_frequencies
 
 from .ccedi import critical_alpha, paper_alpha_cr
 
@@ -83,7 +83,7 @@ def finger_alpha_cr(length_in=None, rtol=0.01, material=RUBBER, semi_axes_m=SEMI
         Section semi-axes [m] of the SM-A finger.
     model : ccedi.models.ImpulseModel, optional
         The finger's impulse model, full or reduced (default:
-        :func:`ccedi.fea.studies.finger_impulse_model`, 1 N for 10 ms); run for
+        :func:`ccedi.fea.cases.studies.finger_impulse_model`, 1 N for 10 ms); run for
         :func:`run_length_s` of its ``duration_s``.
     n_outputs : int, optional
         Output times per run.
@@ -113,7 +113,7 @@ def rod_alpha_cr(omega1_guess=16.33, rtol=0.01, model=None, n_outputs=800):
         Relative bracket width at the end.
     model : ccedi.models.ImpulseModel, optional
         The rod's impulse model (default: the full FE one,
-        :func:`ccedi.fea.steel_rod.steel_rod_impulse_model`); run for
+        :func:`ccedi.fea.cases.steel_rod.steel_rod_impulse_model`); run for
         :func:`run_length_s` of its ``duration_s`` and ``omega1_guess``.
     n_outputs : int, optional
         Output times per run.
@@ -140,7 +140,7 @@ def alpha_cr_table(lengths_in=(3.0, 4.5, 6.0, 8.0), rtol=0.01, scheduler="serial
     """alpha_cr, 2 omega_1 and the paper's Eq. (8) for each finger length.
 
     The paper's Eq. (8) holds for the paper's rubber and section only. One length per
-    run of :func:`ccedi.fea.distributed.map_runs` (``scheduler``).
+    run of :func:`ccedi.distributed.map_runs` (``scheduler``).
 
     Parameters
     ----------
@@ -149,7 +149,7 @@ def alpha_cr_table(lengths_in=(3.0, 4.5, 6.0, 8.0), rtol=0.01, scheduler="serial
     rtol : float, optional
         Relative bracket width.
     scheduler : str, optional
-        :func:`ccedi.fea.distributed.map_runs` scheduler.
+        :func:`ccedi.distributed.map_runs` scheduler.
     material : ccedi.fea.material.NeoHookean, optional
         Finger material.
     semi_axes_m : tuple, optional
@@ -163,7 +163,7 @@ def alpha_cr_table(lengths_in=(3.0, 4.5, 6.0, 8.0), rtol=0.01, scheduler="serial
     """
     from functools import partial
 
-    from ccedi.fea.distributed import map_runs
+    from ccedi.distributed import map_runs
 
     return map_runs(partial(_alpha_cr_row, rtol=rtol, material=material, semi_axes_m=semi_axes_m), lengths_in,
                     scheduler, label="alpha_cr")
@@ -193,9 +193,9 @@ def quasi_static_peak_stress(model, tip_displacements_m):
     list of float
         Max von Mises stress [Pa] over the elements, one per displacement.
     """
-    from ccedi.fea.explicit import max_von_mises
     from ccedi.fea.model import face_node_weights
-    from ccedi.fea.static import static_solve
+    from ccedi.fea.solvers.explicit import max_von_mises
+    from ccedi.fea.solvers.static import static_solve
 
     mesh = model.mesh
     tip = mesh.node_sets["tip"]
@@ -257,7 +257,7 @@ def detailed_model_comparison(dm_mesh, sm_a_mesh=None, alpha=PAPER_FIG6["alpha_p
     Parameters
     ----------
     dm_mesh : ccedi.fea.mesh.Mesh
-        The DM (:func:`ccedi.fea.gmsh_fingers.detailed_model`).
+        The DM (:func:`ccedi.fea.mesh.gmsh_fingers.detailed_model`).
     sm_a_mesh : ccedi.fea.mesh.Mesh, optional
         SM-A (default: the 4.5-in one).
     alpha : float, optional
@@ -281,7 +281,7 @@ def detailed_model_comparison(dm_mesh, sm_a_mesh=None, alpha=PAPER_FIG6["alpha_p
     -------
     DetailedModelComparison
     """
-    from ccedi.fea.studies import finger_impulse_model
+    from ccedi.fea.cases.studies import finger_impulse_model
 
     from .ccedi import match_alpha
     from .damping import oscillates

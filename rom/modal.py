@@ -33,9 +33,9 @@ import pandas as pd
 from scipy.optimize import least_squares
 
 from ccedi.errors import InputError, require_finite_positive
-from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import Model, face_node_weights
-from ccedi.fea.validity import cantilever_length_m, issue, run_label, tip_deflection_warnings
+from ccedi.fea.solvers.modal import natural_frequencies
+from ccedi.fea.solvers.validity import cantilever_length_m, issue, run_label, tip_deflection_warnings
 from ccedi.models import ImpulseResponse, pulse_times, validate_run_args
 
 
@@ -337,7 +337,7 @@ def fit_to_response(rom: ModalROM, time_s, y, force_N, duration_s):
 
 class ModalImpulseModel:
     """The modal ROM of an impulse test, a :class:`ccedi.models.ImpulseModel` (the reduced
-    counterpart of :class:`ccedi.fea.studies.FullImpulseModel`, from
+    counterpart of :class:`ccedi.fea.cases.studies.FullImpulseModel`, from
     :func:`reduce_impulse_model`).
 
     Parameters
@@ -353,7 +353,7 @@ class ModalImpulseModel:
         The ``model`` summary key (default ``"modal-N"``).
     length_m : float, optional
         Length of the structure from the clamp to the tip [m], for the tip deflection
-        check of every run (:func:`ccedi.fea.validity.tip_deflection_warnings`, the one
+        check of every run (:func:`ccedi.fea.solvers.validity.tip_deflection_warnings`, the one
         of the full model). None: unknown, not checked.
 
     Raises
@@ -411,7 +411,7 @@ def reduce_impulse_model(full, n_modes=6, alpha=0.0, fit_t_end_s=None, fit_n_out
 
     Parameters
     ----------
-    full : ccedi.fea.studies.FullImpulseModel
+    full : ccedi.fea.cases.studies.FullImpulseModel
         The full model (a clamped finger with a ``tip`` node set; its ``force_N`` and
         ``duration_s`` must be known).
     n_modes : int, optional

@@ -42,12 +42,12 @@ import scipy.sparse as sp
 from scipy.linalg import eigh
 
 from ccedi.errors import InputError
-from ccedi.fea.fastmath import FASTMATH
-from ccedi.fea.hex8 import deformation_gradient, element_geometry
+from ccedi.fea.elements.fastmath import FASTMATH
+from ccedi.fea.elements.hex8 import deformation_gradient, element_geometry
 from ccedi.fea.material import NeoHookean, cauchy_stress, neo_hookean_cauchy, von_mises, von_mises_components
 from ccedi.fea.mesh import Mesh
 from ccedi.fea.model import Model, cantilever_model
-from ccedi.fea.static import tangent_stiffness, tip_deflection
+from ccedi.fea.solvers.static import tangent_stiffness, tip_deflection
 from ccedi.rom.craig_bampton import craig_bampton
 
 

@@ -6,10 +6,10 @@ a key whose unit suffix is not the schema's (``length_mm``) is unknown, and the 
 names the key the schema expects. Any problem gives one :class:`ccedi.errors.InputError`
 line naming the section and key, e.g. ``[finger] length_in = 20: must be in 1..12 (in)``.
 
-``[finger] mesh`` names a finger mesh file (:mod:`ccedi.fea.mesh_io`) to use instead of
+``[finger] mesh`` names a finger mesh file (:mod:`ccedi.fea.mesh.readers`) to use instead of
 the generated elliptical prism; a relative path is relative to the TOML file's directory,
 and the validated inputs hold it resolved (absolute), so that ``OUT/config.toml`` loads
-from anywhere. :func:`finger_mesh` gives its :class:`ccedi.fea.mesh_io.FingerMeshSpec`.
+from anywhere. :func:`finger_mesh` gives its :class:`ccedi.fea.mesh.readers.FingerMeshSpec`.
 
 Every sub-command that builds a finger takes the same file with ``--config``
 (:func:`finger_inputs`, :func:`drum_setup`); ``ccedi study`` loads and validates its
@@ -23,12 +23,12 @@ import tomllib
 from dataclasses import dataclass, fields
 from pathlib import Path
 
+from ccedi.distributed import check_scheduler
 from ccedi.errors import InputError, brief_repr, one_line
-from ccedi.fea.distributed import check_scheduler
-from ccedi.fea.drum import DEFAULT_FINGER_LENGTH_M, DrumSetup
+from ccedi.fea.contact.drum import DEFAULT_FINGER_LENGTH_M, DrumSetup
 from ccedi.fea.material import RUBBER, NeoHookean
 from ccedi.fea.mesh import SEMI_AXES
-from ccedi.fea.mesh_io import BENDING_DIRECTIONS, PLANES, UNITS, FingerMeshSpec
+from ccedi.fea.mesh.readers import BENDING_DIRECTIONS, PLANES, UNITS, FingerMeshSpec
 from ccedi.quantities import QUANTITIES, Quantity
 from ccedi.units import inch_to_m, m_to_inch
 
@@ -363,7 +363,7 @@ def finger_mesh(cfg):
 
     Returns
     -------
-    ccedi.fea.mesh_io.FingerMeshSpec or None
+    ccedi.fea.mesh.readers.FingerMeshSpec or None
         Path (absolute), mesh unit, clamp, tip and bending direction of ``[finger] mesh``
         (its ``load()`` reads the :class:`ccedi.fea.mesh.Mesh`), or None when no mesh is set.
 
@@ -420,7 +420,7 @@ def configured_mesh(cfg):
     Raises
     ------
     InputError
-        The mesh cannot be read or is not a valid finger (:func:`ccedi.fea.mesh_io.read_finger_mesh`).
+        The mesh cannot be read or is not a valid finger (:func:`ccedi.fea.mesh.readers.read_finger_mesh`).
     """
     spec = finger_mesh(cfg)
     return None if spec is None else spec.load()
@@ -457,7 +457,7 @@ def requirements(cfg):
 
 
 def drum_setup(cfg, finger=None):
-    """The :class:`ccedi.fea.drum.DrumSetup` of the validated inputs ``cfg``: the generated
+    """The :class:`ccedi.fea.contact.drum.DrumSetup` of the validated inputs ``cfg``: the generated
     finger of ``[finger] contact_length_in``, or the mesh ``finger`` (e.g.
     :func:`configured_mesh`), whose own length then holds and ``contact_length_in`` is not
     used. An inconsistent set-up is an InputError naming the [drum] section."""

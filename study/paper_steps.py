@@ -5,7 +5,7 @@ from functools import partial
 import numpy as np
 import pandas as pd
 
-from ccedi.fea.outputs import write_csv, write_figure, write_json
+from ccedi.outputs import write_csv, write_figure, write_json
 
 FREE_PERIODS = 6
 """Free-vibration periods simulated after the steel rod's load for Fig. 4 [-]."""
@@ -24,7 +24,7 @@ def steel_rod(out):
     (Fig. 4).
 
     Every run goes through the rod's impulse model
-    (:func:`ccedi.fea.steel_rod.steel_rod_impulse_model`), 800 outputs per run; the
+    (:func:`ccedi.fea.cases.steel_rod.steel_rod_impulse_model`), 800 outputs per run; the
     Fig. 3 runs last :func:`ccedi.rom.finger_identification.run_length_s` (the load and
     12 / omega_1), the Fig. 4 run the load and ``FREE_PERIODS`` periods.
 
@@ -43,7 +43,7 @@ def steel_rod(out):
         ``simulated_zeta`` [-], ``simulated_omega_d_rad_s`` [rad/s] and
         ``log_decrement_cycles``.
     """
-    from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_impulse_model
+    from ccedi.fea.cases.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_impulse_model
     from ccedi.rom.damping import log_decrement
     from ccedi.rom.finger_identification import rod_alpha_cr, run_length_s
 
@@ -98,8 +98,8 @@ def steel_rod(out):
 
 
 def _mesh_run(name, length_in, alpha, force_N, duration_s, t_end_s, material, semi_axes_m):
+    from ccedi.fea.cases.studies import impulse_response
     from ccedi.fea.mesh import sm_a, sm_b
-    from ccedi.fea.studies import impulse_response
 
     mesh = {"SM-A": sm_a, "SM-B": sm_b}[name](length_in=length_in, semi_axes_m=semi_axes_m)
     res = impulse_response(alpha=alpha, force_N=force_N, duration_s=duration_s, t_end_s=t_end_s, mesh=mesh,
@@ -126,8 +126,8 @@ def mesh_comparison(out, length_in, alpha, force_N, duration_s, t_end_s, schedul
     ``detailed_model``, also the detailed model's half of Fig. 6 (:func:`dm_comparison`,
     summary under ``"detailed_model"``). The three are independent runs, mapped together over
     ``scheduler`` (the DM's first, the longest)."""
-    from ccedi.fea.distributed import map_runs
-    from ccedi.fea.studies import is_paper_finger
+    from ccedi.distributed import map_runs
+    from ccedi.fea.cases.studies import is_paper_finger
 
     run = partial(_mesh_model, length_in=length_in, alpha=alpha, force_N=force_N, duration_s=duration_s,
                   t_end_s=t_end_s, material=material, semi_axes_m=semi_axes_m, out=out)
@@ -159,7 +159,7 @@ def mesh_comparison(out, length_in, alpha, force_N, duration_s, t_end_s, schedul
 
 def dm_comparison(out, alpha, force_N, duration_s, material, t_end_s=0.2):
     """Fig. 6 with the detailed model: SM-A and the DM (2.8 mm,
-    :func:`ccedi.fea.gmsh_fingers.detailed_model`) on their modal ROMs at ``alpha`` [1/s],
+    :func:`ccedi.fea.mesh.gmsh_fingers.detailed_model`) on their modal ROMs at ``alpha`` [1/s],
     and the DM's alpha whose response is nearest SM-A's
     (:func:`ccedi.rom.finger_identification.detailed_model_comparison`; the ROM against a
     full explicit run of the DM is ``benchmarks/dm_fig6.py``). Writes dm_comparison.csv/.json
@@ -188,7 +188,7 @@ def dm_comparison(out, alpha, force_N, duration_s, material, t_end_s=0.2):
     """
     import time
 
-    from ccedi.fea.gmsh_fingers import detailed_model
+    from ccedi.fea.mesh.gmsh_fingers import detailed_model
     from ccedi.rom.finger_identification import PAPER_FIG6, detailed_model_comparison
 
     t0 = time.perf_counter()

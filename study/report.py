@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from ccedi.fea.outputs import write_pdf_figures, write_text
+from ccedi.outputs import write_pdf_figures, write_text
 
 from .config import CONFIG_NAME
 
@@ -87,7 +87,7 @@ def _inputs_of(out):
 
 
 def _table1(out):
-    from ccedi.fea.studies import PAPER_TABLE1, is_paper_finger
+    from ccedi.fea.cases.studies import PAPER_TABLE1, is_paper_finger
 
     from .config import finger_inputs
 
@@ -355,17 +355,17 @@ def _failed(out):
 
 
 def _warnings(out):
-    """The validity warnings every step recorded in ``study.json`` (:mod:`ccedi.fea.validity`)."""
+    """The validity warnings every step recorded in ``study.json`` (:mod:`ccedi.fea.solvers.validity`)."""
     s = _load(out, "study.json")
     if s is None or "warnings" not in s:
         return ""
     found = [(step, w) for step, ws in s["warnings"].items() for w in ws]
     if not found:
         return ("<p>Validity warnings: none. Every run kept its energy balance, hourglass energy, strains and "
-                "impulse tip deflection within the limits of <code>ccedi.fea.validity</code>.</p>")
+                "impulse tip deflection within the limits of <code>ccedi.fea.solvers.validity</code>.</p>")
     items = "".join(f"<li><b>{html.escape(step)}</b>: {html.escape(w)}</li>" for step, w in found)
     return (f"<p class='missing'>Validity warnings ({len(found)}): these numbers leave the models' range of "
-            f"validity (<code>ccedi.fea.validity</code>); they are shown below as computed.</p><ul>{items}</ul>")
+            f"validity (<code>ccedi.fea.solvers.validity</code>); they are shown below as computed.</p><ul>{items}</ul>")
 
 
 def _inputs(out):

@@ -25,14 +25,14 @@ other lengths or meshes (mesh, damping_fits, design: :func:`skipped_steps`) are 
 their reasons go to ``study.json`` (``skipped``), stdout and ``index.html``.
 Every output is written atomically, so an interrupted study (Ctrl-C) leaves the
 finished steps' files and no partial ones; ``study.json`` records each finished step's
-wall time [s] and validity warnings (:mod:`ccedi.fea.validity`; the index lists them).
+wall time [s] and validity warnings (:mod:`ccedi.fea.solvers.validity`; the index lists them).
 """
 import json
 import time
 from pathlib import Path
 
 from ccedi.errors import InputError, SolverError, ValidityWarning
-from ccedi.fea.outputs import write_json, write_text
+from ccedi.outputs import write_json, write_text
 from ccedi.progress import progress_bar
 
 from . import paper_steps
@@ -163,12 +163,12 @@ LONGEST_FIRST = ("design", "contact", "damping_fits", "steel_rod", "mesh", "tabl
 
 def _run_step(name, cfg, out, scheduler):
     """Run the study step ``name`` (on a Dask worker or in this process): its wall time [s],
-    the warnings it issued, recorded (:func:`ccedi.fea.distributed.recording_warnings`), and
+    the warnings it issued, recorded (:func:`ccedi.distributed.recording_warnings`), and
     the one-line message of the :class:`ccedi.errors.SolverError` that stopped it (None when
     it finished), so that one failed run does not cost the other steps their results; an
     :class:`ccedi.errors.InputError` raised inside a step (an input only that step reads)
     is a failed step too."""
-    from ccedi.fea.distributed import recording_warnings
+    from ccedi.distributed import recording_warnings
 
     thunk = next(t for n, _, t in steps(cfg, out, scheduler) if n == name)
     t0 = time.perf_counter()
@@ -182,7 +182,7 @@ def _run_step(name, cfg, out, scheduler):
 def _step_warnings(name, recorded):
     """Issue a finished step's recorded warnings here, a validity warning named by its
     step; returns the validity warnings' messages."""
-    from ccedi.fea.distributed import reissue_warnings
+    from ccedi.distributed import reissue_warnings
 
     validity = [str(m) for m, category, _, _ in recorded if issubclass(category, ValidityWarning)]
     reissue_warnings([(f"{name}: {m}", category, f, n) if issubclass(category, ValidityWarning) else (m, category, f, n)
@@ -197,7 +197,7 @@ def _distributed(todo, cfg, out, scheduler):
 
     from dask.distributed import as_completed
 
-    from ccedi.fea.distributed import client
+    from ccedi.distributed import client
 
     with ExitStack() as stack:
         dask = client(stack, scheduler)
@@ -258,8 +258,8 @@ def run_study(cfg, out, scheduler=None, quick=False, only=None):
         run and the index is written, with the failed steps' messages in ``study.json``
         (``failed``) and on the page.
     """
-    from ccedi.fea.distributed import SERIAL
-    from ccedi.fea.outputs import remove_temporaries
+    from ccedi.distributed import SERIAL
+    from ccedi.outputs import remove_temporaries
 
     if quick:
         for section, keys in QUICK.items():

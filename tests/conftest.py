@@ -4,8 +4,8 @@ import os
 import numpy as np
 import pytest
 
-from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties, tip_stiffness_eb
-from ccedi.fea.hex8 import internal_forces_numpy
+from ccedi.fea.cases.beam_theory import cantilever_frequencies, ellipse_section_properties, tip_stiffness_eb
+from ccedi.fea.elements.hex8 import internal_forces_numpy
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import sm_a
 from ccedi.units import inch_to_m
@@ -49,9 +49,9 @@ def converged_box_hex():
     hexahedra refined to 12 x 8 x 60 (1 mm; the 2 mm mesh differs by 1.6 %, the 4 mm one
     by 6 %, so the converged value lies within about 1 % of it)."""
     from ccedi.fea.material import NeoHookean
+    from ccedi.fea.mesh.tet_mesh import box_cantilever
     from ccedi.fea.model import cantilever_model
-    from ccedi.fea.static import tip_deflection
-    from ccedi.fea.tet_mesh import box_cantilever
+    from ccedi.fea.solvers.static import tip_deflection
 
     model = cantilever_model(box_cantilever(*BOX, 12, 8, 60), NeoHookean(6.1e6, 0.499, 1000.0))
     return 0.01 / tip_deflection(model, 0.01, linear=True)
@@ -61,7 +61,7 @@ def hex_forces(model, x, v=None, kernel=internal_forces_numpy):
     """Nodal forces of the model's hexahedra at x (v: velocities, default zero) and the
     kernel's returned tuple (dt, strain energy, hourglass energy, bulk power, status);
     ``kernel`` is the numpy reference or the compiled kernel (which takes the blocked group)."""
-    from ccedi.fea.explicit import SolidMaterial
+    from ccedi.fea.solvers.explicit import SolidMaterial
 
     g, mat = model.geometry, SolidMaterial(*model.solid_constants)
     f = np.zeros_like(x)
@@ -75,7 +75,7 @@ def hex_forces(model, x, v=None, kernel=internal_forces_numpy):
 
 def finite_difference_tangent(model, x, h):
     """d f_int / d x of the model at x by central differences of step h [m], (3 n, 3 n)."""
-    from ccedi.fea.static import internal_force
+    from ccedi.fea.solvers.static import internal_force
 
     K = np.empty((x.size, x.size))
     for d in range(x.size):

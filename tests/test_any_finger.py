@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from ccedi.fea.gmsh_fingers import TAPERED_ROOT_SEMI_AXES, TAPERED_TIP_SEMI_AXES, write_tapered_finger
 from ccedi.fea.material import RUBBER
-from ccedi.fea.mesh_io import read_finger_mesh
-from ccedi.fea.modal import natural_frequencies
+from ccedi.fea.mesh.gmsh_fingers import TAPERED_ROOT_SEMI_AXES, TAPERED_TIP_SEMI_AXES, write_tapered_finger
+from ccedi.fea.mesh.readers import read_finger_mesh
 from ccedi.fea.model import cantilever_model
-from ccedi.fea.static import tip_deflection
+from ccedi.fea.solvers.modal import natural_frequencies
+from ccedi.fea.solvers.static import tip_deflection
 from ccedi.study.cli import main
 from ccedi.units import inch_to_m
 
@@ -101,7 +101,7 @@ def test_tet10_is_calculix_c3d10_where_the_volumetric_treatment_does_not_matter(
     """At nu = 0 (no lam term, so mean dilatation changes nothing) ccedi's 10-node
     tetrahedron and CalculiX's C3D10 are the same element: the same tip stiffness on the
     same imported mesh. At nu = 0.49 ccedi's (mean dilatation, locking-free) is the softer."""
-    from ccedi.fea.calculix import run_calculix
+    from ccedi.fea.io.calculix import run_calculix
     from ccedi.fea.material import NeoHookean
     from ccedi.fea.model import face_node_weights
 

@@ -13,12 +13,12 @@ from ccedi.design.optimise import Design
 from ccedi.design.outputs import OUTPUTS, design_outputs, setup_for_length
 from ccedi.design.recheck import fea_check
 from ccedi.errors import InputError
-from ccedi.fea.contact import boundary_nodes
-from ccedi.fea.drum import DrumSetup, ObjectStress, finger_frame, finger_on_drum, first_contact_angle
-from ccedi.fea.gmsh_fingers import write_tapered_finger
-from ccedi.fea.lsdyna import read_keyword
+from ccedi.fea.contact.drum import DrumSetup, ObjectStress, finger_frame, finger_on_drum, first_contact_angle
+from ccedi.fea.contact.penalty import boundary_nodes
+from ccedi.fea.io.lsdyna import read_keyword
 from ccedi.fea.mesh import Mesh
-from ccedi.fea.mesh_io import read_finger_mesh
+from ccedi.fea.mesh.gmsh_fingers import write_tapered_finger
+from ccedi.fea.mesh.readers import read_finger_mesh
 from ccedi.models import ContactResponse
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.study.cli import main

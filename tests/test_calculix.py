@@ -1,4 +1,4 @@
-"""CalculiX interop (ccedi.fea.calculix): the deck reads back with meshio's Abaqus reader,
+"""CalculiX interop (ccedi.fea.io.calculix): the deck reads back with meshio's Abaqus reader,
 hex8 -> hex20 keeps the geometry, the consistent tip weights are the textbook ones, and,
 where ``ccx`` is installed, CalculiX on a prismatic cantilever gives Timoshenko's tip
 stiffness and the Euler-Bernoulli bending frequencies."""
@@ -10,7 +10,8 @@ import pytest
 from scipy.linalg import eigh
 
 from ccedi.errors import InputError, SolverError
-from ccedi.fea.calculix import (
+from ccedi.fea.elements.hex8 import element_geometry
+from ccedi.fea.io.calculix import (
     TET10_EDGES,
     calculix_deck,
     calculix_matrices,
@@ -19,7 +20,6 @@ from ccedi.fea.calculix import (
     run_calculix,
     tip_weights,
 )
-from ccedi.fea.hex8 import element_geometry
 from ccedi.fea.material import NeoHookean
 from ccedi.fea.mesh import Mesh
 

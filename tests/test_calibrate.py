@@ -15,7 +15,7 @@ from ccedi.calibrate.finger_modes import finger_basis
 from ccedi.calibrate.model import MODE_AMPLITUDE, rung_modes
 from ccedi.calibrate.synthetic import Truth, declared_finger, solid_response, solid_system
 from ccedi.errors import InputError
-from ccedi.fea.beam_theory import cantilever_frequencies, ellipse_section_properties
+from ccedi.fea.cases.beam_theory import cantilever_frequencies, ellipse_section_properties
 from ccedi.rom.modal import ModalROM, nrmse
 from ccedi.study.cli import main
 from ccedi.units import inch_to_m

@@ -13,18 +13,18 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from ccedi.distributed import check_scheduler
 from ccedi.errors import InputError
-from ccedi.fea import explicit
-from ccedi.fea.budget import STEPS_ENV
-from ccedi.fea.distributed import check_scheduler
-from ccedi.fea.explicit import critical_time_step, limiting_element, run, sliver_warnings
-from ccedi.fea.lsdyna import write_keyword
+from ccedi.fea.io.lsdyna import write_keyword
+from ccedi.fea.io.vtu import write_vtu
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import Mesh, elliptical_cantilever, sm_a
+from ccedi.fea.mesh.tet_mesh import box_cantilever, split_hexes
 from ccedi.fea.model import cantilever_model
-from ccedi.fea.outputs import write_csv, write_figure, write_json, write_pdf_figures, write_text
-from ccedi.fea.tet_mesh import box_cantilever, split_hexes
-from ccedi.fea.vtu import write_vtu
+from ccedi.fea.solvers import explicit
+from ccedi.fea.solvers.budget import STEPS_ENV
+from ccedi.fea.solvers.explicit import critical_time_step, limiting_element, run, sliver_warnings
+from ccedi.outputs import write_csv, write_figure, write_json, write_pdf_figures, write_text
 from ccedi.study.cli import main
 from ccedi.study.commands.fea import finger_of
 from ccedi.study.config import load

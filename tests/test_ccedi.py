@@ -6,8 +6,8 @@ import pytest
 from conftest import ROD_ELEMENTS
 
 from ccedi.errors import InputError
-from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_impulse_model
-from ccedi.fea.studies import finger_impulse_model
+from ccedi.fea.cases.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_impulse_model
+from ccedi.fea.cases.studies import finger_impulse_model
 from ccedi.models import ImpulseModel, ImpulseResponse, pulse_times, validate_run_args
 from ccedi.rom.ccedi import critical_alpha, identify, match_alpha, paper_alpha, paper_alpha_cr, power_law_fit
 from ccedi.rom.damping import log_decrement

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from ccedi.errors import InputError
-from ccedi.fea.drum import DrumSetup, FullContactModel, first_contact_angle
-from ccedi.fea.gmsh_fingers import TAPERED_ROOT_SEMI_AXES, TAPERED_TIP_SEMI_AXES, write_tapered_finger
-from ccedi.fea.mesh_io import read_finger_mesh
-from ccedi.fea.modal import natural_frequencies
+from ccedi.fea.contact.drum import DrumSetup, FullContactModel, first_contact_angle
+from ccedi.fea.mesh.gmsh_fingers import TAPERED_ROOT_SEMI_AXES, TAPERED_TIP_SEMI_AXES, write_tapered_finger
+from ccedi.fea.mesh.readers import read_finger_mesh
 from ccedi.fea.model import cantilever_model
+from ccedi.fea.solvers.modal import natural_frequencies
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.rom.superelement import (
     chain_cuts,

@@ -4,7 +4,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from ccedi.fea.drum import DrumSetup
+from ccedi.fea.contact.drum import DrumSetup
 from ccedi.rom.chain_dynamics import ChainOutputs, ChainState, ContactPoints, DrumFrame, chain_run
 from ccedi.rom.contact_rom import ReducedContactModel
 

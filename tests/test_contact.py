@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from ccedi.errors import InputError
-from ccedi.fea.contact import (
+from ccedi.fea.contact.penalty import (
     Contact,
     ContactGroup,
     RigidEllipse,
@@ -14,11 +14,11 @@ from ccedi.fea.contact import (
     contact_damping,
     contact_forces,
 )
-from ccedi.fea.explicit import run
 from ccedi.fea.material import NeoHookean
 from ccedi.fea.mesh import elliptical_cantilever
+from ccedi.fea.mesh.tet_mesh import box_cantilever, quadratic_tets, split_hexes
 from ccedi.fea.model import ForcePulse, Model, face_node_weights
-from ccedi.fea.tet_mesh import box_cantilever, quadratic_tets, split_hexes
+from ccedi.fea.solvers.explicit import run
 
 STIFF = NeoHookean(E=2e8, nu=0.3, rho=1000.0)
 
@@ -43,9 +43,9 @@ def test_pressed_block_settles_on_its_penalty_springs():
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
 
-    from ccedi.fea.contact import penalty_stiffness
-    from ccedi.fea.explicit import critical_time_step
-    from ccedi.fea.static import tangent_stiffness
+    from ccedi.fea.contact.penalty import penalty_stiffness
+    from ccedi.fea.solvers.explicit import critical_time_step
+    from ccedi.fea.solvers.static import tangent_stiffness
 
     F = 50.0
     model = block_on_plane(F, alpha=2000.0)

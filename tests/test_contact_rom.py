@@ -5,14 +5,14 @@ import numpy as np
 import pytest
 
 from ccedi.errors import InputError
-from ccedi.fea.beam_theory import drum_drag_tip_deflection, ellipse_section_properties
-from ccedi.fea.contact_study import tip_lag_series_m
-from ccedi.fea.drum import DrumSetup, FullContactModel, finger_mesh
-from ccedi.fea.explicit import max_von_mises
+from ccedi.fea.cases.beam_theory import drum_drag_tip_deflection, ellipse_section_properties
+from ccedi.fea.cases.contact_study import tip_lag_series_m
+from ccedi.fea.contact.drum import DrumSetup, FullContactModel, finger_mesh
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import elliptical_cantilever, sm_a
 from ccedi.fea.model import cantilever_model, face_node_weights
-from ccedi.fea.static import static_solve
+from ccedi.fea.solvers.explicit import max_von_mises
+from ccedi.fea.solvers.static import static_solve
 from ccedi.rom.chain_dynamics import _face_point, _internal_forces, face_points
 from ccedi.rom.check import compare_contact
 from ccedi.rom.contact_rom import ReducedContactModel

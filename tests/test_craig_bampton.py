@@ -6,9 +6,9 @@ from scipy.linalg import eigh
 
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import elliptical_cantilever, sm_a
-from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import cantilever_model, face_node_weights
-from ccedi.fea.static import tip_deflection
+from ccedi.fea.solvers.modal import natural_frequencies
+from ccedi.fea.solvers.static import tip_deflection
 from ccedi.rom.craig_bampton import craig_bampton, fe_matrices
 
 

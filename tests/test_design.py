@@ -30,7 +30,7 @@ from ccedi.design.outputs import overshoot, rom_segments, settling_time_s, setup
 from ccedi.design.rubber import alpha_of_length
 from ccedi.design.surrogate import cached_rom_runs, grid_points, run_rom, speed_space
 from ccedi.errors import InputError, RequirementsUnmet
-from ccedi.fea.drum import DrumSetup, ObjectStress
+from ccedi.fea.contact.drum import DrumSetup, ObjectStress
 from ccedi.rom.ccedi import paper_alpha
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.study.cli import main

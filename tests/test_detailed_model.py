@@ -1,4 +1,4 @@
-"""The paper's detailed model DM (:func:`ccedi.fea.gmsh_fingers.detailed_model`): its
+"""The paper's detailed model DM (:func:`ccedi.fea.mesh.gmsh_fingers.detailed_model`): its
 geometry, the fit of its free dimensions to Table 1's volume, its Table 1 row and its
 modal ROM against the explicit solver, on coarse meshes (seconds)."""
 import functools
@@ -7,8 +7,10 @@ import numpy as np
 import pytest
 
 from ccedi.errors import InputError
-from ccedi.fea import gmsh_fingers
-from ccedi.fea.gmsh_fingers import (
+from ccedi.fea.cases.studies import PAPER_TABLE1, finger_impulse_model, table1
+from ccedi.fea.material import RUBBER
+from ccedi.fea.mesh import gmsh_fingers
+from ccedi.fea.mesh.gmsh_fingers import (
     DM_CONE_RADIUS,
     DM_RIB_THICKNESS,
     DM_ROOT_RADIUS,
@@ -17,8 +19,6 @@ from ccedi.fea.gmsh_fingers import (
     detailed_model_volume,
     rib_thickness_for_volume,
 )
-from ccedi.fea.material import RUBBER
-from ccedi.fea.studies import PAPER_TABLE1, finger_impulse_model, table1
 from ccedi.rom.modal import nrmse, reduce_impulse_model
 from ccedi.units import inch_to_m
 
@@ -56,7 +56,7 @@ def test_coarse_dm_has_no_sliver(coarse_dm):
     nearly coplanar corners) has almost none: Delaunay left such slivers where the ribs
     meet the plate and the cone (0.0081 at 8 mm, 0.0066 at 10 mm, 0.04 mm against 5.9 mm),
     and one of them inverted in the explicit impulse run (test below)."""
-    from ccedi.fea.tetra import min_altitude
+    from ccedi.fea.elements.tetra import min_altitude
     x = coarse_dm.nodes[coarse_dm.tets10[:, :4]]
     longest = np.linalg.norm(x[:, :, None] - x[:, None, :], axis=-1).max(axis=(1, 2))
     assert np.min(min_altitude(x) / longest) > 0.02

@@ -13,8 +13,8 @@ import pytest
 
 SCRIPT = """
 import hashlib
-from ccedi.fea.drum import DrumSetup, FullContactModel
-from ccedi.fea.studies import impulse_study
+from ccedi.fea.contact.drum import DrumSetup, FullContactModel
+from ccedi.fea.cases.studies import impulse_study
 
 history, _ = impulse_study(alphas=(70.0, 180.0), length_in=3.0, t_end_s=0.02, n_outputs=40)
 contact = FullContactModel(DrumSetup(finger_section_elements=3, finger_elements_along=26),

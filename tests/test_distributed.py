@@ -2,9 +2,9 @@
 import pandas as pd
 import pytest
 
+from ccedi.distributed import map_runs
 from ccedi.errors import InputError
-from ccedi.fea.distributed import map_runs
-from ccedi.fea.studies import impulse_study
+from ccedi.fea.cases.studies import impulse_study
 
 
 @pytest.mark.slow
@@ -18,7 +18,7 @@ def test_alpha_sweep_local_cluster_equals_serial():
 
 
 def test_unreachable_scheduler_is_one_clear_error(monkeypatch):
-    monkeypatch.setattr("ccedi.fea.distributed.CONNECT_TIMEOUT", "1s")
+    monkeypatch.setattr("ccedi.distributed.CONNECT_TIMEOUT", "1s")
     with pytest.raises(InputError, match="cannot connect"):
         map_runs(abs, [1.0], scheduler="tcp://127.0.0.1:1")
 

@@ -44,7 +44,7 @@ import tokenize
 import pytest
 
 LIBRARIES = ("ccedi.fea", "ccedi.rom", "ccedi.design", "ccedi.calibrate")
-SHARED = ("ccedi.errors", "ccedi.models")
+SHARED = ("ccedi.errors", "ccedi.models", "ccedi.outputs", "ccedi.distributed", "ccedi.units")
 CHECKED_EXCEPTIONS = ("InputError", "SolverError", "ValueError")
 ISSUE_CITATION = re.compile(
     r"\b(?:issues?|tickets?|bugs?)\s*(?:no\.?\s*|number\s*)?#?\s*\d+"

@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 
 from ccedi.errors import InputError
-from ccedi.fea.drum import DrumSetup, ObjectStress, finger_frame, finger_on_drum, first_contact_angle
+from ccedi.fea.contact.drum import DrumSetup, ObjectStress, finger_frame, finger_on_drum, first_contact_angle
 from ccedi.study.cli import main
 
 

@@ -4,12 +4,12 @@ import numpy as np
 import pytest
 
 from ccedi.errors import InputError, SolverError
-from ccedi.fea.explicit import TSSFAC, critical_time_step, run
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import elliptical_cantilever
-from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import cantilever_model, face_node_weights, tip_pulse
-from ccedi.fea.static import static_solve
+from ccedi.fea.solvers.explicit import TSSFAC, critical_time_step, run
+from ccedi.fea.solvers.modal import natural_frequencies
+from ccedi.fea.solvers.static import static_solve
 from ccedi.rom.damping import log_decrement
 
 PAPER_DT_US = {"SM-A": 4.04, "SM-B": 1.43}
@@ -100,8 +100,8 @@ def test_numba_and_numpy_backends_agree(small_model):
 
 def _model_without_hexahedra(kind):
     """A short run's model whose only elements are rods, 4- or 10-node tetrahedra."""
-    from ccedi.fea.steel_rod import steel_rod_model
-    from ccedi.fea.tet_mesh import box_cantilever, quadratic_tets, split_hexes
+    from ccedi.fea.cases.steel_rod import steel_rod_model
+    from ccedi.fea.mesh.tet_mesh import box_cantilever, quadratic_tets, split_hexes
 
     if kind == "rod":
         return steel_rod_model(alpha=30.0, n_elements=10, force_N=0.03, duration_s=2e-3)

@@ -4,8 +4,8 @@ import pytest
 from conftest import hex_forces
 from scipy.spatial.transform import Rotation
 
-from ccedi.fea.hex8 import characteristic_length, element_geometry, element_time_step, internal_forces_numpy
-from ccedi.fea.kernels import internal_forces_numba
+from ccedi.fea.elements.hex8 import characteristic_length, element_geometry, element_time_step, internal_forces_numpy
+from ccedi.fea.elements.hex8_kernels import internal_forces_numba
 from ccedi.fea.material import RUBBER, first_piola
 from ccedi.fea.mesh import elliptical_cantilever
 from ccedi.fea.model import cantilever_model

@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 from ccedi.errors import InputError
-from ccedi.fea.explicit import run, thread_count
-from ccedi.fea.kernels import BLOCK
+from ccedi.fea.elements.hex8_kernels import BLOCK
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import elliptical_cantilever
 from ccedi.fea.model import cantilever_model, tip_pulse
+from ccedi.fea.solvers.explicit import run, thread_count
 
 
 def _model(n_section, n_along):
@@ -56,7 +56,7 @@ def test_thread_count_out_of_range_is_refused(bad):
 def test_thread_count_default_takes_the_free_cores(monkeypatch):
     """Without a request: the environment variable, else the free cores (never more than
     numba has), and a bad variable is refused with its name."""
-    from ccedi.fea import explicit
+    from ccedi.fea.solvers import explicit
 
     top = nb.config.NUMBA_NUM_THREADS
     monkeypatch.delenv(explicit.THREADS_ENV, raising=False)
@@ -73,7 +73,7 @@ def test_thread_count_default_takes_the_free_cores(monkeypatch):
 
 
 def test_free_cores_counts_at_least_one_and_at_most_the_cpus():
-    from ccedi.fea.explicit import free_cores
+    from ccedi.fea.solvers.explicit import free_cores
 
     assert 1 <= free_cores(0.01) <= os.cpu_count()
 
@@ -83,7 +83,7 @@ def test_a_process_driving_dask_runs_on_one_thread(monkeypatch):
     tasks: the default is then one thread, in the client's process and in the workers."""
     from distributed import Client, LocalCluster
 
-    from ccedi.fea import explicit
+    from ccedi.fea.solvers import explicit
 
     monkeypatch.delenv(explicit.THREADS_ENV, raising=False)
     monkeypatch.setattr(explicit, "free_cores", lambda: 2)
@@ -100,8 +100,8 @@ def test_compiled_deformation_gradients_match_the_numpy_ones():
     """The run's output path (max stress and strain at each output) takes F from the
     compiled sum: the same F as the numpy reference for hexahedra (b / V0) and for
     integration-point elements (10-node tetrahedra, 4 points), at a random deformation."""
-    from ccedi.fea.hex8 import deformation_gradient
-    from ccedi.fea.tetra import deformation_gradients, deformation_gradients_numba
+    from ccedi.fea.elements.hex8 import deformation_gradient
+    from ccedi.fea.elements.tetra import deformation_gradients, deformation_gradients_numba
 
     model = _model(3, 5)
     rng = np.random.default_rng(1)
@@ -119,7 +119,7 @@ def test_compiled_deformation_gradients_match_the_numpy_ones():
 def test_compiled_entry_calls_the_overload_of_the_arguments_types():
     """The run's per-output call skips numba's type dispatch: the entry point returns what
     the dispatcher returns, for the types it was made for."""
-    from ccedi.fea.explicit import compiled_entry
+    from ccedi.fea.solvers.explicit import compiled_entry
 
     @nb.njit
     def weighted(a, group, s):

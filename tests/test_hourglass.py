@@ -1,5 +1,5 @@
 """Physical hourglass stabilisation of the one-point hexahedron (incompatible-modes
-projection, :mod:`ccedi.fea.hex8`): exact pure bending at any aspect ratio, objectivity,
+projection, :mod:`ccedi.fea.elements.hex8`): exact pure bending at any aspect ratio, objectivity,
 patch test, compiled kernel and tangent against references, and the coarse finger
 against converged solutions of its own geometry."""
 import numpy as np
@@ -7,13 +7,13 @@ import pytest
 from conftest import finite_difference_tangent, hex_forces
 from scipy.spatial.transform import Rotation
 
-from ccedi.fea.hex8 import internal_forces_numpy
-from ccedi.fea.kernels import internal_forces_numba
+from ccedi.fea.elements.hex8 import internal_forces_numpy
+from ccedi.fea.elements.hex8_kernels import internal_forces_numba
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import Mesh, refine_hexes, sm_a
-from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import Model, cantilever_model
-from ccedi.fea.static import tangent_stiffness, tip_deflection
+from ccedi.fea.solvers.modal import natural_frequencies
+from ccedi.fea.solvers.static import tangent_stiffness, tip_deflection
 
 C3D20R_SM_A = (69.25, 14.194)
 """Peer reference, the converged solution of SM-A's polygonal geometry: CalculiX 2.20 C3D20R
@@ -141,7 +141,7 @@ def test_sm_a_converges_from_above_under_refinement():
     assert (k[1], f1[1]) == pytest.approx(C3D20R_SM_A, rel=0.005)
 
 
-@pytest.mark.parametrize("mesh", [sm_a(length_in=4.5), __import__("ccedi.fea.tet_mesh", fromlist=["x"]).box_cantilever(
+@pytest.mark.parametrize("mesh", [sm_a(length_in=4.5), __import__("ccedi.fea.mesh.tet_mesh", fromlist=["x"]).box_cantilever(
     0.06, 0.012, 0.012, 3, 3, 15)], ids=["SM-A", "cube box"])
 def test_hexahedron_stable_step_is_near_the_real_limit(mesh):
     """Central differences are stable for dt < 2 / omega_max (largest eigenvalue of
@@ -150,8 +150,8 @@ def test_hexahedron_stable_step_is_near_the_real_limit(mesh):
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
 
-    from ccedi.fea.explicit import critical_time_step
-    from ccedi.fea.static import free_dofs
+    from ccedi.fea.solvers.explicit import critical_time_step
+    from ccedi.fea.solvers.static import free_dofs
 
     model = cantilever_model(mesh, RUBBER)
     free = free_dofs(model)

@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from ccedi.fea.studies import finger_impulse_model
+from ccedi.fea.cases.studies import finger_impulse_model
 from ccedi.rom.ccedi import paper_alpha_cr
 from ccedi.rom.measurement import load_response
 from ccedi.study.cli import main

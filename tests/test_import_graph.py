@@ -8,9 +8,12 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = {"ccedi": ROOT / "ccedi", "ccedi.fea": ROOT / "fea", "ccedi.rom": ROOT / "rom",
-            "ccedi.design": ROOT / "design", "ccedi.calibrate": ROOT / "calibrate", "ccedi.study": ROOT / "study",
-            "ccedi.study.commands": ROOT / "study" / "commands"}
+TOP = {"ccedi": ROOT / "ccedi", "ccedi.fea": ROOT / "fea", "ccedi.rom": ROOT / "rom", "ccedi.design": ROOT / "design",
+       "ccedi.calibrate": ROOT / "calibrate", "ccedi.study": ROOT / "study"}
+PACKAGES = {f"{name}{'.' if rel.parts else ''}{'.'.join(rel.parts)}": folder / rel
+            for name, folder in TOP.items()
+            for rel in [init.parent.relative_to(folder) for init in folder.rglob("__init__.py")]}
+"""Every package of the project, its sub-packages (fea.elements, study.commands, ...) included."""
 APPLICATION = "ccedi.study"
 ENTRY_POINTS = {"ccedi.__main__"}
 """``python -m ccedi`` runs the command line: the one core module that may import it."""
@@ -127,6 +130,7 @@ def test_core_modules_import_no_subpackage():
 
 def test_the_graph_sees_relative_absolute_and_in_function_imports():
     graph = import_graph()
-    assert "ccedi.fea.model" in graph["ccedi.fea.explicit"]                  # from .model import Model
-    assert "ccedi.units" in graph["ccedi.quantities"] or "ccedi.units" in graph["ccedi.fea.mesh"]
+    assert "ccedi.fea.model" in graph["ccedi.fea.solvers.explicit"]                  # from .model import Model
+    assert "ccedi.units" in graph["ccedi.quantities"] and "ccedi.units" in graph["ccedi.fea.mesh"]
+    assert "ccedi.fea.elements.hex8" in graph["ccedi.fea.model"]                # a sub-package's module
     assert "ccedi.study.config" in graph["ccedi.study.commands.arguments"]    # imported inside load_config

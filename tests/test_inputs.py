@@ -7,7 +7,7 @@ import tomllib
 import numpy as np
 import pytest
 
-from ccedi.fea.drum import finger_mesh
+from ccedi.fea.contact.drum import finger_mesh
 from ccedi.rom.finger_identification import finger_omega1
 from ccedi.rom.superelement import finger_chain
 from ccedi.study import run as study_run

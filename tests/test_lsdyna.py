@@ -12,13 +12,13 @@ import numpy as np
 import pytest
 
 from ccedi.errors import InputError
-from ccedi.fea.drum import DrumSetup, finger_on_drum
-from ccedi.fea.gmsh_fingers import tapered_finger
-from ccedi.fea.hex8 import BULK_VISCOSITY_C0, BULK_VISCOSITY_C1
-from ccedi.fea.lsdyna import CLAMP_SET, keyword_blocks, keyword_lines, read_keyword, write_keyword
+from ccedi.fea.cases.studies import impulse_model
+from ccedi.fea.contact.drum import DrumSetup, finger_on_drum
+from ccedi.fea.elements.hex8 import BULK_VISCOSITY_C0, BULK_VISCOSITY_C1
+from ccedi.fea.io.lsdyna import CLAMP_SET, keyword_blocks, keyword_lines, read_keyword, write_keyword
 from ccedi.fea.mesh import Mesh
-from ccedi.fea.mesh_io import read_finger_mesh
-from ccedi.fea.studies import impulse_model
+from ccedi.fea.mesh.gmsh_fingers import tapered_finger
+from ccedi.fea.mesh.readers import read_finger_mesh
 from ccedi.study import cli
 
 LAYOUT = {
@@ -418,7 +418,7 @@ def tet_fingers():
 def test_tetrahedral_decks_match_the_manual_and_read_back(tmp_path, tet_fingers, kind, case):
     """Impulse and drum decks of a tetrahedral finger: every card against the manual's
     layouts (ELFORM 13 / 16, the element cards), and both readers, :func:`read_keyword` and
-    :func:`ccedi.fea.mesh_io.read_finger_mesh` (the impulse deck: the drum deck's finger is
+    :func:`ccedi.fea.mesh.readers.read_finger_mesh` (the impulse deck: the drum deck's finger is
     turned onto the drum), give back the same nodes, elements and types."""
     mesh = tet_fingers[kind]
     model = (impulse_model(alpha=180.0, mesh=mesh) if case == "impulse"

@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 from ccedi.errors import InputError
-from ccedi.fea.hex8 import FACES, element_geometry
+from ccedi.fea.elements.hex8 import FACES, element_geometry
 from ccedi.fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR, Mesh, elliptical_cantilever, refine_hexes, sm_a, sm_b
 from ccedi.units import inch_to_m
 

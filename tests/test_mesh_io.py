@@ -1,4 +1,4 @@
-"""Finger meshes from outside (ccedi.fea.mesh_io) and generated with Gmsh (ccedi.fea.gmsh_fingers):
+"""Finger meshes from outside (ccedi.fea.mesh.readers) and generated with Gmsh (ccedi.fea.mesh.gmsh_fingers):
 every format reads back what was written, node orders give positive volumes and mid-edge
 nodes at edge midpoints, sets by name and by plane agree, units and the bending direction
 transform as documented, every bad mesh is one line naming the problem, and the generated
@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from ccedi.errors import InputError
-from ccedi.fea.gmsh_fingers import _gmsh_model, sm_c, tapered_finger, tapered_volume, write_tapered_finger
-from ccedi.fea.lsdyna import _card, _node_line, write_keyword
+from ccedi.fea.io.lsdyna import _card, _node_line, write_keyword
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import Mesh, elliptical_cantilever, sm_a, sm_b
-from ccedi.fea.mesh_io import FingerMeshSpec, element_volumes, read_finger_mesh
+from ccedi.fea.mesh.gmsh_fingers import _gmsh_model, sm_c, tapered_finger, tapered_volume, write_tapered_finger
+from ccedi.fea.mesh.readers import FingerMeshSpec, element_volumes, read_finger_mesh
 from ccedi.fea.model import cantilever_model
 
 L = 0.06

@@ -3,7 +3,7 @@ import numpy as np
 
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import elliptical_cantilever
-from ccedi.fea.modal import natural_frequencies
+from ccedi.fea.solvers.modal import natural_frequencies
 from ccedi.units import inch_to_m
 
 

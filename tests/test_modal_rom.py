@@ -5,12 +5,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
+from ccedi.fea.cases.studies import impulse_model, impulse_response
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import elliptical_cantilever
-from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import cantilever_model, face_node_weights
-from ccedi.fea.static import tip_deflection
-from ccedi.fea.studies import impulse_model, impulse_response
+from ccedi.fea.solvers.modal import natural_frequencies
+from ccedi.fea.solvers.static import tip_deflection
 from ccedi.rom.ccedi import critical_alpha
 from ccedi.rom.modal import ModalImpulseModel, ModalROM, fit_to_response, modal_rom, nrmse, tip_modal_rom
 

@@ -6,13 +6,13 @@ import pytest
 
 from ccedi.design.surrogate import cached_rom_runs, rom_factory, run_rom
 from ccedi.errors import InputError
-from ccedi.fea.drum import DrumSetup, FullContactModel
+from ccedi.fea.cases.steel_rod import steel_rod_impulse_model
+from ccedi.fea.cases.studies import FullImpulseModel, finger_impulse_model
+from ccedi.fea.contact.drum import DrumSetup, FullContactModel
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import SEMI_AXES, elliptical_cantilever
-from ccedi.fea.modal import natural_frequencies
 from ccedi.fea.model import cantilever_model
-from ccedi.fea.steel_rod import steel_rod_impulse_model
-from ccedi.fea.studies import FullImpulseModel, finger_impulse_model
+from ccedi.fea.solvers.modal import natural_frequencies
 from ccedi.models import (
     CONTACT_CORE_COLUMNS,
     CONTACT_CORE_SUMMARY,

@@ -10,10 +10,10 @@ import pytest
 
 from ccedi.calibrate.experiment import load_experiment
 from ccedi.errors import InputError
-from ccedi.fea.drum import DrumSetup
+from ccedi.fea.cases.studies import finger_impulse_model
+from ccedi.fea.contact.drum import DrumSetup
 from ccedi.fea.material import NeoHookean
 from ccedi.fea.mesh import sm_a
-from ccedi.fea.studies import finger_impulse_model
 from ccedi.quantities import QUANTITIES
 from ccedi.study.cli import main
 from ccedi.study.config import validate

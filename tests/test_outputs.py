@@ -5,16 +5,16 @@ import meshio
 import numpy as np
 import pytest
 
-from ccedi.fea.explicit import run
-from ccedi.fea.gmsh_fingers import sm_c as sm_c_mesh
+from ccedi.fea.cases.studies import PAPER_TABLE1
+from ccedi.fea.io.vtu import write_series, write_vtu
 from ccedi.fea.material import RUBBER, cauchy_von_mises
 from ccedi.fea.mesh import elliptical_cantilever, sm_a, sm_b
-from ccedi.fea.modal import natural_frequencies
+from ccedi.fea.mesh.gmsh_fingers import sm_c as sm_c_mesh
+from ccedi.fea.mesh.tet_mesh import box_cantilever, quadratic_tets, split_hexes
 from ccedi.fea.model import cantilever_model, tip_pulse
-from ccedi.fea.static import tip_deflection
-from ccedi.fea.studies import PAPER_TABLE1
-from ccedi.fea.tet_mesh import box_cantilever, quadratic_tets, split_hexes
-from ccedi.fea.vtu import write_series, write_vtu
+from ccedi.fea.solvers.explicit import run
+from ccedi.fea.solvers.modal import natural_frequencies
+from ccedi.fea.solvers.static import tip_deflection
 from ccedi.study.cli import main
 
 
@@ -100,7 +100,7 @@ def test_cli_reports_bad_input_in_one_line(capsys):
 
 def test_json_output_is_strict_json(tmp_path):
     """NaN and infinity become null, numpy scalars plain numbers: any JSON reader accepts the file."""
-    from ccedi.fea.outputs import write_json
+    from ccedi.outputs import write_json
     path = write_json(tmp_path / "x.json", {"a": float("nan"), "b": [np.float64(2.5), np.inf], "c": np.int64(3)})
     assert json.loads(path.read_text(), parse_constant=lambda c: pytest.fail(f"non-JSON constant {c}")) == \
         {"a": None, "b": [2.5, None], "c": 3}

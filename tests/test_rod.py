@@ -6,12 +6,12 @@ from conftest import ROD_ELEMENTS
 from scipy.spatial.transform import Rotation
 
 from ccedi.errors import InputError
-from ccedi.fea.beam_theory import cantilever_frequencies
-from ccedi.fea.explicit import run
+from ccedi.fea.cases.beam_theory import cantilever_frequencies
+from ccedi.fea.cases.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_model
+from ccedi.fea.elements.rod import RodSection, rod_arrays, rod_forces_numba, rod_forces_numpy, straight_rod
 from ccedi.fea.mesh import Mesh
 from ccedi.fea.model import ForcePulse, Model
-from ccedi.fea.rod import RodSection, rod_arrays, rod_forces_numba, rod_forces_numpy, straight_rod
-from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_model
+from ccedi.fea.solvers.explicit import run
 from ccedi.rom.damping import log_decrement
 
 STEEL = RodSection(E=STEEL_ROD["E_Pa"], rho=STEEL_ROD["rho_kg_per_m3"], diameter_m=STEEL_ROD["diameter_m"])

@@ -4,10 +4,10 @@ Euler-Bernoulli deflection under the drag load alpha rho A omega r; relative dam
 import numpy as np
 import pytest
 
-from ccedi.fea.beam_theory import drum_drag_tip_deflection, ellipse_section_properties
-from ccedi.fea.drum import DrumSetup, finger_on_drum
-from ccedi.fea.explicit import run
+from ccedi.fea.cases.beam_theory import drum_drag_tip_deflection, ellipse_section_properties
+from ccedi.fea.contact.drum import DrumSetup, finger_on_drum
 from ccedi.fea.material import RUBBER
+from ccedi.fea.solvers.explicit import run
 
 pytestmark = pytest.mark.slow          # each test runs the rotating finger for about a minute
 

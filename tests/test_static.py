@@ -4,11 +4,11 @@ import pytest
 from conftest import finite_difference_tangent
 
 from ccedi.errors import InputError
+from ccedi.fea.cases.studies import table1_row
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import elliptical_cantilever, sm_a, sm_b
 from ccedi.fea.model import cantilever_model
-from ccedi.fea.static import static_path, static_solve, tangent_stiffness, tip_deflection, tip_stiffness
-from ccedi.fea.studies import table1_row
+from ccedi.fea.solvers.static import static_path, static_solve, tangent_stiffness, tip_deflection, tip_stiffness
 
 
 def test_tangent_is_derivative_of_internal_force():

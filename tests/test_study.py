@@ -2,7 +2,7 @@
 report is built only from the run's files."""
 import json
 
-from ccedi.fea.outputs import write_json
+from ccedi.outputs import write_json
 from ccedi.study import run as study_run
 from ccedi.study.cli import main
 from ccedi.study.report import write_index
@@ -16,7 +16,7 @@ def test_interrupt_leaves_finished_steps_and_no_temporary_files(tmp_path, monkey
         def interrupted(tmp):
             open(tmp, "w").write("half")
             raise KeyboardInterrupt
-        from ccedi.fea.outputs import atomic_write
+        from ccedi.outputs import atomic_write
         atomic_write(tmp_path / "second" / "result.json", interrupted)
 
     monkeypatch.setattr(study_run, "steps", lambda cfg, out, scheduler: [("table1", "one", first),

@@ -51,7 +51,7 @@ def test_bad_input_is_one_line_naming_the_key(tmp_path, capsys, text, message):
 
 
 def test_finger_mesh_keys_resolve_relative_to_the_toml(tmp_path):
-    from ccedi.fea.gmsh_fingers import write_tapered_finger
+    from ccedi.fea.mesh.gmsh_fingers import write_tapered_finger
     from ccedi.study.config import finger_mesh, to_toml
 
     assert finger_mesh(load(None)) is None

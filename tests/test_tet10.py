@@ -5,15 +5,15 @@ import numpy as np
 import pytest
 from conftest import BOX
 
-from ccedi.fea import tet10
-from ccedi.fea.explicit import critical_time_step, run
-from ccedi.fea.gmsh_fingers import tapered_finger
+from ccedi.fea.elements import tet10
 from ccedi.fea.material import NeoHookean
 from ccedi.fea.mesh import Mesh
-from ccedi.fea.modal import natural_frequencies
+from ccedi.fea.mesh.gmsh_fingers import tapered_finger
+from ccedi.fea.mesh.tet_mesh import box_cantilever, quadratic_tets, split_hexes
 from ccedi.fea.model import cantilever_model, tip_pulse
-from ccedi.fea.static import tangent_stiffness, tip_deflection
-from ccedi.fea.tet_mesh import box_cantilever, quadratic_tets, split_hexes
+from ccedi.fea.solvers.explicit import critical_time_step, run
+from ccedi.fea.solvers.modal import natural_frequencies
+from ccedi.fea.solvers.static import tangent_stiffness, tip_deflection
 
 RUBBER_499 = NeoHookean(6.1e6, 0.499, 1000.0)
 

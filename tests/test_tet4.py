@@ -8,14 +8,14 @@ import pytest
 from conftest import BOX
 
 from ccedi.errors import InputError, SolverError
-from ccedi.fea import tet4, tet10
-from ccedi.fea.explicit import SolidMaterial, critical_time_step, run
-from ccedi.fea.kernels import internal_forces_numba as hex_forces
+from ccedi.fea.elements import tet4, tet10
+from ccedi.fea.elements.hex8_kernels import internal_forces_numba as hex_forces
 from ccedi.fea.material import NeoHookean
 from ccedi.fea.mesh import Mesh
+from ccedi.fea.mesh.tet_mesh import box_cantilever, quadratic_tets, split_hexes
 from ccedi.fea.model import Model, cantilever_model, face_node_weights
-from ccedi.fea.static import internal_force, tangent_stiffness, tip_deflection
-from ccedi.fea.tet_mesh import box_cantilever, quadratic_tets, split_hexes
+from ccedi.fea.solvers.explicit import SolidMaterial, critical_time_step, run
+from ccedi.fea.solvers.static import internal_force, tangent_stiffness, tip_deflection
 
 RUBBER_499 = NeoHookean(6.1e6, 0.499, 1000.0)
 RUBBER_49 = NeoHookean(6.1e6, 0.49, 1000.0)
@@ -253,7 +253,7 @@ def test_stable_step_is_the_assembled_limit_above_the_element_bound(kind):
     M^-1/2 K M^-1/2 on the free DOFs), as the element eigenvalue theorem says; the computed
     step (paper Eq. 6 with the scaled length factors) equals the assembled limit within
     1 % and never exceeds it. A one-element model's tangent is the element stiffness."""
-    from ccedi.fea.tetra import reference_element_stiffness
+    from ccedi.fea.elements.tetra import reference_element_stiffness
     model = cantilever_model(curved_mesh(kind), RUBBER_49)
     g = group_of(model, kind)
     grad, weight = (g.grad[:, None], g.volume[:, None]) if kind == "tet4" else (g.grad, g.weight)
@@ -318,9 +318,9 @@ def test_tip_pulse_on_a_gmsh_finger_is_stable_at_the_default_step(tmp_path):
     and balances its energy (taken on the step's length, 2.3-3.5 x longer, it damped them
     at 0.24, which limits central differences to 0.79 of the undamped step, and the run
     inverted an element at step 198)."""
-    from ccedi.fea.gmsh_fingers import write_tapered_finger
-    from ccedi.fea.mesh_io import read_finger_mesh
-    from ccedi.fea.studies import impulse_model
+    from ccedi.fea.cases.studies import impulse_model
+    from ccedi.fea.mesh.gmsh_fingers import write_tapered_finger
+    from ccedi.fea.mesh.readers import read_finger_mesh
 
     write_tapered_finger(tmp_path / "finger.msh", 0.008, order=1)
     model = impulse_model(mesh=read_finger_mesh(tmp_path / "finger.msh", clamp="clamp", tip="tip"), alpha=180.0)

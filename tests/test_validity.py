@@ -1,4 +1,4 @@
-"""Guards on the range of validity (ccedi.fea.validity): each check measured on healthy
+"""Guards on the range of validity (ccedi.fea.solvers.validity): each check measured on healthy
 runs and made to fire on a broken one; warnings recorded in the summaries and the JSON,
 printed once on stderr; a meaningless result an error of one line."""
 import json
@@ -11,13 +11,13 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ccedi.errors import SolverError, ValidityWarning
-from ccedi.fea.explicit import run
+from ccedi.fea.cases.studies import finger_impulse_model
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import elliptical_cantilever
 from ccedi.fea.model import ForcePulse, cantilever_model, face_node_weights, tip_pulse
-from ccedi.fea.static import static_solve
-from ccedi.fea.studies import finger_impulse_model
-from ccedi.fea.validity import (
+from ccedi.fea.solvers.explicit import run
+from ccedi.fea.solvers.static import static_solve
+from ccedi.fea.solvers.validity import (
     ENERGY_BALANCE_TOLERANCE,
     HOURGLASS_FRACTION_LIMIT,
     TIP_DEFLECTION_WARNING_FRACTION,
@@ -34,7 +34,7 @@ COARSE = elliptical_cantilever(0.05, 3, 6)
 
 
 def quiet_run(*args, **kwargs):
-    """:func:`ccedi.fea.explicit.run` with its validity warnings recorded, not shown."""
+    """:func:`ccedi.fea.solvers.explicit.run` with its validity warnings recorded, not shown."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         res = run(*args, **kwargs)
@@ -212,7 +212,7 @@ def test_a_100_N_impulse_is_an_error_of_one_line(tmp_path, capsys):
 def test_a_solver_error_inside_the_runs_is_one_line(tmp_path, capsys, monkeypatch):
     """An inverted element in a mapped run: the progress bar is closed before the error
     line, which stands alone."""
-    import ccedi.fea.studies as studies
+    import ccedi.fea.cases.studies as studies
 
     def inverted(alpha, kwargs):
         raise SolverError("element 3 inverted (J <= 0) at t = 0.001 s, step 250")
@@ -222,7 +222,7 @@ def test_a_solver_error_inside_the_runs_is_one_line(tmp_path, capsys, monkeypatc
 
 
 def test_mapped_runs_bring_their_warnings_back_once():
-    from ccedi.fea.distributed import map_runs
+    from ccedi.distributed import map_runs
 
     def flagged(x):
         warnings.warn(f"run {x}: flagged", ValidityWarning)
@@ -235,7 +235,7 @@ def test_mapped_runs_bring_their_warnings_back_once():
 
 
 def test_contact_report_lists_the_sweep_warnings():
-    from ccedi.fea.contact_study import WARNING_SEPARATOR, validity_lines
+    from ccedi.fea.cases.contact_study import WARNING_SEPARATOR, validity_lines
 
     table = pd.DataFrame({"alpha_per_s": [7.5, 600.0], "damping": ["global", "global"],
                           "warnings": [np.nan, WARNING_SEPARATOR.join(["a", "b"])]})       # as read back from CSV
@@ -266,7 +266,7 @@ def test_healthy_contact_run_carries_no_warnings():
     """The 8-in SM-A finger on the drum through its first contact (0.32 s at alpha =
     7.5 1/s); over the whole sweep (1.5 s) the energy balance error is 1.4e-4, the
     hourglass fraction 9.2 % and the largest log strain 0.32."""
-    from ccedi.fea.drum import DrumSetup, FullContactModel
+    from ccedi.fea.contact.drum import DrumSetup, FullContactModel
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

@@ -10,9 +10,9 @@ import warnings
 from contextlib import contextmanager
 from pathlib import Path
 
+from ccedi.distributed import SERIAL, check_scheduler
 from ccedi.errors import InputError, ValidityWarning
-from ccedi.fea.budget import MAX_STEPS, STEPS_ENV
-from ccedi.fea.distributed import SERIAL, check_scheduler
+from ccedi.fea.solvers.budget import MAX_STEPS, STEPS_ENV
 
 
 class DefaultsHelpFormatter(argparse.HelpFormatter):
@@ -264,7 +264,7 @@ def step_budget_of(args):
 
 def check_output_paths(args):
     """Check every output path a parsed command line declares (:func:`add_output_argument`),
-    and its ``--scheduler`` (:func:`ccedi.fea.distributed.check_scheduler`).
+    and its ``--scheduler`` (:func:`ccedi.distributed.check_scheduler`).
 
     Parameters
     ----------

@@ -95,7 +95,7 @@ def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None, 
     from ccedi.calibrate.experiment import load_experiment
     from ccedi.calibrate.loop import calibrate, summary
     from ccedi.calibrate.report import write_report
-    from ccedi.fea.outputs import write_json, write_text
+    from ccedi.outputs import write_json, write_text
     from ccedi.study.config import calibrated_config
 
     t0 = time.perf_counter()

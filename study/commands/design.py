@@ -236,7 +236,7 @@ def second_variable(setup, o):
 
     Parameters
     ----------
-    setup : ccedi.fea.drum.DrumSetup
+    setup : ccedi.fea.contact.drum.DrumSetup
     o : DesignOptions
 
     Returns
@@ -332,7 +332,7 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
 
     Parameters
     ----------
-    setup : ccedi.fea.drum.DrumSetup
+    setup : ccedi.fea.contact.drum.DrumSetup
         The drum test (its finger length is replaced by each design's).
     options : DesignOptions
         What is asked.
@@ -388,7 +388,7 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
         validation_errors,
         validation_points,
     )
-    from ccedi.fea.outputs import write_csv, write_figure, write_json, write_text
+    from ccedi.outputs import write_csv, write_figure, write_json, write_text
     from ccedi.study.design_report import feasible_region_figure, pareto_figure, report_markdown
 
     o = options

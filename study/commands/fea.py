@@ -9,7 +9,7 @@
 from pathlib import Path
 
 from ccedi.errors import InputError
-from ccedi.fea.budget import check_outputs
+from ccedi.fea.solvers.budget import check_outputs
 from ccedi.study.commands.arguments import (
     CONTACT_KEYS,
     IMPULSE_FINGER_KEYS,
@@ -54,8 +54,8 @@ def write_table1(cfg, length_in, json_path=None, stiffness=True, detailed=True, 
     dict
         ``{model name: {column: value}}``.
     """
-    from ccedi.fea.outputs import write_json
-    from ccedi.fea.studies import PAPER_TABLE1, is_paper_finger, table1
+    from ccedi.fea.cases.studies import PAPER_TABLE1, is_paper_finger, table1
+    from ccedi.outputs import write_json
     from ccedi.study.config import configured_mesh, finger_inputs
 
     material, semi_axes = finger_inputs(cfg)
@@ -98,13 +98,13 @@ def write_impulse(cfg, alphas, out, length_in=None, force_N=1.0, duration_s=0.01
     t_end_s : float
         Simulated time [s].
     scheduler : str
-        ``serial``, ``local`` or a Dask scheduler address (:mod:`ccedi.fea.distributed`).
+        ``serial``, ``local`` or a Dask scheduler address (:mod:`ccedi.distributed`).
     """
     import numpy as np
 
-    from ccedi.fea.outputs import write_csv, write_figure, write_json
-    from ccedi.fea.studies import impulse_study, plot_impulse_study
-    from ccedi.fea.validity import run_label
+    from ccedi.fea.cases.studies import impulse_study, plot_impulse_study
+    from ccedi.fea.solvers.validity import run_label
+    from ccedi.outputs import write_csv, write_figure, write_json
     from ccedi.study.config import finger_inputs
 
     out = Path(out)
@@ -144,15 +144,15 @@ def contact_setup(cfg, theta0_rad=None, calibrate=False):
         Initial finger angle [rad] instead of the configured one.
     calibrate : bool
         Recalibrate theta0 so that alpha = 7.5 1/s first touches at t = 0.32 s
-        (:func:`ccedi.fea.drum.calibrate_initial_angle`; prints the iterations).
+        (:func:`ccedi.fea.contact.drum.calibrate_initial_angle`; prints the iterations).
 
     Returns
     -------
-    ccedi.fea.drum.DrumSetup
+    ccedi.fea.contact.drum.DrumSetup
     """
     from dataclasses import replace
 
-    from ccedi.fea.drum import calibrate_initial_angle
+    from ccedi.fea.contact.drum import calibrate_initial_angle
     from ccedi.study.config import configured_mesh, drum_setup
 
     setup = drum_setup(cfg, finger=configured_mesh(cfg))
@@ -199,7 +199,7 @@ def finger_of(cfg, length_in=None):
         mesh cannot be read.
     """
     from ccedi.fea.mesh import sm_a
-    from ccedi.fea.validity import cantilever_length_m
+    from ccedi.fea.solvers.validity import cantilever_length_m
     from ccedi.study.config import check_section_fits, configured_mesh
 
     mesh = configured_mesh(cfg)
@@ -254,9 +254,9 @@ def _cmd_impulse(args):
 
 
 def _cmd_contact(args):
-    from ccedi.fea.drum import contact_run, contact_summary
-    from ccedi.fea.outputs import write_csv, write_json
-    from ccedi.fea.vtu import write_series
+    from ccedi.fea.contact.drum import contact_run, contact_summary
+    from ccedi.fea.io.vtu import write_series
+    from ccedi.outputs import write_csv, write_json
 
     check_flag("--alpha", [args.alpha], "study", "contact_alphas_per_s")
     setup = _setup_of(args)
@@ -282,7 +282,7 @@ def write_contact_sweep(setup, alphas, out, damping="global", t_end_s=1.5, n_out
 
     Parameters
     ----------
-    setup : ccedi.fea.drum.DrumSetup
+    setup : ccedi.fea.contact.drum.DrumSetup
         The drum test.
     alphas : sequence of float
         Mass-proportional damping values [1/s].
@@ -297,8 +297,8 @@ def write_contact_sweep(setup, alphas, out, damping="global", t_end_s=1.5, n_out
     scheduler : str
         ``serial``, ``local`` or a Dask scheduler address.
     """
-    from ccedi.fea.contact_study import plot_contact_shapes, plot_reaction_force, plot_stresses, sweep
-    from ccedi.fea.outputs import write_csv, write_figure
+    from ccedi.fea.cases.contact_study import plot_contact_shapes, plot_reaction_force, plot_stresses, sweep
+    from ccedi.outputs import write_csv, write_figure
 
     out = Path(out)
     history, table, shapes = sweep(setup, alphas, damping=damping, t_end_s=t_end_s,
@@ -326,15 +326,15 @@ def write_contact_report(setup, out):
 
     Parameters
     ----------
-    setup : ccedi.fea.drum.DrumSetup
+    setup : ccedi.fea.contact.drum.DrumSetup
         The drum test the sweep ran.
     out : str or Path
         Directory holding the sweep CSVs.
     """
     import pandas as pd
 
-    from ccedi.fea.contact_study import contact_report
-    from ccedi.fea.outputs import write_text
+    from ccedi.fea.cases.contact_study import contact_report
+    from ccedi.outputs import write_text
 
     out = Path(out)
 

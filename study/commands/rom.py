@@ -7,7 +7,7 @@
 import math
 
 from ccedi.errors import InputError, ModelInadequate
-from ccedi.fea.budget import check_outputs
+from ccedi.fea.solvers.budget import check_outputs
 from ccedi.quantities import QUANTITIES
 from ccedi.study.commands.arguments import (
     CONTACT_KEYS,
@@ -194,13 +194,13 @@ def _impulse_run(args, t_end_s):
     InputError
         A finger without ``--length-in`` or ``[finger] mesh``, or with both.
     """
-    from ccedi.fea.studies import finger_impulse_model
+    from ccedi.fea.cases.studies import finger_impulse_model
     from ccedi.rom.finger_identification import finger_omega1, run_length_s
     from ccedi.rom.modal import reduce_impulse_model
     from ccedi.study.commands.fea import finger_of
     from ccedi.study.config import finger_inputs
     if args.model == "steel-rod":
-        from ccedi.fea.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_impulse_model
+        from ccedi.fea.cases.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_impulse_model
         force = STEEL_ROD["force_N"] if args.force_N is None else args.force_N
         duration = STEEL_ROD["duration_s"] if args.duration_s is None else args.duration_s
         omega1 = PAPER_ROD["omega1_rad_s"]
@@ -280,7 +280,7 @@ def cmd_identify(args):
         ``--length-in``, section or material): no alpha is identified; ``--json`` has the
         evidence (:mod:`ccedi.calibrate.adequacy`'s ``frequency`` check).
     """
-    from ccedi.fea.outputs import write_json
+    from ccedi.outputs import write_json
     from ccedi.rom.ccedi import critical_alpha, identify
     from ccedi.rom.measurement import check_sampling, load_response
 
@@ -380,7 +380,7 @@ def write_damping_fits(cfg, lengths_in, out, scheduler="local"):
 
     import numpy as np
 
-    from ccedi.fea.outputs import write_figure, write_json
+    from ccedi.outputs import write_figure, write_json
     from ccedi.rom.ccedi import piecewise_alpha_fit, power_law_fit
     from ccedi.rom.finger_identification import alpha_cr_table
     from ccedi.study.config import finger_inputs
@@ -445,14 +445,14 @@ def _write_forces(directory, case, forces):
 
     import pandas as pd
 
-    from ccedi.fea.outputs import write_csv
+    from ccedi.outputs import write_csv
 
     name = f"alpha_{case['alpha_per_s']:g}_{case['model']}_{case.get('contact') or 'given'}.csv"
     write_csv(Path(directory) / name, pd.DataFrame(forces))
 
 
 def cmd_rom_check(args):
-    from ccedi.fea.outputs import write_json
+    from ccedi.outputs import write_json
     from ccedi.rom.check import contact_cases, impulse_cases
 
     if args.modes < 1:

@@ -74,7 +74,7 @@ def cmd_study(args):
 
 def cmd_init(args):
     """``ccedi init``: write a commented example study TOML."""
-    from ccedi.fea.outputs import write_text
+    from ccedi.outputs import write_text
     from ccedi.study.config import example
 
     path = Path(args.path)
@@ -86,9 +86,9 @@ def cmd_init(args):
 
 def _case(args, t_end_s):
     """(model, simulate) of the export case; simulate(snapshot_every) -> RunResult."""
-    from ccedi.fea.drum import contact_run, finger_on_drum
-    from ccedi.fea.explicit import run
-    from ccedi.fea.studies import impulse_model
+    from ccedi.fea.cases.studies import impulse_model
+    from ccedi.fea.contact.drum import contact_run, finger_on_drum
+    from ccedi.fea.solvers.explicit import run
     from ccedi.study.commands.fea import contact_setup, finger_of
     from ccedi.study.config import finger_inputs
 
@@ -107,9 +107,9 @@ def _case(args, t_end_s):
 
 def cmd_export(args):
     """``ccedi export``: the impulse or contact case as an LS-DYNA deck, or its run as VTU, CSV or Parquet."""
-    from ccedi.fea.lsdyna import write_keyword
-    from ccedi.fea.outputs import require_parquet, write_table
-    from ccedi.fea.vtu import write_series
+    from ccedi.fea.io.lsdyna import write_keyword
+    from ccedi.fea.io.vtu import write_series
+    from ccedi.outputs import require_parquet, write_table
 
     if args.format == "parquet":
         require_parquet()

@@ -1,0 +1,1 @@
+"""Contact: penalty contact, Coulomb friction, and the rotating-drum test."""

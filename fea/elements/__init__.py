@@ -1,0 +1,1 @@
+"""Finite elements, one module per element: its geometry, kernel, tangent and mass."""

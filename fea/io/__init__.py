@@ -1,0 +1,1 @@
+"""File formats of other solvers and viewers: LS-DYNA keyword decks, CalculiX, VTU."""

@@ -1,0 +1,1051 @@
+"""Explicit dynamics: central difference with Rayleigh damping and a CFL time step.
+
+Equation of motion, paper Eq. (1) with Eq. (2): ``M a + (alpha M + beta K) v + f_int(x) = f_ext``.
+
+Update from t^n to t^{n+1} = t^n + dt^{n+1/2} (variable step, lumped mass m)::
+
+    Dt^n = (dt^{n-1/2} + dt^{n+1/2}) / 2
+    v^{n+1/2} = [(1 - alpha Dt/2) v^{n-1/2} + Dt (f_ext - f_int - f_beta) / m] / (1 + alpha Dt/2)
+    x^{n+1}  = x^n + dt^{n+1/2} v^{n+1/2}
+
+The mass-proportional term is centred (average of the two half-step velocities), so it
+adds no stability limit: any alpha >= 0 is stable. The stiffness-proportional force is
+``f_beta = beta K v ~ beta (f_int^n - f_int^{n-1}) / dt^{n-1/2}``; it lowers the stable
+step to ``dt <= (2/w_max)(sqrt(1 + xi^2) - xi)``, ``xi = beta w_max / 2``, ``w_max = 2/dt_cfl``.
+
+Time step, paper Eq. (5): ``dt = TSSFAC x min_e dt_e`` (TSSFAC = 0.9), recomputed every step
+on the deformed mesh. Energies are accumulated so that
+``E0 + W_ext = KE + IE + HG + E_damping + E_bulk`` (E0 the energy of the initial state;
+W_ext the work of the loads, the supports and the contact forces), which every run checks
+(:func:`ccedi.fea.solvers.validity.energy_balance_error`). The works are those of the forces at
+t^n on the mid-step velocity ``(v^{n-1/2} + v^{n+1/2}) / 2``, KE at t^n is
+``sum m v^{n-1/2} . v^{n+1/2} / 2`` (the kinetic part of the energy central differences
+conserve; the square of the mid-step velocity would miss up to 80 % of the energy of a
+mode near the stability limit).
+
+The step loop is written once (``_advance``); it is compiled by numba with the numba
+force kernel, and run as plain Python with the numpy reference kernel
+(``backend="numpy"``), which the tests compare.
+"""
+import os
+import sys
+import time as _time
+from collections import namedtuple
+from dataclasses import dataclass, field
+
+import numba as nb
+import numpy as np
+import pandas as pd
+import psutil
+
+from ccedi.errors import InputError, SolverError, require_finite_positive
+from ccedi.fea.contact.friction import coulomb_friction
+from ccedi.fea.contact.penalty import (
+    PLANE,
+    STEP_SHRINK,
+    ContactGroup,
+    contact_damping,
+    contact_forces,
+    penalty_stiffness,
+)
+from ccedi.fea.elements.fastmath import FASTMATH
+from ccedi.fea.elements.hex8 import characteristic_length as hex_characteristic_length
+from ccedi.fea.elements.hex8 import element_geometry, internal_forces_numpy
+from ccedi.fea.elements.hex8_kernels import SolidMaterial, internal_forces_numba
+from ccedi.fea.elements.rod import rod_forces_numba, rod_forces_numpy, rod_max_stress
+from ccedi.fea.elements.tet4 import internal_forces_numba as tet4_forces_numba
+from ccedi.fea.elements.tet4 import internal_forces_numpy as tet4_forces_numpy
+from ccedi.fea.elements.tet10 import characteristic_length as tet10_characteristic_length
+from ccedi.fea.elements.tet10 import internal_forces_numba as tet10_forces_numba
+from ccedi.fea.elements.tet10 import internal_forces_numpy as tet10_forces_numpy
+from ccedi.fea.elements.tetra import deformation_gradients_numba, min_altitude
+from ccedi.fea.material import max_von_mises_of
+from ccedi.fea.mesh import element_name
+from ccedi.fea.model import Model, face_node_weights
+from ccedi.fea.solvers.budget import STEPS_ENV, check_outputs, step_budget
+from ccedi.fea.solvers.loads import pulse_forces, pulse_loads
+from ccedi.fea.solvers.prescribed import prescribed_rotation
+from ccedi.fea.solvers.rotating_frame import RotatingFrame, frame_velocity
+from ccedi.fea.solvers.validity import issue, max_log_strain, run_checks, run_label
+from ccedi.progress import progress_bar
+
+TSSFAC = 0.9
+"""Time-step scale factor of paper Eq. (5)."""
+
+# energy accumulator slots
+_W_EXT, _E_DAMP, _E_BULK, _KE, _IE, _HG, _E_PENALTY, _W_NORMAL, _W_FRICTION = range(9)
+_OK, _INVERTED, _DIVERGED, _STEP_TOO_LARGE, _FOLDED = 0, 1, 2, 3, 4
+
+# The step loop's data, bundled by role (numba takes each as a heterogeneous tuple).
+State = namedtuple("State", "x v v_new f_int f_int_prev f_ext reaction")
+State.__doc__ = """Nodal state of the step loop, updated in place (every field (n_nodes, 3)).
+
+Attributes
+----------
+x : (n_nodes, 3) ndarray
+    Current positions x^n [m].
+v : (n_nodes, 3) ndarray
+    Half-step velocities v^{n-1/2} [m/s].
+v_new : (n_nodes, 3) ndarray
+    Trial and then final half-step velocities v^{n+1/2} [m/s].
+f_int : (n_nodes, 3) ndarray
+    Internal forces f_int(x^n) of this step [N].
+f_int_prev : (n_nodes, 3) ndarray
+    Internal forces of the previous step [N] (for the stiffness damping beta K v).
+f_ext : (n_nodes, 3) ndarray
+    External forces of this step, pulses plus contact [N].
+reaction : (n_nodes, 3) ndarray
+    Support reactions of the constrained nodes [N] (zero on free nodes).
+"""
+Nodes = namedtuple("Nodes", "X mass mass3 inv_mass free constrained v_pres")
+Nodes.__doc__ = """Per-node constants of the step loop and the prescribed velocities.
+
+Attributes
+----------
+X : (n_nodes, 3) ndarray
+    Reference positions [m].
+mass : (n_nodes,) ndarray
+    Lumped nodal masses [kg].
+mass3 : (n_nodes, 3) ndarray
+    The masses repeated for each direction [kg].
+inv_mass : (n_nodes, 3) ndarray
+    Their inverses [1/kg] (0 for a massless node, which must be constrained).
+free : (n_nodes,) ndarray
+    1.0 for a free node, 0.0 for a constrained (fixed or rotating) one.
+constrained : (c,) int ndarray
+    Indices of the constrained nodes.
+v_pres : (n_nodes, 3) ndarray
+    Prescribed velocities of the constrained nodes [m/s] (zero for fixed nodes,
+    updated every step for nodes carried by the rotating frame).
+"""
+RodGroup = namedtuple("RodGroup", "segments rest_length axial_stiffness hinges bending_stiffness dt_crit")
+RodGroup.__doc__ = """Rod elements as :func:`ccedi.fea.elements.rod.rod_forces_numba` takes them.
+
+Attributes
+----------
+segments : (m, 2) int ndarray
+    Rod elements as node index pairs.
+rest_length : (m,) ndarray
+    Rest lengths [m].
+axial_stiffness : (m,) ndarray
+    Axial rigidity EA per element [N].
+hinges : (h, 3) int ndarray
+    Node index triples (i, j, k) of consecutive nodes (bending hinges).
+bending_stiffness : (h,) ndarray
+    Bending stiffness EI / (l_a + l_b) per hinge [N m].
+dt_crit : float
+    Smallest critical step of the rods [s] (inf without rods).
+"""
+Damping = namedtuple("Damping", "alpha beta relative")
+Damping.__doc__ = """Rayleigh damping ``C = alpha M + beta K``.
+
+Attributes
+----------
+alpha : float
+    Mass-proportional coefficient [1/s].
+beta : float
+    Stiffness-proportional coefficient [s].
+relative : bool
+    True: the mass damping acts on the velocity relative to the rotating frame;
+    False: on the absolute velocity.
+"""
+StepControl = namedtuple("StepControl", "dt_user tssfac")
+StepControl.__doc__ = """Choice of the time step.
+
+Attributes
+----------
+dt_user : float
+    Fixed step [s]; 0.0 for the CFL-controlled step ``tssfac x`` stable step.
+tssfac : float
+    Scale factor of the CFL step [-] (TSSFAC, times STEP_SHRINK with contact).
+"""
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _stable_step(dte, beta):
+    """Stable step [s] of the CFL step dte [s] lowered for stiffness damping beta [s]."""
+    if beta > 0.0:
+        xi = beta / dte
+        return dte * (np.sqrt(1.0 + xi * xi) - xi)
+    return dte
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _trial_velocities(state, nodes, damping, frame, Dt, beta_rate):
+    """v^{n+1/2} of every node without friction, into v_new; support reactions.
+
+    Mass damping acts on v - v_ref, with v_ref = 0 (``global``, absolute velocity) or the
+    velocity of the rotating frame at the node, omega axis x (x - c) (``relative``). Every
+    node first gets the free update (one loop over the flat arrays, which LLVM compiles
+    to SIMD instructions); the frame's term is then added to the free nodes, and the
+    constrained nodes get their prescribed velocity and reaction."""
+    v, v_new, f_ext, f_int, f_int_prev = (state.v.reshape(-1), state.v_new.reshape(-1), state.f_ext.reshape(-1),
+                                          state.f_int.reshape(-1), state.f_int_prev.reshape(-1))
+    inv_mass = nodes.inv_mass.reshape(-1)
+    a = 0.5 * damping.alpha * Dt
+    inv_den = 1.0 / (1.0 + a)
+    if beta_rate > 0.0:
+        for j in range(v.shape[0]):
+            fb = beta_rate * (f_int[j] - f_int_prev[j])
+            v_new[j] = ((1.0 - a) * v[j] + Dt * (f_ext[j] - f_int[j] - fb) * inv_mass[j]) * inv_den
+    else:
+        for j in range(v.shape[0]):
+            v_new[j] = ((1.0 - a) * v[j] + Dt * (f_ext[j] - f_int[j]) * inv_mass[j]) * inv_den
+    if damping.relative:
+        x, free = state.x, nodes.free
+        for n in range(x.shape[0]):
+            if free[n] > 0.0:
+                vr0, vr1, vr2 = frame_velocity(x, n, frame.center, frame.axis, frame.omega)
+                v_new[3 * n] += 2.0 * a * vr0 * inv_den
+                v_new[3 * n + 1] += 2.0 * a * vr1 * inv_den
+                v_new[3 * n + 2] += 2.0 * a * vr2 * inv_den
+    _constrained_velocities(state, nodes, damping, frame, Dt, beta_rate)
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _constrained_velocities(state, nodes, damping, frame, Dt, beta_rate):
+    """Prescribed v^{n+1/2} of the constrained nodes, and the reaction the support supplies:
+    ``r = m (v_pres - v) / Dt + alpha m (vb - v_ref) + f_int + f_beta - f_ext``."""
+    v, v_new, x, f_ext, f_int, f_int_prev, reaction = (state.v, state.v_new, state.x, state.f_ext, state.f_int,
+                                                       state.f_int_prev, state.reaction)
+    mass, v_pres = nodes.mass, nodes.v_pres
+    alpha, relative = damping.alpha, damping.relative
+    for c in range(nodes.constrained.shape[0]):
+        n = nodes.constrained[c]
+        m = mass[n]
+        vr0, vr1, vr2 = frame_velocity(x, n, frame.center, frame.axis, frame.omega) if relative else (0.0, 0.0, 0.0)
+        for i in range(3):
+            vref = vr0 if i == 0 else (vr1 if i == 1 else vr2)
+            fb = beta_rate * (f_int[n, i] - f_int_prev[n, i])
+            vn = v_pres[n, i]
+            v_new[n, i] = vn
+            reaction[n, i] = (m * (vn - v[n, i]) / Dt + alpha * m * (0.5 * (vn + v[n, i]) - vref)
+                              + f_int[n, i] + fb - f_ext[n, i])
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _commit(state, nodes, damping, frame, Dt, dt, beta_rate):
+    """Move to the new state: x^{n+1} = x^n + dt v^{n+1/2}. Returns the step's external
+    work and damping work [J] (forces times the mid-step velocity
+    ``vb = (v^{n-1/2} + v^{n+1/2}) / 2``) and twice the kinetic energy at t^n [J],
+    ``m v^{n-1/2} . v^{n+1/2}``: the kinetic part of the energy central differences
+    conserve (exactly for a linear undamped system; ``m vb^2`` differs from it by
+    ``(dt a)^2 m / 4``, up to 80 % of a mode's energy near the stability limit), and
+    ``sum m vb^2`` [J] (inf or NaN once the motion diverges).
+
+    One pass over the flat arrays computes the three sums (in index order, so the same
+    bits every run) and moves the state: the pass is bound by the memory traffic of the
+    nodal arrays (four interleaved partial sums in one pass and the move in another took
+    2.6 times as long on the 8-in finger); the frame's share of the damping work
+    (relative damping) and the stiffness-damping work are added after."""
+    v, v_new, x, f_ext, reaction = (state.v.reshape(-1), state.v_new.reshape(-1), state.x.reshape(-1),
+                                    state.f_ext.reshape(-1), state.reaction.reshape(-1))
+    mass = nodes.mass3.reshape(-1)
+    w_ext = 0.0                                  # external work
+    mvb2 = 0.0                                   # m vb^2
+    ke = 0.0                                     # m v^{n-1/2} v^{n+1/2}
+    extra = _extra_damping_power(state, nodes, damping, frame, beta_rate)     # before v is overwritten
+    for j in range(v.shape[0]):
+        vo = v[j]
+        vn = v_new[j]
+        b = 0.5 * (vo + vn)
+        w_ext += (f_ext[j] + reaction[j]) * b
+        mvb2 += mass[j] * b * b
+        ke += mass[j] * vo * vn
+        v[j] = vn
+        x[j] += dt * vn
+    w_damp = damping.alpha * mvb2 + extra
+    if damping.beta > 0.0:
+        state.f_int_prev[:] = state.f_int
+    return Dt * w_ext, Dt * w_damp, ke, mvb2
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _extra_damping_power(state, nodes, damping, frame, beta_rate):
+    """Power [W] of the damping forces beyond ``alpha m vb``, on the mid-step velocity vb:
+    ``-alpha m v_ref . vb`` of relative damping (v_ref the rotating frame's velocity) and
+    the stiffness damping ``f_beta . vb``. Called before v is overwritten."""
+    p = 0.0
+    v, v_new = state.v, state.v_new
+    if damping.relative:
+        mass = nodes.mass
+        for n in range(v.shape[0]):
+            vr0, vr1, vr2 = frame_velocity(state.x, n, frame.center, frame.axis, frame.omega)
+            p -= damping.alpha * mass[n] * (vr0 * 0.5 * (v[n, 0] + v_new[n, 0]) + vr1 * 0.5 * (v[n, 1] + v_new[n, 1])
+                                            + vr2 * 0.5 * (v[n, 2] + v_new[n, 2]))
+    if beta_rate > 0.0:
+        f_int, f_int_prev = state.f_int, state.f_int_prev
+        for n in range(v.shape[0]):
+            for i in range(3):
+                p += beta_rate * (f_int[n, i] - f_int_prev[n, i]) * 0.5 * (v[n, i] + v_new[n, i])
+    return p
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _bulk_work(tets4, tets10, v, v_new):
+    """Power [W] of the tetrahedra's bulk-viscosity forces on the mid-step velocity,
+    ``sum f_bulk . (v^{n-1/2} + v^{n+1/2}) / 2`` (f_bulk from the force kernels, a part of
+    the internal force, so positive when dissipating): the
+    dissipation consistent with how the run measures every other work (the element
+    power ``-q e_v v`` at v^{n-1/2} overstates it when the highest modes ring)."""
+    p = 0.0
+    for n in range(v.shape[0]):
+        for i in range(3):
+            p += (tets4.bulk_force[n, i] + tets10.bulk_force[n, i]) * 0.5 * (v[n, i] + v_new[n, i])
+    return p
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _record_energy(energy, w_ext, w_damp, bulk, ke, w_int, w_hg):
+    """Accumulate the step's works [J] into ``energy``; store KE, IE, HG [J] of t^n."""
+    energy[_W_EXT] += w_ext
+    energy[_E_DAMP] += w_damp
+    energy[_E_BULK] += bulk
+    energy[_KE] = 0.5 * ke
+    energy[_IE] = w_int
+    energy[_HG] = w_hg
+
+
+def _advance(forces, tet4_forces, tet10_forces, rod_forces, contact_kernel, t, t_stop, dt_prev, control, damping,
+             state, nodes, hexes, tets4, tets10, material, rods, loads, frame, contact, energy):
+    """Advance until t >= t_stop (the last step is not shortened: cutting a step to land on
+    an output time perturbs the highest mode and, repeated, can destabilise a mesh whose
+    CFL estimate is tight). Returns (t, dt_prev, steps, status, info, dt_min_seen).
+
+    ``forces`` (hexahedra, zeroes f_int), ``tet4_forces``, ``tet10_forces`` (add to
+    f_int), ``rod_forces`` and ``contact_kernel`` are the force kernels (compiled or
+    numpy reference); the rest are the groups of :func:`_step_data`. An inverted element
+    is reported by its index over the solid elements in the order hexahedra, 4-node,
+    10-node tetrahedra."""
+    x, v, f_int, f_ext = state.x, state.v, state.f_int, state.f_ext
+    beta = damping.beta
+    steps = 0
+    dt_seen = np.inf
+    while t < t_stop:
+        if hexes.hexes.shape[0] > 0:
+            dte, w_int, w_hg, p_bulk, bad = forces(x, v, hexes, material, f_int)
+            if bad >= 0:
+                return t, dt_prev, steps, _INVERTED, bad, dt_seen
+        else:
+            f_int[:] = 0.0
+            dte, w_int, w_hg, p_bulk = np.inf, 0.0, 0.0, 0.0
+        w4 = w10 = 0.0
+        if tets4.tets.shape[0] > 0:
+            dt4, w4, _, bad4 = tet4_forces(x, v, tets4, material, f_int)
+            if bad4 >= 0:
+                return t, dt_prev, steps, _INVERTED, hexes.hexes.shape[0] + bad4, dt_seen
+            dte = min(dte, dt4)
+        if tets10.tets.shape[0] > 0:
+            dt10, w10, _, bad10 = tet10_forces(x, v, tets10, material, f_int)
+            if bad10 >= 0:
+                return t, dt_prev, steps, _INVERTED, hexes.hexes.shape[0] + tets4.tets.shape[0] + bad10, dt_seen
+            dte = min(dte, dt10)
+        w_int += w4 + w10
+        w_rod, folded = rod_forces(x, rods.segments, rods.rest_length, rods.axial_stiffness, rods.hinges,
+                                   rods.bending_stiffness, f_int)
+        if folded >= 0:
+            return t, dt_prev, steps, _FOLDED, folded, dt_seen
+        w_int += w_rod
+        dt_stable = _stable_step(min(dte, rods.dt_crit), beta)
+        if control.dt_user > 0.0:
+            if control.dt_user > dt_stable:
+                return t, dt_prev, steps, _STEP_TOO_LARGE, 0, dt_stable
+            dt = control.dt_user
+        else:
+            dt = control.tssfac * dt_stable
+        dt_seen = min(dt_seen, dt)
+        pulse_forces(f_ext, loads, t)
+        if contact.nodes.shape[0] > 0:
+            contact_kernel(x, v, contact, f_ext)
+        if frame.nodes.shape[0] > 0:
+            prescribed_rotation(frame.nodes, nodes.X, x, nodes.v_pres, frame.center, frame.axis,
+                                frame.omega * (t + dt), dt)
+        Dt = 0.5 * (dt_prev + dt)
+        beta_rate = beta / dt_prev if (beta > 0.0 and dt_prev > 0.0) else 0.0
+        _trial_velocities(state, nodes, damping, frame, Dt, beta_rate)
+        if contact.nodes.shape[0] > 0:
+            w_n, w_f = coulomb_friction(v, state.v_new, f_ext, nodes.mass, nodes.free, contact.nodes,
+                                        contact.normal, contact.fn, contact.mu, damping.alpha, Dt, contact.out)
+            energy[_W_NORMAL] += w_n
+            energy[_W_FRICTION] += w_f
+            energy[_E_PENALTY] = contact.out[3]
+        if tets4.tets.shape[0] + tets10.tets.shape[0] > 0:
+            p_bulk += _bulk_work(tets4, tets10, v, state.v_new)
+        w_ext, w_damp, ke, mvb2 = _commit(state, nodes, damping, frame, Dt, dt, beta_rate)
+        _record_energy(energy, w_ext, w_damp, Dt * p_bulk, ke, w_int, w_hg)
+        if not (mvb2 < np.inf):              # also catches NaN
+            return t, dt_prev, steps, _DIVERGED, steps, dt_seen
+        t += dt
+        dt_prev = dt
+        steps += 1
+    return t, dt_prev, steps, _OK, 0, dt_seen
+
+
+_advance_numba = nb.njit(fastmath=FASTMATH)(_advance)
+"""``_advance`` compiled by numba (about 1 s per process). Not cached on disk: its kernel
+arguments are dispatcher objects, whose types make a new cache key in every process, so a
+cache only grew by one entry per process (and could fail to save); the kernels it calls
+are cached."""
+
+
+def compiled_entry(dispatcher, *args):
+    """The compiled overload of a numba ``dispatcher`` for the types of ``args``, compiled
+    first if needed, to be called with arguments of those types.
+
+    Calling the dispatcher types every argument first: for the step's groups (about a
+    hundred arrays in named tuples) that costs ~70 us a call, as much as a hundred SM-A
+    steps, and a run calls once per output. The overload's entry point skips it (~6 us).
+
+    Parameters
+    ----------
+    dispatcher : numba.core.registry.CPUDispatcher
+        An ``njit`` function.
+    *args
+        Arguments whose types select the overload.
+
+    Returns
+    -------
+    callable
+        The overload's entry point (the dispatcher itself if numba files it under other
+        types than the arguments').
+    """
+    key = tuple(dispatcher.typeof_pyval(a) for a in args)
+    if key not in dispatcher.overloads:
+        dispatcher.compile(key)
+    overload = dispatcher.overloads.get(key)
+    return dispatcher if overload is None else overload.entry_point
+
+
+@dataclass
+class RunResult:
+    """Output of :func:`run`.
+
+    Parameters
+    ----------
+    history : pandas.DataFrame
+        One row per output time, columns with units in their names (``time_s``,
+        ``tip_ux_m`` ..., ``reaction_x_N`` ..., ``max_von_mises_Pa``,
+        ``max_log_strain`` [-] (largest principal logarithmic strain of the solid
+        elements, NaN without them), the energy terms [J], :data:`CONTACT_COLUMNS` with
+        contact, and the output hook's columns).
+    summary : dict
+        Run statistics: ``nodes``, ``elements``, ``dt_initial_s``, ``dt_min_s``,
+        ``steps``, ``t_end_s``, ``t_final_s``, ``wall_time_s``, ``backend``, ``threads``,
+        ``alpha_per_s``, ``beta_s``, ``ns_per_element_cycle``, and the validity checks
+        of :func:`ccedi.fea.solvers.validity.run_checks`: ``energy_balance_error``,
+        ``hourglass_energy_fraction``, ``max_log_strain`` and ``warnings`` (list of str,
+        empty for a healthy run).
+    x : (n_nodes, 3) ndarray
+        Final nodal positions [m], at ``summary["t_final_s"]``.
+    v : (n_nodes, 3) ndarray
+        Final half-step velocities [m/s].
+    snapshots : list of (float, ndarray), optional
+        ``(time_s, positions (n_nodes, 3) [m])`` every ``snapshot_every`` outputs;
+        empty by default.
+    """
+
+    history: pd.DataFrame
+    summary: dict
+    x: np.ndarray
+    v: np.ndarray
+    snapshots: list = field(default_factory=list)
+
+
+def max_von_mises(model, x):
+    """Largest von Mises stress of a model at nodal positions ``x``.
+
+    Parameters
+    ----------
+    model : Model
+        The model (solid elements and rods).
+    x : ndarray, shape (n, 3)
+        Nodal positions [m].
+
+    Returns
+    -------
+    float
+        The larger of the solid elements' largest neo-Hookean Cauchy von Mises stress
+        (:func:`ccedi.fea.material.max_von_mises_of`) and the rods' normal stress bound
+        (:func:`ccedi.fea.elements.rod.rod_max_stress`) [Pa].
+    """
+    return _stress_and_strain(model, x)[0]
+
+
+def _stress_and_strain(model, x):
+    """(:func:`max_von_mises` [Pa], largest principal log strain of the solid elements
+    [-], NaN without them) from one evaluation of the deformation gradients (of every
+    hexahedron and every tetrahedron's integration points)."""
+    sigma = rod_max_stress(x, model.rod_arrays)
+    strain = np.nan
+    if model.mesh.n_elements:
+        g = model.geometry
+        hex_grad = (g.b / g.volume[:, None, None])[:, None]
+        F = np.concatenate([deformation_gradients_numba(x, model.mesh.hexes, hex_grad).reshape(-1, 3, 3),
+                            deformation_gradients_numba(x, model.tet4.tets, model.tet4.grad[:, None]).reshape(-1, 3, 3),
+                            deformation_gradients_numba(x, model.tet10.tets, model.tet10.grad).reshape(-1, 3, 3)])
+        sigma = max(sigma, max_von_mises_of(F, model.material.mu, model.material.lam))
+        strain = max_log_strain(F)
+    return sigma, strain
+
+
+def _hex_forces_numpy(x, v, group, material, f):
+    """:func:`ccedi.fea.elements.hex8.internal_forces_numpy` with the arguments of the compiled
+    kernel (a :class:`ccedi.fea.elements.hex8_kernels.HexGroup` and a :data:`SolidMaterial`), also for no
+    hexahedra (then f = 0 and (inf, 0, 0, 0, -1), as the compiled kernel returns)."""
+    if len(group.hexes):
+        return internal_forces_numpy(x, v, group.hexes, group.b, group.volume, group.gamma, group.kappa,
+                                     group.length_factor, *material, f)
+    f[:] = 0.0
+    return np.inf, 0.0, 0.0, 0.0, -1
+
+
+def rod_time_step(model):
+    """Smallest critical step of the rod elements, see :mod:`ccedi.fea.elements.rod`.
+
+    Parameters
+    ----------
+    model : Model
+        The model; its ``rod_arrays`` give the segment and hinge critical steps.
+
+    Returns
+    -------
+    float
+        min over segments and hinges of their critical steps [s] (inf without rods).
+    """
+    r = model.rod_arrays
+    return float(min(np.min(r.segment_time_step, initial=np.inf), np.min(r.hinge_time_step, initial=np.inf)))
+
+
+def critical_time_step(model, x=None, v=None):
+    """Smallest critical step of the model, before the TSSFAC scale factor.
+
+    ``min(min_e dt_e, rod step)`` over every solid group with the element step of paper
+    Eq. (6), ``dt_e = Le / (Q + sqrt(Q^2 + c^2))`` (Q from the bulk viscosity, zero at
+    rest; Le of :mod:`ccedi.fea.elements.hex8`, :mod:`ccedi.fea.elements.tet4`, :mod:`ccedi.fea.elements.tet10`).
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    x : (n_nodes, 3) ndarray, optional
+        Nodal positions [m]. Default: the reference positions.
+    v : (n_nodes, 3) ndarray, optional
+        Nodal velocities [m/s] (enter the bulk viscosity). Default: zero.
+
+    Returns
+    -------
+    float
+        Critical time step [s].
+
+    Raises
+    ------
+    SolverError
+        If an element is inverted (J <= 0) at ``x``.
+    """
+    x = model.mesh.nodes if x is None else x
+    v = np.zeros_like(x) if v is None else v
+    f = np.zeros_like(x)
+    material = SolidMaterial(*model.solid_constants)
+    dt, *_ , bad = internal_forces_numba(x, v, model.hexahedra, material, f)
+    if bad >= 0:
+        raise SolverError(f"{element_name(model.mesh, bad)} is inverted (J <= 0)")
+    for offset, kernel, group in ((len(model.mesh.hexes), tet4_forces_numba, model.tet4),
+                                  (len(model.mesh.hexes) + len(model.tet4.tets), tet10_forces_numba, model.tet10)):
+        dt_group, *_, bad = kernel(x, v, group, material, f)
+        if bad >= 0:
+            raise SolverError(f"{element_name(model.mesh, offset + bad)} is inverted (J <= 0)")
+        dt = min(dt, dt_group)
+    return min(dt, rod_time_step(model))
+
+
+def limiting_element(model):
+    """The solid element that sets the stable step at rest, its size and where it is.
+
+    ``dt_e = Le / c`` with ``c = sqrt((lambda + 2 mu) / rho)`` and the characteristic
+    length Le of each element type (:func:`ccedi.fea.elements.hex8.characteristic_length`, the
+    tetrahedra's ``kappa_e`` x minimum altitude); the smallest dt_e is the step before
+    TSSFAC as :func:`critical_time_step` finds it at rest (the tetrahedra's exactly, the
+    hexahedra's within about 1 %: 4.90 against 4.85 us on SM-A).
+
+    Parameters
+    ----------
+    model : Model
+        A model with solid elements.
+
+    Returns
+    -------
+    dict
+        ``element`` (its name, :func:`element_name`), ``index`` (over all solid
+        elements), ``dt_s`` [s], ``length_m`` (its Le) [m], ``median_length_m`` (of all
+        elements) [m], ``centroid_m`` (3,) [m].
+    """
+    mesh, X = model.mesh, model.mesh.nodes
+    lengths, centroids = [], []
+    if len(mesh.hexes):
+        lengths.append(hex_characteristic_length(X[mesh.hexes], element_geometry(X, mesh.hexes).volume))
+        centroids.append(X[mesh.hexes].mean(axis=1))
+    if len(mesh.tets4):
+        lengths.append(model.tet4.length_factor * min_altitude(X[mesh.tets4]))
+        centroids.append(X[mesh.tets4].mean(axis=1))
+    if len(mesh.tets10):
+        lengths.append(tet10_characteristic_length(X, model.tet10))
+        centroids.append(X[mesh.tets10[:, :4]].mean(axis=1))
+    Le = np.concatenate(lengths)
+    k = int(np.argmin(Le))
+    m = model.material
+    c = np.sqrt((m.lam + 2.0 * m.mu) / m.rho)
+    return {"element": element_name(mesh, k), "index": k, "dt_s": float(Le[k] / c), "length_m": float(Le[k]),
+            "median_length_m": float(np.median(Le)), "centroid_m": np.concatenate(centroids)[k]}
+
+
+SLIVER_RATIO = 0.25
+"""An element whose characteristic length is below this fraction of the mesh's median
+sets a step that much shorter than the mesh needs (:func:`sliver_warnings`)."""
+
+
+def sliver_warnings(model):
+    """A validity message when one small element sets the whole run's step: the
+    characteristic length of the element that sets it is below :data:`SLIVER_RATIO` of
+    the median (a sliver where a hole meets the surface, say), with where it is.
+
+    Parameters
+    ----------
+    model : Model
+
+    Returns
+    -------
+    list of str
+        Empty, or one message.
+    """
+    if model.mesh.n_elements == 0:
+        return []
+    e = limiting_element(model)
+    if e["length_m"] >= SLIVER_RATIO * e["median_length_m"]:
+        return []
+    return [f"{_step_setter(model, e)}: the stable step is {e['median_length_m'] / e['length_m']:.3g} times shorter than "
+            "the mesh's typical element needs; remesh with a minimum element size there (Gmsh: "
+            "Mesh.CharacteristicLengthMin, or optimise the mesh) to make every run that much faster"]
+
+
+def _step_setter(model, e=None):
+    """``"the step is set by tet4 element 12 at (1, 2, 3) mm, 0.3 mm across (median 4 mm)"``;
+    ``e``: the model's :func:`limiting_element` when already found."""
+    if model.mesh.n_elements == 0:
+        return "the rods set the step"
+    e = e or limiting_element(model)
+    where = ", ".join(f"{1e3 * c:.4g}" for c in e["centroid_m"])
+    return (f"the step is set by {e['element']} at ({where}) mm, {1e3 * e['length_m']:.3g} mm across "
+            f"(median {1e3 * e['median_length_m']:.3g} mm)")
+
+
+def _initial_state(name, value, shape):
+    try:
+        a = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a numeric array of shape {shape}") from None
+    if a.shape != shape or not np.all(np.isfinite(a)):
+        raise InputError(f"{name} must be finite with shape {shape}, got shape {a.shape}")
+    return a
+
+
+def _initial_energy(model, x, v, forces, tet4_forces, tet10_forces, rod_forces):
+    """Kinetic plus stored (strain, hourglass, rod) energy [J] of the initial state x, v
+    (v already zero on the constrained nodes), from the run's own force kernels
+    ``forces``, ``tet4_forces``, ``tet10_forces`` and ``rod_forces`` (compiled or numpy
+    reference); 0 for the stored part when an element is inverted at x (the step loop
+    then stops at step 0)."""
+    f = np.zeros_like(x)
+    material = SolidMaterial(*model.solid_constants)
+    _, w_s, w_hg, _, bad = forces(x, v, model.hexahedra, material, f)
+    for kernel, group in ((tet4_forces, model.tet4), (tet10_forces, model.tet10)):
+        _, w_group, _, bad_group = kernel(x, v, group, material, f)
+        w_s += w_group
+        bad = max(bad, bad_group)
+    ra = model.rod_arrays
+    w_rod, _ = rod_forces(x, ra.segments, ra.rest_length, ra.axial_stiffness, ra.hinges, ra.bending_stiffness, f)
+    stored = w_s + w_hg + w_rod if bad < 0 else 0.0
+    return 0.5 * float(np.sum(model.mass[:, None] * v * v)) + stored
+
+
+def _contact_group(model, dt_cfl):
+    """The model's contact as a :data:`ContactGroup` (no slave nodes when it has none)."""
+    n = model.mesh.n_nodes
+    c = model.contact
+    if c is None:
+        kind, params, nodes, k, c_n, mu = PLANE, np.zeros(8), np.zeros(0, np.int64), np.zeros(0), np.zeros(0), 0.0
+    else:
+        kind, params = c.surface.params()
+        nodes = np.asarray(c.nodes, dtype=np.int64)
+        k = penalty_stiffness(model.mass[nodes], dt_cfl) if c.stiffness is None else np.asarray(c.stiffness, float)
+        c_n = contact_damping(k, model.mass[nodes], c.surface.damping_ratio)
+        mu = float(c.surface.mu)
+    return ContactGroup(nodes, k, c_n, kind, params, mu, np.zeros((n, 3)), np.zeros(n), np.zeros(8))
+
+
+def _step_data(model, x, v, dt_user, tssfac, dt_cfl):
+    """The groups the step loop takes, for ``model`` starting from x, v.
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    x, v : ndarray, shape (n, 3)
+        Initial positions [m] and velocities [m/s]; used in place as the state.
+    dt_user : float
+        Fixed step [s], 0.0 for the CFL-controlled step.
+    tssfac : float
+        Scale factor of the CFL step [-].
+    dt_cfl : float
+        Critical step at the start [s] (sets the contact penalty stiffness).
+
+    Returns
+    -------
+    tuple
+        (control, damping, state, nodes, hexes, tets4, tets10, material, rods, loads, frame,
+        contact), as
+        :func:`_advance` takes them after its kernels and clock.
+    """
+    mesh = model.mesh
+    X = mesh.nodes
+    free = np.ones(mesh.n_nodes)
+    free[model.fixed_nodes] = 0.0
+    rot = model.rotating
+    if rot is not None:
+        free[rot.nodes] = 0.0
+        frame = RotatingFrame(rot.nodes, rot.center_m, rot.axis, float(rot.omega_rad_s))
+    else:
+        frame = RotatingFrame(np.zeros(0, np.int64), np.zeros(3), np.array([0.0, 0.0, 1.0]), 0.0)
+    v *= free[:, None]
+    state = State(x, v, *(np.zeros_like(X) for _ in range(5)))
+    mass3 = np.repeat(model.mass[:, None], 3, axis=1)
+    inv_mass = np.divide(1.0, mass3, out=np.zeros_like(mass3), where=mass3 > 0.0)     # massless: constrained
+    nodes = Nodes(X, model.mass, mass3, inv_mass, free, np.flatnonzero(free == 0.0), np.zeros_like(X))
+    ra = model.rod_arrays
+    return (StepControl(dt_user, tssfac), Damping(model.alpha, model.beta, model.damping == "relative"), state,
+            nodes, model.hexahedra, model.tet4, model.tet10,
+            SolidMaterial(*model.solid_constants),
+            RodGroup(ra.segments, ra.rest_length, ra.axial_stiffness, ra.hinges, ra.bending_stiffness,
+                     rod_time_step(model)),
+            pulse_loads(model.pulses), frame, _contact_group(model, dt_cfl))
+
+
+CONTACT_COLUMNS = ["contact_force_x_N", "contact_force_y_N", "contact_force_z_N", "penalty_energy_J",
+                   "max_penetration_m", "contact_nodes", "contact_point_x_m", "contact_point_y_m",
+                   "normal_contact_work_J", "friction_work_J"]
+"""History columns added when the model has contact: force on the rigid surface [N],
+stored penalty energy [J], deepest penetration [m], nodes in contact, force-weighted
+contact point [m], work of the normal and friction contact forces on the body [J]."""
+
+
+ELEMENT_CYCLE_S = {"hex8": 3e-7, "tet4": 4e-7, "tet10": 1.6e-6}
+"""About how long one element takes per step on one core [s] (``benchmarks/fea_speed.json``,
+``benchmarks/tet_speed.json``: 168-427 ns hex8, 350 ns tet4, 1592 ns tet10 on the 2-core
+AMD VM), for the expected wall time :func:`run` states before it starts."""
+
+
+BUDGET_ESTIMATE_MARGIN = 1.05
+"""A run is refused from the at-rest estimate of its step (:func:`limiting_element`,
+within about 1 % of :func:`critical_time_step` for hexahedra) only when it exceeds the
+budget by this factor; closer calls wait for the exact step."""
+
+
+def _check_budget(model, t_end_s, dt_s, budget, margin=1.0):
+    """The expected step count ``t_end_s / dt_s``; InputError when it exceeds ``margin``
+    x ``budget``, naming the steps, the expected time and the element that sets the step."""
+    n_expected = t_end_s / dt_s
+    if n_expected > margin * budget:
+        mesh = model.mesh
+        raise InputError(f"t_end_s = {t_end_s:g} s at the stable step {dt_s:.3g} s is about {n_expected:.3g} steps, "
+                         f"beyond the budget of {budget:.3g} (about "
+                         f"{_duration(expected_wall_time_s(mesh, n_expected))} for {mesh.n_elements} elements on one "
+                         f"core); {_step_setter(model)}; check E and rho, coarsen the mesh there, or raise the budget "
+                         f"(--max-steps, {STEPS_ENV})")
+    return n_expected
+
+
+def expected_wall_time_s(mesh, steps):
+    """About how long ``steps`` steps of ``mesh`` take on one core [s] (:data:`ELEMENT_CYCLE_S`).
+
+    Parameters
+    ----------
+    mesh : Mesh
+    steps : float
+
+    Returns
+    -------
+    float
+    """
+    per_step = (len(mesh.hexes) * ELEMENT_CYCLE_S["hex8"] + len(mesh.tets4) * ELEMENT_CYCLE_S["tet4"]
+                + len(mesh.tets10) * ELEMENT_CYCLE_S["tet10"])
+    return steps * per_step
+
+
+def _duration(seconds):
+    """``"3.2 min"``-style duration."""
+    for unit, size in (("d", 86400.0), ("h", 3600.0), ("min", 60.0)):
+        if seconds >= size:
+            return f"{seconds / size:.2g} {unit}"
+    return f"{seconds:.2g} s"
+
+
+THREADS_ENV = "CCEDI_THREADS"
+"""Environment variable that sets the default thread count of :func:`run` (an integer in
+1 .. the cores), e.g. 1 in a test suite whose workers share the cores."""
+
+IDLE_CPU_PERCENT = 50.0
+"""A core counts as free for a run when it was busy less than this share [%] of a short
+sampling window (:func:`free_cores`)."""
+
+
+def free_cores(window_s=0.05):
+    """Cores nothing else is using (psutil's per-CPU times).
+
+    Parameters
+    ----------
+    window_s : float, optional
+        Sampling window [s]. Default 0.05.
+
+    Returns
+    -------
+    int
+        The cores busy less than :data:`IDLE_CPU_PERCENT` of the window, at least 1.
+    """
+    busy = psutil.cpu_percent(interval=window_s, percpu=True)
+    return max(1, sum(1 for p in busy if p < IDLE_CPU_PERCENT))
+
+
+def _shares_cores_with_dask():
+    """True in a Dask worker, and in a process with a Dask client: its workers run beside
+    it, so the cores that look free between their tasks are not."""
+    if "distributed" not in sys.modules:
+        return False
+    from distributed import get_worker
+    from distributed.client import _get_global_client
+
+    try:
+        get_worker()
+    except ValueError:
+        return _get_global_client() is not None
+    return True
+
+
+def thread_count(threads=None):
+    """Number of threads the compiled force kernels of a run use.
+
+    Parameters
+    ----------
+    threads : int, optional
+        Requested count, 1 .. ``numba.config.NUMBA_NUM_THREADS`` (the cores, unless the
+        environment variable NUMBA_NUM_THREADS sets fewer). Default None: the variable
+        :data:`THREADS_ENV` if set; 1 in a Dask worker (a sweep runs one model per
+        worker) and in a process with a Dask client (its workers share the cores); else
+        every free core (:func:`free_cores`). Every step waits at a barrier
+        for all its threads, so a thread on a core that another job also uses stalls it
+        (measured: 2 threads 18 x slower than 1 at load 20 on 2 cores): hence only the
+        free cores.
+
+    Returns
+    -------
+    int
+        The thread count. Results do not depend on it (bit for bit).
+
+    Raises
+    ------
+    InputError
+        If ``threads`` or :data:`THREADS_ENV` is not an integer in that range.
+    """
+    top = nb.config.NUMBA_NUM_THREADS
+    if threads is None:
+        env = os.environ.get(THREADS_ENV)
+        if env is not None:
+            try:
+                threads = int(env)
+            except ValueError:
+                raise InputError(f"{THREADS_ENV} = {env!r}: must be an integer in 1..{top}") from None
+            if not 1 <= threads <= top:
+                raise InputError(f"{THREADS_ENV} = {env!r}: must be an integer in 1..{top}")
+            return threads
+        if _shares_cores_with_dask():
+            return 1
+        return min(top, free_cores())
+    if isinstance(threads, bool) or int(threads) != threads or not 1 <= threads <= top:
+        raise InputError(f"threads = {threads!r}: must be an integer in 1..{top}")
+    return int(threads)
+
+
+def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_set="tip",
+        reaction_set="root", snapshot_every=0, x0=None, v0=None, progress=False, output_hook=None, threads=None,
+        max_steps=None):
+    """Integrate ``model`` with central differences from rest (or x0, v0) to ``t_end_s``.
+
+    Solves ``M a + (alpha M + beta K) v + f_int(x) = f_ext`` with the update of the
+    module docstring. Records ``n_outputs`` evenly spaced rows: tip displacement
+    (area-weighted mean over ``tip_set``), reaction force summed over
+    ``reaction_set``, max von Mises stress and the energy terms. Steps are never
+    shortened to hit an output time: positions (and the displacement and stress derived
+    from them) are interpolated to the output time, exactly, since central differences
+    move nodes linearly within a step; energies and reactions are those of the step
+    that reaches it (at most one step later). The final state ``x, v`` is at
+    ``summary["t_final_s"]`` (>= t_end_s, by less than one step). After the run the
+    validity checks of :mod:`ccedi.fea.solvers.validity` (energy balance, hourglass energy,
+    strain) fill the summary; each warning is issued once as a
+    :class:`ccedi.errors.ValidityWarning`.
+
+    Parameters
+    ----------
+    model : Model
+        The finite element model (mesh, material, supports, loads, contact, damping).
+    t_end_s : float
+        End time [s], > 0.
+    n_outputs : int, optional
+        Number of output rows, 1..:data:`ccedi.fea.solvers.budget.MAX_OUTPUTS`, at
+        ``t_end_s k / n_outputs``. Default 400.
+    dt_s : float, optional
+        Fixed step [s], at most the CFL limit. Default None: CFL-controlled,
+        TSSFAC x min dt_e recomputed every step (times 0.9 more when the model has
+        contact, see :mod:`ccedi.fea.contact.penalty`).
+    backend : {"numba", "numpy"}, optional
+        ``"numba"`` (compiled, default) or ``"numpy"`` (pure-numpy reference, slow).
+    tip_set : str, optional
+        Node set whose area-weighted mean displacement is recorded. Default ``"tip"``.
+    reaction_set : str, optional
+        Node set whose summed support reaction is recorded. Default ``"root"``.
+    snapshot_every : int, optional
+        Keep the positions every this many outputs in ``snapshots`` (0: none, default).
+    x0 : (n_nodes, 3) array_like, optional
+        Initial positions [m]. Default: the reference positions.
+    v0 : (n_nodes, 3) array_like, optional
+        Initial velocities [m/s] (zeroed on constrained nodes). Default: zero.
+    progress : bool, optional
+        Show a progress bar (tqdm) over the output times, headed by the run's expected
+        step count and wall time. Default False.
+    output_hook : callable, optional
+        ``hook(t_out, x_out, f_ext) -> dict`` called at every output with the
+        interpolated positions [m] and the external nodal forces of the last step
+        (pulses and contact) [N]; its dict values become extra history columns.
+    threads : int, optional
+        Threads of the compiled hexahedron kernel (:func:`thread_count`; default: the
+        free cores). The results are the same bits for any count.
+    max_steps : int, optional
+        Step budget (:func:`ccedi.fea.solvers.budget.step_budget`; default ``CCEDI_MAX_STEPS`` or
+        :data:`ccedi.fea.solvers.budget.MAX_STEPS`): a run expected to take more steps
+        (``t_end_s`` over the first stable step) is refused before it starts.
+
+    Returns
+    -------
+    RunResult
+        History, summary, final state and snapshots.
+
+    Raises
+    ------
+    InputError
+        If ``model`` is not a :class:`ccedi.fea.model.Model`, ``t_end_s`` or ``dt_s`` is
+        not finite and positive, ``n_outputs`` is not an integer in 1..MAX_OUTPUTS, ``backend`` is
+        unknown, ``dt_s`` exceeds the CFL limit, ``x0``/``v0`` are not finite arrays
+        of the mesh's node shape, ``threads`` is out of range, or the run would take more
+        steps than its budget (:func:`step_budget`; the message gives the step count, the
+        stable step and the expected wall time).
+    SolverError
+        If an element inverts, a rod hinge folds back on itself, the solution diverges
+        or the mesh deforms so that a fixed ``dt_s`` exceeds the stable step.
+    """
+    if not isinstance(model, Model):
+        raise InputError("model must be a fea.model.Model")
+    t_end_s = require_finite_positive("t_end_s (end time, s)", t_end_s)
+    n_outputs = check_outputs(n_outputs)
+    if backend not in ("numba", "numpy"):
+        raise InputError(f"backend must be 'numba' or 'numpy', got {backend!r}")
+    n_threads = thread_count(threads)
+    mesh = model.mesh
+    dt_user = 0.0 if dt_s is None else require_finite_positive("dt_s (time step, s)", dt_s)
+    budget = step_budget(max_steps)
+    tssfac = TSSFAC * (STEP_SHRINK if model.contact is not None else 1.0)
+    if not dt_user and mesh.n_elements:             # refused before the kernels compile (tens of seconds, cold)
+        _check_budget(model, t_end_s, tssfac * min(limiting_element(model)["dt_s"], rod_time_step(model)),
+                      budget, margin=BUDGET_ESTIMATE_MARGIN)
+    dt_cfl = critical_time_step(model)
+    if dt_user > dt_cfl:
+        raise InputError(f"dt_s = {dt_user:.4g} s exceeds the CFL limit {dt_cfl:.4g} s "
+                         f"(paper Eq. 6); use dt_s <= {TSSFAC * dt_cfl:.4g} s or leave it unset")
+    dt_first = dt_user if dt_user else tssfac * dt_cfl
+    n_expected = _check_budget(model, t_end_s, dt_first, budget)
+    X = mesh.nodes
+    x = X.copy() if x0 is None else _initial_state("x0 (initial positions, m)", x0, X.shape)
+    v = np.zeros_like(X) if v0 is None else _initial_state("v0 (initial velocities, m/s)", v0, X.shape)
+    groups = _step_data(model, x, v, dt_user, tssfac, dt_cfl)
+    state, contact = groups[2], groups[-1]
+    tip = mesh.node_sets[tip_set]
+    tip_w = face_node_weights(mesh, tip) if len(tip) > 1 else np.ones(1)
+    react_nodes = mesh.node_sets[reaction_set]
+    energy = np.zeros(9)
+    if backend == "numba":
+        advance, kernels = _advance_numba, (internal_forces_numba, tet4_forces_numba, tet10_forces_numba,
+                                            rod_forces_numba, contact_forces)
+    else:
+        advance, kernels = _advance, (_hex_forces_numpy, tet4_forces_numpy, tet10_forces_numpy,
+                                      rod_forces_numpy, contact_forces.py_func)
+    energy_0 = _initial_energy(model, x, v, *kernels[:4])
+
+    rows, snapshots = [], []
+    t, dt_prev, steps, dt_min = 0.0, 0.0, 0, np.inf
+    wall0 = _time.perf_counter()
+    times = np.linspace(0.0, t_end_s, n_outputs + 1)[1:]
+    if progress:
+        times = progress_bar(times, desc=f"t_end {t_end_s:g} s, ~{n_expected:.3g} steps, "
+                                         f"~{_duration(expected_wall_time_s(mesh, n_expected))}", unit="output")
+    if backend == "numba":
+        advance = compiled_entry(advance, *kernels, t, t_end_s, dt_prev, *groups, energy)
+    threads_before = nb.get_num_threads()
+    nb.set_num_threads(n_threads)
+    try:
+        for i_out, t_out in enumerate(times):
+            t, dt_prev, n, status, info, dt_seen = advance(*kernels, t, t_out, dt_prev, *groups, energy)
+            steps += n
+            dt_min = min(dt_min, dt_seen)
+            if status == _INVERTED:
+                raise SolverError(f"{element_name(mesh, info)} inverted (J <= 0) at t = {t:.6g} s, step {steps}: "
+                                  "the mesh is too coarse for the deformation there; refine it")
+            if status == _FOLDED:
+                raise SolverError(f"rod hinge {info} folded back on itself (turning angle >= 180 deg) "
+                                  f"at t = {t:.6g} s, step {steps}")
+            if status == _DIVERGED:
+                raise SolverError(f"solution diverged (non-finite velocity) at step {steps + 1}, t = {t:.6g} s")
+            if status == _STEP_TOO_LARGE:
+                raise SolverError(f"dt_s = {dt_user:.4g} s exceeds the current stable step {dt_seen:.4g} s "
+                                  f"at step {steps}, t = {t:.6g} s (the mesh deformed)")
+            # positions at t_out, which always lies within the last step (t - dt_prev, t]:
+            # central differences move each node linearly over a step
+            x_out = x - (t - t_out) * v
+            u_tip = tip_w @ (x_out[tip] - X[tip])
+            r = state.reaction[react_nodes].sum(axis=0)
+            row = (t_out, *u_tip, *r, *_stress_and_strain(model, x_out), *energy[:_E_PENALTY])
+            if model.contact is not None:
+                out = contact.out
+                row += (*out[:3], energy[_E_PENALTY], *out[4:], energy[_W_NORMAL], energy[_W_FRICTION])
+            if output_hook is not None:
+                extra = output_hook(t_out, x_out, state.f_ext)
+                row += tuple(extra.values())
+            rows.append(row)
+            if snapshot_every and (i_out + 1) % snapshot_every == 0:
+                snapshots.append((t_out, x_out))
+    finally:
+        nb.set_num_threads(threads_before)
+        if progress:
+            times.close()       # before an error message is printed, so it starts a line of its own
+    wall = _time.perf_counter() - wall0
+    cols = ["time_s", "tip_ux_m", "tip_uy_m", "tip_uz_m", "reaction_x_N", "reaction_y_N", "reaction_z_N",
+            "max_von_mises_Pa", "max_log_strain", "external_work_J", "damping_energy_J", "bulk_viscosity_energy_J",
+            "kinetic_energy_J", "internal_energy_J", "hourglass_energy_J"]
+    if model.contact is not None:
+        cols += CONTACT_COLUMNS
+    if output_hook is not None:
+        cols += list(extra)
+    history = pd.DataFrame(rows, columns=cols)
+    n_elements = mesh.n_elements + len(model.rod_arrays.segments)
+    summary = {"nodes": mesh.n_nodes, "elements": n_elements, "dt_initial_s": dt_first,
+               "dt_min_s": float(dt_min), "steps": int(steps), "t_end_s": t_end_s, "t_final_s": t,
+               "wall_time_s": wall, "backend": backend, "threads": n_threads, "alpha_per_s": model.alpha,
+               "beta_s": model.beta,
+               "ns_per_element_cycle": 1e9 * wall / max(1, steps * n_elements)}
+    summary.update(run_checks(history, energy_0))
+    summary["warnings"] += sliver_warnings(model)
+    issue(summary["warnings"], run_label(model.alpha, model.damping))
+    return RunResult(history=history, summary=summary, x=x, v=v, snapshots=snapshots)
