@@ -343,6 +343,7 @@ def calibration_model(exp: Experiment):
         The model.
     """
     if exp.kind == "contact":
+        # the contact stack (drum FEA, contact ROM) loads only for a contact record
         from .contact_model import DrumContactModel
 
         return DrumContactModel(exp)

@@ -23,9 +23,9 @@ SIGNALS = {"impulse": ("tip displacement", "tip_displacement_m", "m", 1e3, "mm")
 
 
 def _figures(cal: Calibration):
-    import matplotlib
+    import matplotlib  # matplotlib loads only when a figure is drawn
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # matplotlib loads only when a figure is drawn
 
     name_, _, _, k, unit = SIGNALS[cal.experiment.kind]
     t = cal.experiment.time_s

@@ -98,7 +98,7 @@ def client(stack, scheduler, n_workers=LOCAL_WORKERS):
         reached within 10 s.
     """
     try:
-        from dask.distributed import Client, LocalCluster
+        from dask.distributed import Client, LocalCluster  # dask loads only when runs are distributed
     except ImportError:
         raise InputError("--scheduler needs dask.distributed: pip install 'dask[distributed]' "
                          "(or use --scheduler serial)") from None
@@ -143,7 +143,7 @@ def in_worker():
         True inside a task running on a Dask worker (False also without Dask).
     """
     try:
-        from distributed import get_worker
+        from distributed import get_worker  # dask loads only when runs are distributed
         get_worker()
         return True
     except (ImportError, ValueError):
@@ -225,7 +225,7 @@ def map_runs(function, items, scheduler=SERIAL, n_workers=LOCAL_WORKERS, label="
                 runs.append(run(item))
                 bar.update()
         else:
-            from dask.distributed import as_completed, worker_client
+            from dask.distributed import as_completed, worker_client  # dask loads only when runs are distributed
 
             dask = stack.enter_context(worker_client()) if in_worker() else client(stack, scheduler, n_workers)
             futures = dask.map(run, items, pure=False, priority=RUN_PRIORITY)

@@ -6,6 +6,8 @@ import os
 import tempfile
 from pathlib import Path
 
+from ccedi.errors import InputError
+
 
 def atomic_write(path, write):
     """Call ``write(tmp)`` on a temporary file beside ``path``, then rename it over ``path``.
@@ -168,8 +170,6 @@ def require_parquet():
     InputError
         A one-line message with the install command, if pyarrow cannot be imported.
     """
-    from ccedi.errors import InputError
-
     try:
         import pyarrow  # noqa: F401
     except ImportError:
@@ -241,10 +241,10 @@ def write_pdf_figures(path, images):
     pathlib.Path
         The path written.
     """
-    import matplotlib
+    import matplotlib  # matplotlib loads only when a figure is drawn
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.backends.backend_pdf import PdfPages
+    import matplotlib.pyplot as plt  # matplotlib loads only when a figure is drawn
+    from matplotlib.backends.backend_pdf import PdfPages  # matplotlib loads only when a figure is drawn
 
     def write(tmp):
         with PdfPages(tmp) as pdf:

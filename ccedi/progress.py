@@ -16,6 +16,8 @@ import sys
 import threading
 import weakref
 
+from tqdm import tqdm
+
 _OPEN = weakref.WeakSet()
 _LOCK = threading.RLock()
 
@@ -64,8 +66,6 @@ def progress_bar(iterable=None, total=None, desc="", unit="it"):
         The bar: iterate over it, or use it as a context manager and call ``update()``
         once per finished item.
     """
-    from tqdm import tqdm
-
     if getattr(tqdm, "_lock", None) is not _LOCK:
         tqdm.set_lock(_LOCK)
     if sys.stderr.isatty():

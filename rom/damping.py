@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy import stats
+from scipy.optimize import least_squares
 
 from ccedi.errors import InputError
 
@@ -41,7 +42,6 @@ class LogDecrement:
     peak_amplitudes : numpy.ndarray
         Peak excursions from the final value (units of y).
     """
-
     zeta: float
     delta: float
     zeta_ci95: tuple
@@ -226,7 +226,6 @@ class HalfPower:
     resolution_rad_s : float
         Frequency resolution of the padded spectrum [rad/s].
     """
-
     zeta: float
     omega_n_rad_s: float
     half_power_rad_s: tuple
@@ -323,7 +322,6 @@ class EnvelopeFit:
     rms_residual : float
         RMS residual of the fit (units of y).
     """
-
     zeta: float
     decay_rate_per_s: float
     omega_d_rad_s: float
@@ -367,8 +365,6 @@ def envelope_fit(t, y, y_final=None, noise_band=0.02):
         If the signal is not 1-D finite with at least 8 samples and strictly increasing times; the response is constant; fewer than three half-cycles reach the
         noise band (it does not oscillate); or the fitted envelope does not decay.
     """
-    from scipy.optimize import least_squares
-
     t, y = _validate_signal(t, y)
     if y_final is None:
         y_final = float(np.mean(y[int(0.9 * len(y)):]))

@@ -8,15 +8,22 @@ searches take any impulse model of the structure (default: the full FE one,
 modal ROM from :func:`ccedi.rom.modal.reduce_impulse_model`).
 """
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
+from ccedi.distributed import map_runs
 from ccedi.fea.cases.steel_rod import steel_rod_impulse_model
 from ccedi.fea.cases.studies import finger_impulse_model
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import SEMI_AXES, sm_a
-from ccedi.fea.model import cantilever_model
+from ccedi.fea.model import cantilever_model, face_node_weights
+from ccedi.fea.solvers.explicit import max_von_mises
 from ccedi.fea.solvers.modal import natural_frequencies
+from ccedi.fea.solvers.static import static_solve
+from ccedi.rom.ccedi import match_alpha
+from ccedi.rom.damping import oscillates
+from ccedi.rom.modal import reduce_impulse_model
 
 from .ccedi import critical_alpha, paper_alpha_cr
 
@@ -161,10 +168,6 @@ def alpha_cr_table(lengths_in=(3.0, 4.5, 6.0, 8.0), rtol=0.01, scheduler="serial
         Per length: ``length_in``, ``alpha_cr_per_s``, ``bracket_per_s``, ``n_runs``,
         ``omega1_rad_s``, ``two_omega1_per_s``, ``paper_eq8_per_s``.
     """
-    from functools import partial
-
-    from ccedi.distributed import map_runs
-
     return map_runs(partial(_alpha_cr_row, rtol=rtol, material=material, semi_axes_m=semi_axes_m), lengths_in,
                     scheduler, label="alpha_cr")
 
@@ -193,10 +196,6 @@ def quasi_static_peak_stress(model, tip_displacements_m):
     list of float
         Max von Mises stress [Pa] over the elements, one per displacement.
     """
-    from ccedi.fea.model import face_node_weights
-    from ccedi.fea.solvers.explicit import max_von_mises
-    from ccedi.fea.solvers.static import static_solve
-
     mesh = model.mesh
     tip = mesh.node_sets["tip"]
     w = face_node_weights(mesh, tip)
@@ -230,7 +229,6 @@ class DetailedModelComparison:
     omega1_rad_s : dict
         First modal frequency [rad/s] of ``"SM-A"`` and ``"DM"`` (the ROMs').
     """
-
     time_s: np.ndarray
     sm_a_tip_m: np.ndarray
     dm_tip_m: np.ndarray
@@ -281,12 +279,6 @@ def detailed_model_comparison(dm_mesh, sm_a_mesh=None, alpha=PAPER_FIG6["alpha_p
     -------
     DetailedModelComparison
     """
-    from ccedi.fea.cases.studies import finger_impulse_model
-
-    from .ccedi import match_alpha
-    from .damping import oscillates
-    from .modal import reduce_impulse_model
-
     sm_a_mesh = sm_a(length_in=4.5) if sm_a_mesh is None else sm_a_mesh
     full = {name: finger_impulse_model(force_N=force_N, duration_s=duration_s, material=material, mesh=mesh)
             for name, mesh in (("SM-A", sm_a_mesh), ("DM", dm_mesh))}

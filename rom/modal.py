@@ -131,7 +131,7 @@ class ModalROM:
         control.StateSpace
             State (q_1..q_N, q_1'..q_N'), input force [N], output displacement [m].
         """
-        import control
+        import control  # python-control loads only for the state-space form
 
         n = self.n_modes
         w, z = self.omega_rad_s, self.zeta

@@ -1,5 +1,7 @@
 """Study steps that no other sub-command covers: the steel rod of the paper's section 2.2
 (Figs. 3 and 4 analogues) and the SM-A / SM-B / detailed model comparison (Fig. 6 analogue)."""
+# Imports inside functions: each step loads its own library stack (its command, Dask) when it
+# runs, in the process that runs it.
 from functools import partial
 
 import numpy as np

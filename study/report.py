@@ -4,12 +4,15 @@ outputs, and every figure is a PNG of this run. A step that did not run is liste
 """
 import html
 import json
+import tomllib
 from datetime import datetime, timezone
 from pathlib import Path
 
 import pandas as pd
 
+from ccedi.fea.cases.studies import PAPER_TABLE1, is_paper_finger
 from ccedi.outputs import write_pdf_figures, write_text
+from ccedi.study.config import SCHEMA, finger_inputs, validate
 
 from .config import CONFIG_NAME
 
@@ -78,18 +81,12 @@ def _missing(step):
 
 def _inputs_of(out):
     """The validated inputs of the run (``config.toml``); the defaults for a run without one."""
-    import tomllib
-
-    from .config import validate
 
     path = out / CONFIG_NAME
     return validate(tomllib.loads(path.read_text()) if path.exists() else {})
 
 
 def _table1(out):
-    from ccedi.fea.cases.studies import PAPER_TABLE1, is_paper_finger
-
-    from .config import finger_inputs
 
     t = _load(out, "table1.json")
     if t is None:
@@ -370,7 +367,6 @@ def _warnings(out):
 
 def _inputs(out):
     """The finger and drum inputs of this run (``config.toml``), each with its unit."""
-    from .config import SCHEMA
 
     if not (out / CONFIG_NAME).exists():
         return ""

@@ -27,6 +27,8 @@ Every output is written atomically, so an interrupted study (Ctrl-C) leaves the
 finished steps' files and no partial ones; ``study.json`` records each finished step's
 wall time [s] and validity warnings (:mod:`ccedi.fea.solvers.validity`; the index lists them).
 """
+# Imports inside functions: each step loads its own library stack (its command, Dask) when it
+# runs, in the process that runs it.
 import json
 import time
 from pathlib import Path

@@ -134,3 +134,42 @@ def test_the_graph_sees_relative_absolute_and_in_function_imports():
     assert "ccedi.units" in graph["ccedi.quantities"] and "ccedi.units" in graph["ccedi.fea.mesh"]
     assert "ccedi.fea.elements.hex8" in graph["ccedi.fea.model"]                # a sub-package's module
     assert "ccedi.study.config" in graph["ccedi.study.commands.arguments"]    # imported inside load_config
+
+
+MODULE_REASON = "# Imports inside functions:"
+"""A module whose functions import lazily says why once, in a comment line starting so."""
+
+
+def deferred_imports_without_a_reason(path):
+    """The in-function imports of ``path`` (as ``line: text``) that give no reason: no
+    comment on the import's first line or on the line above, and no module-level
+    :data:`MODULE_REASON` comment."""
+    text = path.read_text()
+    if any(line.startswith(MODULE_REASON) for line in text.splitlines()):
+        return []
+    lines = text.splitlines()
+    found = []
+    for function in ast.walk(ast.parse(text)):
+        if not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            continue
+        for node in ast.walk(function):
+            if isinstance(node, (ast.Import, ast.ImportFrom)):
+                line, above = lines[node.lineno - 1], lines[node.lineno - 2].strip()
+                if "#" not in line and not above.startswith("#"):
+                    found.append(f"{node.lineno}: {line.strip()}")
+    return found
+
+
+@pytest.mark.parametrize("module", sorted(_modules()))
+def test_an_import_inside_a_function_says_why(module):
+    """Imports sit at the module top, which shows the graph; one inside a function (a heavy
+    library loaded only when needed, a command line that must start fast) says why."""
+    assert deferred_imports_without_a_reason(_modules()[module]) == []
+
+
+def test_the_reason_check_can_fail(tmp_path):
+    source = tmp_path / "m.py"
+    source.write_text("def f():\n    import json\n    return json\n\n\ndef g():\n    import csv  # why\n    return csv\n")
+    assert deferred_imports_without_a_reason(source) == ["2: import json"]
+    source.write_text(f"{MODULE_REASON} a reason\n" + source.read_text())
+    assert deferred_imports_without_a_reason(source) == []

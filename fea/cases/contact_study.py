@@ -1,9 +1,13 @@
 """The paper's section 3.4 study: the finger on the drum sweeping over the object for
 several alpha; time histories, summaries and the analogues of Figs. 10, 13 and 14."""
+from functools import partial
+
 import numpy as np
 import pandas as pd
 
-from ccedi.fea.contact.drum import DrumSetup, contact_run, contact_summary
+from ccedi.distributed import map_runs
+from ccedi.fea.contact.drum import PAPER_CONTACT, DrumSetup, contact_run, contact_summary, finger_mesh
+from ccedi.fea.solvers.validity import run_label
 
 PAPER_ALPHAS = (1.0, 7.5, 20.0, 50.0, 180.0, 600.0)
 """The six damping coefficients of the paper's section 3.4 [1/s]."""
@@ -64,10 +68,6 @@ def sweep(setup: DrumSetup, alphas=PAPER_ALPHAS, damping="global", t_end_s=1.5, 
         ``warnings`` joined by :data:`WARNING_SEPARATOR`, empty for a healthy run),
         shapes dict).
     """
-    from functools import partial
-
-    from ccedi.distributed import map_runs
-
     case = partial(_contact_case, setup=setup, damping=damping, t_end_s=t_end_s, n_outputs=n_outputs,
                    progress=progress and scheduler == "serial")
     runs = map_runs(case, alphas, scheduler, label="contact runs")
@@ -78,9 +78,9 @@ def sweep(setup: DrumSetup, alphas=PAPER_ALPHAS, damping="global", t_end_s=1.5, 
 
 
 def _axes(nrows=1, figsize=(7.5, 4.5)):
-    import matplotlib
+    import matplotlib  # matplotlib loads only when a figure is drawn
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # matplotlib loads only when a figure is drawn
     return plt.subplots(nrows, 1, figsize=figsize, sharex=True)
 
 
@@ -147,9 +147,9 @@ def plot_contact_shapes(setup: DrumSetup, shapes):
     -------
     matplotlib.figure.Figure
     """
-    import matplotlib
+    import matplotlib  # matplotlib loads only when a figure is drawn
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # matplotlib loads only when a figure is drawn
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 5.5), sharex=True, sharey=True)
     th = np.linspace(0, 2 * np.pi, 200)
@@ -275,8 +275,6 @@ def run_warnings(table):
     list of str
         ``"alpha = 7.5 1/s: <warning>"`` per warning, in table order (none for None).
     """
-    from ccedi.fea.solvers.validity import run_label
-
     if table is None or "warnings" not in table:
         return []
     return [f"{run_label(float(r.alpha_per_s), r.damping)}: {w}" for _, r in table.iterrows()
@@ -325,8 +323,6 @@ def contact_report(setup: DrumSetup, global_table, global_history, relative_tabl
     str
         Markdown.
     """
-    from ccedi.fea.contact.drum import PAPER_CONTACT, finger_mesh
-
     finger = finger_mesh(setup)
     lines = ["# Finger on the rotating drum: contact study", "",
              f"Set-up: drum radius {1e3 * setup.drum_radius_m:g} mm, finger {1e3 * setup.finger_length_m:g} mm "

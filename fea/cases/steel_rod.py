@@ -10,6 +10,7 @@ The rod lies along +z from the clamp at the origin and bends in y.
 """
 import numpy as np
 
+from ccedi.fea.cases.studies import FullImpulseModel
 from ccedi.fea.elements.rod import RodSection, straight_rod
 from ccedi.fea.mesh import Mesh
 from ccedi.fea.model import ForcePulse, Model
@@ -72,7 +73,6 @@ def steel_rod_impulse_model(n_elements=STEEL_ROD["n_elements"], tip_mass_kg=STEE
         ``run(alpha, t_end_s, n_outputs)`` integrates :func:`steel_rod_model` at ``alpha``;
         ``tip_uy_m`` is the free end's displacement along the load.
     """
-    from ccedi.fea.cases.studies import FullImpulseModel
 
     return FullImpulseModel(lambda alpha: steel_rod_model(alpha=alpha, n_elements=n_elements, tip_mass_kg=tip_mass_kg,
                                                           force_N=force_N, duration_s=duration_s),

@@ -1,13 +1,17 @@
 """Studies of the paper's section 3.1: Table 1 (mesh, time step, stiffness) and the
 impulse response of the 4.5-in finger for several alpha (Fig. 7)."""
 import math
+from functools import partial
 
 import pandas as pd
 
+from ccedi.distributed import map_runs
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import SEMI_AXES, sm_a, sm_b
+from ccedi.fea.mesh.gmsh_fingers import detailed_model, sm_c
 from ccedi.fea.model import cantilever_model, tip_pulse
 from ccedi.fea.solvers.explicit import TSSFAC, critical_time_step, run
+from ccedi.fea.solvers.modal import natural_frequencies
 from ccedi.fea.solvers.static import tip_stiffness
 from ccedi.fea.solvers.validity import cantilever_length_m, issue, run_label, tip_deflection_warnings
 from ccedi.models import ImpulseResponse, validate_run_args
@@ -71,8 +75,6 @@ def table1_row(mesh, material, stiffness=True, omega1=False):
         ``steps_to_0_2_s``; with ``stiffness``, ``stiffness_N_per_m``; with ``omega1``,
         ``omega1_rad_s``.
     """
-    from ccedi.fea.solvers.modal import natural_frequencies
-
     model = cantilever_model(mesh, material)
     dt = TSSFAC * critical_time_step(model)
     row = {"element_type": mesh.element_type, "nodes": mesh.n_nodes, "elements": mesh.n_elements,
@@ -126,8 +128,6 @@ def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES
         ``{model name: row}``, rows as :func:`table1_row` plus ``step_ratio`` (steps to
         0.2 s over SM-A's).
     """
-    from ccedi.fea.mesh.gmsh_fingers import detailed_model, sm_c
-
     meshes = {"SM-A": sm_a(length_in=length_in, semi_axes_m=semi_axes_m),
               "SM-B": sm_b(length_in=length_in, semi_axes_m=semi_axes_m),
               "SM-C": sm_c(length_in=length_in, semi_axes_m=semi_axes_m)}
@@ -262,7 +262,6 @@ class FullImpulseModel:
     name : str, optional
         The ``model`` summary key.
     """
-
     def __init__(self, model_factory, force_N=None, duration_s=None, name="fea"):
         self.model_factory = model_factory
         self.force_N = force_N
@@ -383,10 +382,6 @@ def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), scheduler="serial",
     tuple
         (history DataFrame, list of summaries).
     """
-    from functools import partial
-
-    from ccedi.distributed import map_runs
-
     runs = map_runs(partial(_impulse_run, kwargs=kwargs), alphas, scheduler, label="impulse runs")
     return pd.concat([h for h, _ in runs], ignore_index=True), [s for _, s in runs]
 
@@ -405,9 +400,9 @@ def plot_impulse_study(history, finger="SM-A finger"):
     -------
     matplotlib.figure.Figure
     """
-    import matplotlib
+    import matplotlib  # matplotlib loads only when a figure is drawn
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # matplotlib loads only when a figure is drawn
 
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 7), sharex=True)
     for a, h in history.groupby("alpha_per_s"):

@@ -37,7 +37,7 @@ finger's contact forces, each applied at the nearest node of the object's latera
 surface, gives its largest von Mises stress. Point-like loads make this maximum
 mesh dependent (it grows under refinement); it is a comparative measure.
 """
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.sparse.linalg as spla
@@ -129,7 +129,6 @@ class DrumSetup:
         the drum, a ``finger`` that is no valid finger mesh (:func:`mounted_finger`), or a
         ``finger_length_m`` other than such a finger's length.
     """
-
     drum_radius_m: float = 0.08255
     finger_length_m: float | None = None
     omega_rad_s: float = 2.095
@@ -379,7 +378,6 @@ class ObjectStress:
     model : ccedi.fea.model.Model
         The object's FE model, clamped on its sensor pad (built from ``setup``).
     """
-
     setup: DrumSetup
     n_section: int = 12
     n_thickness: int = 4
@@ -591,7 +589,6 @@ class FullContactModel:
         Compute the object's stress at every output (a static solve per output; the
         ``max_object_von_mises_Pa`` column is NaN without it).
     """
-
     name = "fea"
 
     def __init__(self, setup: DrumSetup, object_stress=True):
@@ -695,7 +692,6 @@ def calibrate_initial_angle(setup: DrumSetup, alpha=7.5, target_s=0.32, iteratio
     InputError
         No contact within target_s + 0.1 s.
     """
-    from dataclasses import replace
     theta0 = setup.theta0_rad
     reach = first_contact_angle(replace(setup, theta0_rad=0.0))
     theta0 = reach - setup.omega_rad_s * target_s

@@ -32,6 +32,8 @@ import numpy as np
 
 from ccedi.errors import InputError, require_finite_positive
 from ccedi.fea.elements.fastmath import FASTMATH
+from ccedi.fea.elements.hex8 import FACES
+from ccedi.fea.elements.tetra import CORNER_FACES, QUADRATIC_FACES
 from ccedi.fea.solvers.rotating_frame import rotate, rotate_back
 
 PLANE, ELLIPSE = 0, 1
@@ -65,7 +67,6 @@ class RigidPlane:
         If ``mu`` is negative or not finite, ``damping_ratio`` is outside [0, MAX_DAMPING_RATIO], or
         ``normal`` is not a finite, non-zero 3-vector.
     """
-
     point_m: tuple
     normal: tuple
     mu: float = 0.0
@@ -127,7 +128,6 @@ class RigidEllipse:
         If a semi-axis is not finite and positive, ``mu`` is negative or not finite,
         ``damping_ratio`` is outside [0, MAX_DAMPING_RATIO], or ``z_min_m >= z_max_m``.
     """
-
     center_m: tuple
     a_m: float
     b_m: float
@@ -175,7 +175,6 @@ class Contact:
         Penalty stiffness per slave node [N/m]. Default None: chosen by the solver
         from the nodal masses and the stable step (:func:`penalty_stiffness`).
     """
-
     nodes: np.ndarray
     surface: object
     stiffness: np.ndarray | None = None
@@ -296,8 +295,6 @@ def boundary_nodes(mesh):
     (b,) int ndarray
         Sorted, unique indices of the nodes on boundary faces.
     """
-    from ccedi.fea.elements.hex8 import FACES
-    from ccedi.fea.elements.tetra import CORNER_FACES, QUADRATIC_FACES
     on_surface = [np.zeros(0, dtype=np.int64)]
     for cells, faces, corners in ((mesh.hexes, FACES, 4), (mesh.tets4, CORNER_FACES, 3),
                                   (mesh.tets10, QUADRATIC_FACES, 3)):

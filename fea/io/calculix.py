@@ -47,6 +47,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
+import scipy.sparse as sp
 
 from ccedi.errors import InputError, SolverError, one_line
 from ccedi.fea.elements.hex8 import FACES as HEX_FACES
@@ -93,7 +94,6 @@ class Hex20Mesh(NamedTuple):
         {name: node ids}: each set of the 8-node mesh plus the mid-edge nodes of the edges
         whose both ends are in it.
     """
-
     nodes: np.ndarray
     hexes20: np.ndarray
     node_sets: dict
@@ -115,7 +115,6 @@ class CalculixDeck(NamedTuple):
     element_types : tuple of str
         The CalculiX element types written.
     """
-
     text: str
     tip_ids: np.ndarray
     tip_weights: np.ndarray
@@ -145,7 +144,6 @@ class CalculixResult(NamedTuple):
     wall_time_s : float
         Wall time of the ``ccx`` process [s].
     """
-
     element_type: str
     n_nodes: int
     n_elements: int
@@ -843,7 +841,6 @@ class CalculixMatrices(NamedTuple):
     n_nodes : int
         Nodes of the written mesh (with the mid-edge nodes of C3D20 types).
     """
-
     stiffness: object
     mass: object
     dofs: np.ndarray
@@ -852,7 +849,6 @@ class CalculixMatrices(NamedTuple):
 
 def _symmetric_from_upper(text, size):
     """A symmetric sparse matrix from CalculiX's 1-based ``row col value`` upper triangle."""
-    import scipy.sparse as sp
     data = np.loadtxt(text.splitlines(), ndmin=2)
     i, j, v = data[:, 0].astype(np.int64) - 1, data[:, 1].astype(np.int64) - 1, data[:, 2]
     off = i != j

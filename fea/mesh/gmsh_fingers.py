@@ -57,7 +57,7 @@ _LOCK = threading.Lock()
 def _gmsh_model(name):
     """A fresh Gmsh model, quiet and deterministic; Gmsh initialised (and finalised) here
     only if it was not already."""
-    import gmsh
+    import gmsh  # the Gmsh library loads only when a mesh is generated
 
     with _LOCK:
         own = not gmsh.isInitialized()

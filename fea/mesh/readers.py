@@ -30,6 +30,7 @@ Points that no cell uses (a CAD file's geometry points) are dropped; a point use
 boundary cell, or in the set named as clamp or tip, but by no solid element is an error. Every problem is one
 :class:`ccedi.errors.InputError` line naming the file, the problem and where.
 """
+import importlib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -88,7 +89,6 @@ class FingerMeshSpec:
     bending_direction : str, optional
         The file axis the finger bends along, ``"y"`` or ``"x"``. Default ``"y"``.
     """
-
     path: str
     mesh_unit: str = "m"
     clamp: str = "z_min"
@@ -210,7 +210,6 @@ def _read_meshio(path, reader):
     """A file read by meshio's ``reader`` module as a :class:`_RawMesh` (sets: cell sets,
     point sets and Gmsh physical groups). The format's reader is called directly:
     ``meshio.read`` prints and exits the process on a file it cannot read."""
-    import importlib
 
     if path.stat().st_size == 0:
         raise InputError(f"{path}: the file is empty (0 bytes); export the finger mesh again")

@@ -817,8 +817,8 @@ def _shares_cores_with_dask():
     it, so the cores that look free between their tasks are not."""
     if "distributed" not in sys.modules:
         return False
-    from distributed import get_worker
-    from distributed.client import _get_global_client
+    from distributed import get_worker  # only to ask whether this process is a Dask worker or client
+    from distributed.client import _get_global_client  # only to ask whether this process is a Dask worker or client
 
     try:
         get_worker()

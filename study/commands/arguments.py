@@ -4,6 +4,8 @@ Output paths are declared with :func:`add_output_argument` and checked by
 :func:`check_output_paths` before a command computes anything, so that a run is never
 lost to a path it cannot write at the end.
 """
+# Imports inside functions: building the parser imports no library, so that `ccedi --help`
+# answers at once (tests/test_layout.py); each command loads what it runs.
 import argparse
 import os
 import warnings

@@ -1,6 +1,8 @@
 """``ccedi design``: pick the finger's damping and its length (or, for a finger given as a
 mesh, the drum speed) that meet the designer's requirements (:mod:`ccedi.design`), checked
 by the full FEA, with a report that explains the decision."""
+# Imports inside functions: building the parser imports no library, so that `ccedi --help`
+# answers at once (tests/test_layout.py); each command loads what it runs.
 import time
 import warnings
 from dataclasses import dataclass, fields, replace

@@ -6,6 +6,8 @@
   contact-sweep  the same for several alpha; paper Figs. 10, 13, 14 analogues
   contact-report contact_report.md from the CSVs a sweep wrote
 """
+# Imports inside functions: building the parser imports no library, so that `ccedi --help`
+# answers at once (tests/test_layout.py); each command loads what it runs.
 from pathlib import Path
 
 from ccedi.errors import InputError

@@ -4,6 +4,8 @@
   damping-fits   alpha_cr of the 3/4.5/6/8-in fingers, the paper's Eq. (7) and (8) refitted
   rom-check      reduced models against the full FEA (impulse and contact cases)
 """
+# Imports inside functions: building the parser imports no library, so that `ccedi --help`
+# answers at once (tests/test_layout.py); each command loads what it runs.
 import math
 
 from ccedi.errors import InputError, ModelInadequate
