@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from ccedi.errors import InputError
+from ccedi.fea.cases import studies
 from ccedi.fea.cases.studies import PAPER_TABLE1, finger_impulse_model, table1
 from ccedi.fea.material import RUBBER
-from ccedi.fea.mesh import gmsh_fingers
 from ccedi.fea.mesh.gmsh_fingers import (
     DM_CONE_RADIUS,
     DM_RIB_THICKNESS,
@@ -81,7 +81,7 @@ def test_dm_refuses_bad_dimensions(kwargs):
 def test_table1_dm_row(monkeypatch, coarse_dm):
     """The DM row of Table 1 has the paper's keys (and omega_1); its volume is the mesh's
     and its step ratio its steps over SM-A's (the DM at 8 mm for speed)."""
-    monkeypatch.setattr(gmsh_fingers, "detailed_model", functools.partial(detailed_model, COARSE_M))
+    monkeypatch.setattr(studies, "detailed_model", functools.partial(detailed_model, COARSE_M))
     t = table1(stiffness=False, detailed=True)
     dm = t["DM"]
     assert set(PAPER_TABLE1["DM"]) - {"stiffness_N_per_m"} <= set(dm)
