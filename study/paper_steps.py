@@ -9,15 +9,10 @@ import pandas as pd
 
 from ccedi.outputs import write_csv, write_figure, write_json
 
+from .figures import axes
+
 FREE_PERIODS = 6
 """Free-vibration periods simulated after the steel rod's load for Fig. 4 [-]."""
-
-
-def _axes(nrows=1, figsize=(7, 4.5)):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt.subplots(nrows, 1, figsize=figsize, sharex=True)
 
 
 def steel_rod(out):
@@ -73,7 +68,7 @@ def steel_rod(out):
               "paper_alpha_per_s": PAPER_ROD["alpha_per_s"], "published_zeta": PAPER_ROD["zeta"],
               "published_omega1_rad_s": PAPER_ROD["omega1_rad_s"], "simulated_zeta": dec.zeta,
               "simulated_omega_d_rad_s": dec.omega_d_rad_s, "log_decrement_cycles": dec.n_cycles}
-    fig, ax = _axes()
+    fig, ax = axes(figsize=(7, 4.5))
     for name, label in (("initial_guess", f"initial guess 2 omega_1 = {guess:.4g} 1/s"),
                         ("quarter_critical", f"alpha_cr / 4 = {0.25 * crit.alpha_cr_per_s:.4g} 1/s (under-damped)"),
                         ("critical", f"alpha_cr = {crit.alpha_cr_per_s:.4g} 1/s (CCEDI, {crit.n_runs} runs)")):
@@ -83,7 +78,7 @@ def steel_rod(out):
            title="steel rod, 0.003 N for 0.2 s (paper Fig. 3 analogue)")
     ax.legend()
     write_figure(out / "fig3_steel_rod_alpha_cr.png", fig)
-    fig, ax = _axes()
+    fig, ax = axes(figsize=(7, 4.5))
     ax.plot(t_free, 1e3 * u_free, label=f"FEA, alpha = zeta alpha_cr = {alpha:.4g} 1/s")
     t0 = dec.peak_times_s[0]
     after = t_free >= t0
@@ -139,7 +134,7 @@ def mesh_comparison(out, length_in, alpha, force_N, duration_s, t_end_s, schedul
     runs = [results["SM-A"], results["SM-B"]]
     history = pd.concat([h for h, _ in runs], ignore_index=True)
     write_csv(out / "mesh_comparison.csv", history)
-    fig, (a1, a2) = _axes(2, figsize=(7, 7))
+    fig, (a1, a2) = axes(2, figsize=(7, 7))
     summary = {"length_in": length_in, "alpha_per_s": alpha, "force_N": force_N, "duration_s": duration_s,
                "t_end_s": t_end_s, "models": {}}
     for (h, s), name in zip(runs, ("SM-A", "SM-B")):
@@ -201,7 +196,7 @@ def dm_comparison(out, alpha, force_N, duration_s, material, t_end_s=0.2):
     write_csv(out / "dm_comparison.csv", pd.DataFrame({"time_s": c.time_s, "sm_a_tip_uy_m": c.sm_a_tip_m,
                                                        "dm_tip_uy_m": c.dm_tip_m,
                                                        "dm_matched_tip_uy_m": c.dm_matched_tip_m}))
-    fig, ax = _axes()
+    fig, ax = axes(figsize=(7, 4.5))
     for y, label in ((c.sm_a_tip_m, f"SM-A, alpha = {alpha:g} 1/s"), (c.dm_tip_m, f"DM, alpha = {alpha:g} 1/s"),
                      (c.dm_matched_tip_m, f"DM, alpha = {a_m:.4g} 1/s (nearest SM-A)")):
         ax.plot(c.time_s, 1e3 * y, label=label)

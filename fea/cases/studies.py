@@ -384,35 +384,3 @@ def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), scheduler="serial",
     """
     runs = map_runs(partial(_impulse_run, kwargs=kwargs), alphas, scheduler, label="impulse runs")
     return pd.concat([h for h, _ in runs], ignore_index=True), [s for _, s in runs]
-
-
-def plot_impulse_study(history, finger="SM-A finger"):
-    """Tip displacement [mm] and max von Mises stress [kPa] against time [s], one line per alpha.
-
-    Parameters
-    ----------
-    history : pandas.DataFrame
-        The long history of :func:`impulse_study`.
-    finger : str, optional
-        The finger's name, for the title.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    import matplotlib  # matplotlib loads only when a figure is drawn
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt  # matplotlib loads only when a figure is drawn
-
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 7), sharex=True)
-    for a, h in history.groupby("alpha_per_s"):
-        ax1.plot(h.time_s, 1e3 * h.tip_uy_m, label=f"alpha = {a:g} 1/s")
-        ax2.plot(h.time_s, 1e-3 * h.max_von_mises_Pa)
-    ax1.axhline(0.0, color="k", lw=0.5)
-    ax1.set_ylabel("tip displacement y [mm]")
-    ax2.set_ylabel("max von Mises stress [kPa]")
-    ax2.set_xlabel("time [s]")
-    ax1.legend()
-    ax1.set_title(f"{finger}, tip impulse (paper Fig. 7 analogue)")
-    fig.tight_layout()
-    return fig

@@ -104,10 +104,11 @@ def write_impulse(cfg, alphas, out, length_in=None, force_N=1.0, duration_s=0.01
     """
     import numpy as np
 
-    from ccedi.fea.cases.studies import impulse_study, plot_impulse_study
+    from ccedi.fea.cases.studies import impulse_study
     from ccedi.fea.solvers.validity import run_label
     from ccedi.outputs import write_csv, write_figure, write_json
     from ccedi.study.config import finger_inputs
+    from ccedi.study.figures import plot_impulse_study
 
     out = Path(out)
     material, semi_axes = finger_inputs(cfg)
@@ -299,8 +300,9 @@ def write_contact_sweep(setup, alphas, out, damping="global", t_end_s=1.5, n_out
     scheduler : str
         ``serial``, ``local`` or a Dask scheduler address.
     """
-    from ccedi.fea.cases.contact_study import plot_contact_shapes, plot_reaction_force, plot_stresses, sweep
+    from ccedi.fea.cases.contact_study import sweep
     from ccedi.outputs import write_csv, write_figure
+    from ccedi.study.figures import plot_contact_shapes, plot_reaction_force, plot_stresses
 
     out = Path(out)
     history, table, shapes = sweep(setup, alphas, damping=damping, t_end_s=t_end_s,
