@@ -601,7 +601,7 @@ SLIVER_RATIO = 0.25
 sets a step that much shorter than the mesh needs (:func:`sliver_warnings`)."""
 
 
-def sliver_warnings(model):
+def sliver_warnings(model, e=None):
     """A validity message when one small element sets the whole run's step: the
     characteristic length of the element that sets it is below :data:`SLIVER_RATIO` of
     the median (a sliver where a hole meets the surface, say), with where it is.
@@ -609,6 +609,8 @@ def sliver_warnings(model):
     Parameters
     ----------
     model : Model
+    e : dict, optional
+        The model's :func:`limiting_element` when already found.
 
     Returns
     -------
@@ -617,7 +619,7 @@ def sliver_warnings(model):
     """
     if model.mesh.n_elements == 0:
         return []
-    e = limiting_element(model)
+    e = e or limiting_element(model)
     if e["length_m"] >= SLIVER_RATIO * e["median_length_m"]:
         return []
     return [f"{_step_setter(model, e)}: the stable step is {e['median_length_m'] / e['length_m']:.3g} times shorter than "
@@ -747,16 +749,17 @@ within about 1 % of :func:`critical_time_step` for hexahedra) only when it excee
 budget by this factor; closer calls wait for the exact step."""
 
 
-def _check_budget(model, t_end_s, dt_s, budget, margin=1.0):
+def _check_budget(model, t_end_s, dt_s, budget, limiting, margin=1.0):
     """The expected step count ``t_end_s / dt_s``; InputError when it exceeds ``margin``
-    x ``budget``, naming the steps, the expected time and the element that sets the step."""
+    x ``budget``, naming the steps, the expected time and the element that sets the step
+    (``limiting``, the model's :func:`limiting_element`, None without solid elements)."""
     n_expected = t_end_s / dt_s
     if n_expected > margin * budget:
         mesh = model.mesh
         raise InputError(f"t_end_s = {t_end_s:g} s at the stable step {dt_s:.3g} s is about {n_expected:.3g} steps, "
                          f"beyond the budget of {budget:.3g} (about "
                          f"{_duration(expected_wall_time_s(mesh, n_expected))} for {mesh.n_elements} elements on one "
-                         f"core); {_step_setter(model)}; check E and rho, coarsen the mesh there, or raise the budget "
+                         f"core); {_step_setter(model, limiting)}; check E and rho, coarsen the mesh there, or raise the budget "
                          f"(--max-steps, {STEPS_ENV})")
     return n_expected
 
@@ -958,15 +961,16 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
     dt_user = 0.0 if dt_s is None else require_finite_positive("dt_s (time step, s)", dt_s)
     budget = step_budget(max_steps)
     tssfac = TSSFAC * (STEP_SHRINK if model.contact is not None else 1.0)
-    if not dt_user and mesh.n_elements:             # refused before the kernels compile (tens of seconds, cold)
-        _check_budget(model, t_end_s, tssfac * min(limiting_element(model)["dt_s"], rod_time_step(model)),
-                      budget, margin=BUDGET_ESTIMATE_MARGIN)
+    limiting = limiting_element(model) if mesh.n_elements else None
+    if not dt_user and limiting:                    # refused before the kernels compile (tens of seconds, cold)
+        _check_budget(model, t_end_s, tssfac * min(limiting["dt_s"], rod_time_step(model)), budget, limiting,
+                      margin=BUDGET_ESTIMATE_MARGIN)
     dt_cfl = critical_time_step(model)
     if dt_user > dt_cfl:
         raise InputError(f"dt_s = {dt_user:.4g} s exceeds the CFL limit {dt_cfl:.4g} s "
                          f"(paper Eq. 6); use dt_s <= {TSSFAC * dt_cfl:.4g} s or leave it unset")
     dt_first = dt_user if dt_user else tssfac * dt_cfl
-    n_expected = _check_budget(model, t_end_s, dt_first, budget)
+    n_expected = _check_budget(model, t_end_s, dt_first, budget, limiting)
     X = mesh.nodes
     x = X.copy() if x0 is None else _initial_state("x0 (initial positions, m)", x0, X.shape)
     v = np.zeros_like(X) if v0 is None else _initial_state("v0 (initial velocities, m/s)", v0, X.shape)
@@ -1046,6 +1050,6 @@ def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_se
                "beta_s": model.beta,
                "ns_per_element_cycle": 1e9 * wall / max(1, steps * n_elements)}
     summary.update(run_checks(history, energy_0))
-    summary["warnings"] += sliver_warnings(model)
+    summary["warnings"] += sliver_warnings(model, limiting)
     issue(summary["warnings"], run_label(model.alpha, model.damping))
     return RunResult(history=history, summary=summary, x=x, v=v, snapshots=snapshots)
