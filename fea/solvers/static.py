@@ -271,13 +271,20 @@ def tip_deflection(model: Model, force_N, direction=1, linear=False):
     float
         Area-weighted mean tip displacement along ``direction`` [m].
     """
+    deflection, f_ext = _tip_load(model, force_N, direction)
+    return deflection(static_solve(model, f_ext, linear=linear))
+
+
+def _tip_load(model, force_N, direction):
+    """A tip force of ``force_N`` [N] along ``direction`` spread over the tip face by its
+    node weights: ``(deflection, f_ext)``, ``deflection(x)`` the area-weighted mean tip
+    displacement along ``direction`` at positions x [m], f_ext the nodal forces (n, 3) [N]."""
     mesh = model.mesh
     tip = mesh.node_sets["tip"]
     w = face_node_weights(mesh, tip)
     f_ext = np.zeros_like(mesh.nodes)
     f_ext[tip, direction] = w * force_N
-    x = static_solve(model, f_ext, linear=linear)
-    return float(w @ (x[tip, direction] - mesh.nodes[tip, direction]))
+    return (lambda x: float(w @ (x[tip, direction] - mesh.nodes[tip, direction]))), f_ext
 
 
 def tip_stiffness(model: Model, loads_N=(1.0, 2.0), direction=1):
@@ -312,10 +319,6 @@ def tip_stiffness(model: Model, loads_N=(1.0, 2.0), direction=1):
     if loads.ndim != 1 or not len(loads) or not np.all(np.isfinite(loads)) or loads[0] <= 0 \
             or np.any(np.diff(loads) == 0):
         raise InputError(f"loads_N = {loads_N!r}: must be distinct finite tip loads > 0 (N)")
-    mesh = model.mesh
-    tip = mesh.node_sets["tip"]
-    w = face_node_weights(mesh, tip)
-    f_ext = np.zeros_like(mesh.nodes)
-    f_ext[tip, direction] = w * loads[-1]
+    deflection, f_ext = _tip_load(model, loads[-1], direction)
     path = static_path(model, f_ext, loads / loads[-1])
-    return float(np.mean([F / (w @ (x[tip, direction] - mesh.nodes[tip, direction])) for F, x in zip(loads, path)]))
+    return float(np.mean([F / deflection(x) for F, x in zip(loads, path)]))
