@@ -40,7 +40,14 @@ import numpy as np
 from ccedi.errors import InputError, brief_repr, one_line
 from ccedi.fea.cases.beam_theory import cantilever_frequencies, ellipse_section_properties
 from ccedi.quantities import QUANTITIES
-from ccedi.rom.measurement import CONTACT_COLUMNS, REQUIRED_COLUMNS, MeasuredResponse, check_sampling, load_response
+from ccedi.rom.measurement import (
+    CONTACT_COLUMNS,
+    REQUIRED_COLUMNS,
+    MeasuredResponse,
+    check_sampling,
+    force_pulse,
+    load_response,
+)
 from ccedi.units import inch_to_m
 
 KINDS = ("impulse", "contact")
@@ -451,9 +458,9 @@ def _check_pulse_timing(exp: Experiment):
     f = exp.record.force_N
     if f is None or not np.any(f):
         return
-    on = t[np.abs(f) >= 0.5 * np.max(np.abs(f))]
-    if abs(on[0] - exp.start_s) > slack:
-        raise InputError(f"{src}: the force_N column's pulse starts at {on[0]:.4g} s but the sidecar's at "
+    start = force_pulse(t, f)[1]
+    if abs(start - exp.start_s) > slack:
+        raise InputError(f"{src}: the force_N column's pulse starts at {start:.4g} s but the sidecar's at "
                          f"{exp.start_s:.4g} s (load.start_s; allowed: within {slack:.3g} s): shift time_s or set "
                          "load.start_s")
 

@@ -198,3 +198,34 @@ def check_sampling(time_s, omega1_rad_s, source):
     if dt > period / 4.0:
         raise InputError(f"{source}: time_s steps up to {dt:.4g} s, more than a quarter of the declared "
                          f"structure's first period ({period:.4g} s): not seconds, or too coarse to resolve it")
+
+
+def force_pulse(time_s, force_N):
+    """The pulse of a measured force column: where |F| is at least half its peak.
+
+    Parameters
+    ----------
+    time_s : numpy.ndarray
+        Sample times [s], increasing.
+    force_N : numpy.ndarray
+        The force column [N].
+
+    Returns
+    -------
+    tuple of float
+        ``(amplitude [N], start [s], duration [s])``: the signed force at the peak, the
+        first sample at half the peak or more, and the span of those samples plus one
+        (median) sample interval.
+
+    Raises
+    ------
+    InputError
+        A force column that is all zero.
+    """
+    peak = float(np.max(np.abs(force_N)))
+    if peak == 0.0:
+        raise InputError("force_N column is all zero: cannot infer the impulse")
+    on = np.flatnonzero(np.abs(force_N) >= 0.5 * peak)
+    dt = float(np.median(np.diff(time_s)))
+    return (float(force_N[on[np.argmax(np.abs(force_N[on]))]]), float(time_s[on[0]]),
+            float(time_s[on[-1]] - time_s[on[0]] + dt))

@@ -90,19 +90,6 @@ def add_parsers(sub):
     r.set_defaults(func=cmd_rom_check)
 
 
-def _pulse_from_force(t, force):
-    """(amplitude [N], start [s], duration [s]) of a measured force pulse: peak |F| and the
-    time span where |F| exceeds half of it."""
-    import numpy as np
-
-    peak = float(np.max(np.abs(force)))
-    if peak == 0.0:
-        raise InputError("force_N column is all zero: cannot infer the impulse")
-    on = np.flatnonzero(np.abs(force) >= 0.5 * peak)
-    dt = float(np.median(np.diff(t)))
-    return float(force[on[np.argmax(np.abs(force[on]))]]), float(t[on[0]]), float(t[on[-1]] - t[on[0]] + dt)
-
-
 def _check_pulse_timing(data, start_s, duration_s):
     """The record must start with identify's pulse, which the model applies at t = 0 for
     ``duration_s``: a pulse of plausible length (time_s in seconds), starting at t = 0
@@ -284,7 +271,7 @@ def cmd_identify(args):
     """
     from ccedi.outputs import write_json
     from ccedi.rom.ccedi import critical_alpha, identify
-    from ccedi.rom.measurement import check_sampling, load_response
+    from ccedi.rom.measurement import check_sampling, force_pulse, load_response
 
     if args.rom is not None and (args.rom < 1 or args.model != "finger"):
         raise InputError(f"--rom {args.rom}: must be a number of modes >= 1, for --model finger")
@@ -310,7 +297,7 @@ def cmd_identify(args):
         data = load_response(args.csv)
         start = None
         if data.force_N is not None:
-            force, start, duration = _pulse_from_force(data.time_s, data.force_N)
+            force, start, duration = force_pulse(data.time_s, data.force_N)
             args.force_N = force if args.force_N is None else args.force_N
             args.duration_s = duration if args.duration_s is None else args.duration_s
         _check_pulse_timing(data, start, DEFAULT_PULSE_S if args.duration_s is None else args.duration_s)
