@@ -13,7 +13,7 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 demo: $(STAMP)
-	$(BIN)/ccedi study --out reports
+	$(BIN)/ccedi study --paper --out reports
 
 # two pytest-xdist workers (the CI machine has 2 cores), whole test files per worker so that
 # each module-scoped fixture (an FE run shared by several tests) is computed once

@@ -143,10 +143,15 @@ SCHEMA = {
                                                            "recovery", "ringing", "throughput")),
     },
     "study": {
+        "paper": Key(bool, "-", None, None, False,
+                     "also reproduce the paper on its own finger: Table 1 (SM-A, SM-B, SM-C, DM), the steel rod "
+                     "(Figs. 3, 4), SM-A against SM-B and the DM (Fig. 6), alpha_cr over lengths (Fig. 8), and the "
+                     "contact sweep with the paper's global damping (ccedi study --paper; make demo)"),
         "impulse_alphas_per_s": _key("alpha_per_s", [70.0, 120.0, 160.0, 180.0, 200.0],
                                      "alphas of the impulse study (Fig. 7)", True),
         "table1_stiffness": Key(bool, "-", None, None, True,
-                                "solve the nonlinear static tip stiffness of every Table 1 model (SM-C: minutes)"),
+                                "solve the nonlinear static tip stiffness of the finger and, with paper, of every Table 1 model "
+                                "(SM-C: minutes)"),
         "detailed_model": Key(bool, "-", None, None, True,
                               "add the detailed model DM (2.8 mm, ~27 000 nodes) to Table 1 and Fig. 6 (minutes)"),
         "impulse_force_N": _key("force_N", 1.0, "tip impulse force"),

@@ -15,6 +15,7 @@ from ccedi.outputs import write_pdf_figures, write_text
 from ccedi.study.config import SCHEMA, finger_inputs, validate
 
 from .config import CONFIG_NAME
+from .steps import PAPER_STEPS, STEP_NAMES
 
 UNITS = (("_per_s", "1/s"), ("_rad_s", "rad/s"), ("_m_s", "m/s"), ("_N_s", "N s"), ("_N_per_m", "N/m"), ("_us", "us"),
          ("_cm3", "cm^3"), ("_rpm", "rpm"), ("_mm", "mm"), ("_Pa", "Pa"), ("_N", "N"), ("_in", "in"), ("_s", "s"), ("_m", "m"), ("_J", "J"))
@@ -29,9 +30,12 @@ FIGURES = [
      "the alpha nearest SM-A's response"),
     ("impulse/impulse_response.png", "Fig. 7 analogue: tip impulse response for several alpha"),
     ("damping_fits/alpha_cr_fit.png", "Fig. 8 analogue: alpha_cr and alpha against finger length, Eq. (7)/(8)"),
-    ("contact/fig10_reaction_force_global.png", "Fig. 10 analogue: reaction force on the object"),
-    ("contact/fig13_contact_shapes_global.png", "Fig. 13 analogue: finger at first and last contact"),
-    ("contact/fig14_stresses_global.png", "Fig. 14 analogue: finger and object stresses, reaction force"),
+    ("contact/fig10_reaction_force_global.png", "Fig. 10 analogue: reaction force on the object (global damping)"),
+    ("contact/fig13_contact_shapes_global.png", "Fig. 13 analogue: finger at first and last contact (global damping)"),
+    ("contact/fig14_stresses_global.png", "Fig. 14 analogue: finger and object stresses, reaction force (global damping)"),
+    ("contact/fig10_reaction_force_relative.png", "Fig. 10 analogue: reaction force on the object (relative damping)"),
+    ("contact/fig13_contact_shapes_relative.png", "Fig. 13 analogue: finger at first and last contact (relative damping)"),
+    ("contact/fig14_stresses_relative.png", "Fig. 14 analogue: finger and object stresses, reaction force (relative damping)"),
     ("design/feasible_region.png", "Design: the feasible region in (alpha, L or drum speed), each requirement's "
      "boundary"),
     ("design/pareto.png", "Design: Pareto front of the objective against the second output"),
@@ -94,7 +98,7 @@ def _table1(out):
     cfg = _inputs_of(out)
     paper = is_paper_finger(cfg["finger"]["impulse_length_in"], *finger_inputs(cfg))
     rows = [{"model": f"{name} {src}", **vals} for name in t for src, vals in
-            ((("paper", PAPER_TABLE1.get(name, {})),) if paper else ()) + (("ccedi", t[name]),)]
+            ((("paper", PAPER_TABLE1[name]),) if paper and name in PAPER_TABLE1 else ()) + (("ccedi", t[name]),)]
     cols = [("model", "model"), ("element type", "element_type"), _col("average_length_mm", "average length"),
             _col("volume_cm3", "volume"), ("nodes", "nodes"), ("elements", "elements"), _col("dt_us", "stable step"),
             ("steps to 0.2 s", "steps_to_0_2_s"), ("step ratio", "step_ratio"),
@@ -102,6 +106,30 @@ def _table1(out):
     note = ("Paper rows are the paper's Table 1 (4.5-in finger)." if paper else
             "This run's finger is not the paper's (see the inputs), so the paper's Table 1 is not shown.")
     return _table(rows, cols) + f"<p>{note}</p>"
+
+
+def _finger(out):
+    f = _load(out, "finger.json")
+    if f is None:
+        return _missing("finger")
+    limiting = f["step_set_by"]
+    rows = [{"quantity": "mesh", "value": f"{f['nodes']} nodes, {f['elements']} {f['element_type']} elements"
+             + (f" ({f['mesh_file']})" if f.get("mesh_file") else ""), "unit": "-"},
+            {"quantity": "length", "value": 1e3 * f["length_m"], "unit": "mm"},
+            {"quantity": "volume", "value": f["volume_cm3"], "unit": "cm^3"},
+            {"quantity": "mass", "value": f["mass_kg"], "unit": "kg"},
+            {"quantity": "stable time step", "value": f["dt_us"], "unit": "us"},
+            {"quantity": "steps to 0.2 s", "value": f["steps_to_0_2_s"], "unit": "-"},
+            {"quantity": "tip stiffness", "value": f.get("stiffness_N_per_m"), "unit": "N/m"},
+            {"quantity": "first natural frequency", "value": f["f1_hz"], "unit": "Hz"},
+            {"quantity": "2 omega_1 (alpha that damps the first mode critically)",
+             "value": f["alpha_cr_first_mode_per_s"], "unit": "1/s"}]
+    where = ", ".join(f"{round(1e3 * c, 2) + 0.0:g}" for c in limiting["centroid_m"])
+    return (f"<p>{html.escape(f['name'])}.</p>" + _table(rows, [("quantity", "quantity"), ("value", "value"),
+                                                                ("unit", "unit")])
+            + f"<p>The stable step is set by {html.escape(limiting['element'])} at ({where}) mm, "
+              f"{1e3 * limiting['length_m']:.3g} mm across (median element {1e3 * limiting['median_length_m']:.3g} "
+              "mm). The tip stiffness is n/a when the study's table1_stiffness is off.</p>")
 
 
 def _steel_rod(out):
@@ -166,16 +194,26 @@ def _damping_fits(out):
               f"(paper Eq. (8): {s['paper_eq8']['coefficient']:g} x^{s['paper_eq8']['exponent']:g}).</p>")
 
 
+CONTACT_DAMPING = {
+    "global": "The paper's reproduction: global mass damping (on the absolute velocity, LS-DYNA's *DAMPING_GLOBAL, "
+              "as the paper ran it), a drag on the whole finger that bends it back before contact. The design uses "
+              "relative damping ([damping] kind), the physical one for a finger turned in air.",
+    "relative": "Relative mass damping ([damping] kind): on the finger's velocity relative to the turning drum, "
+                "the physical model of a finger turned in air (it damps deformation, not the rigid turn).",
+}
+"""What the contact section says of each damping kind of the sweep."""
+
+
 def _contact(out):
-    t = _load(out, "contact/contact_summary_global.csv")
-    if t is None:
-        return _missing("contact")
-    keys = ["alpha_per_s", "contact_start_s", "contact_end_s", "contact_duration_s", "first_contact_side",
-            "peak_reaction_force_N", "max_finger_stress_Pa", "max_object_stress_Pa", "wall_time_s"]
-    return ("<p>The paper's reproduction: global mass damping (on the absolute velocity, LS-DYNA's "
-            "*DAMPING_GLOBAL, as the paper ran it), a drag on the whole finger that bends it back before contact. "
-            "The design uses relative damping ([damping] kind), the physical one for a finger turned in air.</p>"
-            + _table(t.to_dict("records"), [_col(k) for k in keys if k in t.columns]))
+    parts = []
+    for kind, text in CONTACT_DAMPING.items():
+        t = _load(out, f"contact/contact_summary_{kind}.csv")
+        if t is None:
+            continue
+        keys = ["alpha_per_s", "contact_start_s", "contact_end_s", "contact_duration_s", "first_contact_side",
+                "peak_reaction_force_N", "max_finger_stress_Pa", "max_object_stress_Pa", "wall_time_s"]
+        parts.append(f"<p>{text}</p>" + _table(t.to_dict("records"), [_col(k) for k in keys if k in t.columns]))
+    return "".join(parts) or _missing("contact")
 
 
 KEY_OUTPUTS = ("sensor_peak_force_N", "max_finger_stress_Pa", "recovery_deviation_m", "ringing_amplitude_m",
@@ -305,15 +343,21 @@ def _figure(src, caption):
             f"<figcaption>{html.escape(caption)}</figcaption></figure>")
 
 
-SECTIONS = [("Table 1: meshes, stable time step, tip stiffness", _table1, []),
-            ("Damping identification of the steel rod (Figs. 3, 4)", _steel_rod, FIGURES[0:2]),
-            ("Effect of the FE model (Fig. 6)", _mesh, FIGURES[2:3]),
-            ("The detailed model against SM-A (Fig. 6)", _detailed_model, FIGURES[3:4]),
-            ("Effect of alpha on the tip response (Fig. 7)", _impulse, FIGURES[4:5]),
-            ("CCEDI over finger lengths (Fig. 8)", _damping_fits, FIGURES[5:6]),
-            ("Finger on the drum: contact (Figs. 10, 13, 14)", _contact, FIGURES[6:9]),
-            ("Design optimisation and FEA re-check", _design, FIGURES[9:10]),
-            ("Closing the loop on measured data (calibration)", _calibrate, [])]
+FINGER_SECTIONS = [("The finger: stable step, stiffness, first frequency", _finger, []),
+                   ("Effect of alpha on the tip response (Fig. 7)", _impulse, FIGURES[4:5]),
+                   ("Finger on the drum: contact (Figs. 10, 13, 14)", _contact, FIGURES[6:12]),
+                   ("Design optimisation and FEA re-check", _design, FIGURES[12:13]),
+                   ("Closing the loop on measured data (calibration)", _calibrate, [])]
+"""The sections on the configured finger, first on the page: (title, section, figures)."""
+PAPER_SECTIONS = [("Table 1: meshes, stable time step, tip stiffness", _table1, []),
+                  ("Damping identification of the steel rod (Figs. 3, 4)", _steel_rod, FIGURES[0:2]),
+                  ("Effect of the FE model (Fig. 6)", _mesh, FIGURES[2:3]),
+                  ("The detailed model against SM-A (Fig. 6)", _detailed_model, FIGURES[3:4]),
+                  ("CCEDI over finger lengths (Fig. 8)", _damping_fits, FIGURES[5:6])]
+"""The paper's reproduction (``[study] paper``), after the finger: (title, section, figures)."""
+PAPER_OUTPUTS = ("table1.json", "steel_rod/steel_rod.json", "mesh/mesh_comparison.json",
+                 "damping_fits/alpha_cr_fit.json")
+"""The files of the paper's steps."""
 
 STYLE = ("body{font-family:sans-serif;max-width:1100px;margin:auto;padding:1em}table{border-collapse:collapse;"
          "margin:.5em 0}td,th{border:1px solid #bbb;padding:2px 8px;text-align:right}th{background:#eee}"
@@ -365,29 +409,105 @@ def _warnings(out):
             f"validity (<code>ccedi.fea.solvers.validity</code>); they are shown below as computed.</p><ul>{items}</ul>")
 
 
+GENERATED_FINGER_KEYS = ("impulse_length_in", "contact_length_in", "section_semi_axes_m")
+"""``[finger]`` keys of the generated elliptical finger (a ``[finger] mesh`` sets its own geometry)."""
+MESH_KEYS = ("mesh", "mesh_unit", "clamp", "tip", "bending_direction")
+"""``[finger]`` keys of an imported mesh."""
+
+
+def _ran(out):
+    """The steps of this run that finished or failed (``study.json``); None without it."""
+    s = _load(out, "study.json")
+    return None if s is None else set(s["wall_time_s"]) | set(s.get("failed", {}))
+
+
+def used_inputs(cfg, ran):
+    """The finger, drum, damping and requirement inputs the steps ``ran`` read, each as
+    ``(section, key, value)``.
+
+    Parameters
+    ----------
+    cfg : dict
+        Validated inputs (:func:`ccedi.study.config.load`).
+    ran : set of str
+        Names of the study's steps that ran (:data:`ccedi.study.steps.STEP_NAMES`).
+
+    Returns
+    -------
+    list of tuple
+        ``(section, key, value)``: the material; with a ``[finger] mesh``, the mesh's keys
+        (and the generated finger's length and section only where a paper step ran on it);
+        otherwise the generated finger's length of the impulse steps, its contact length
+        where the contact or design ran, its section; the drum where the contact or design
+        ran; the damping kind and the requirements where the design ran (the damping kind
+        also for a contact sweep that is not the paper's).
+    """
+    mesh = cfg["finger"]["mesh"] is not None
+    paper = bool(ran & {"table1", "steel_rod", "mesh", "damping_fits"})
+    drum = bool(ran & {"contact", "design"})
+    finger = list(MESH_KEYS) if mesh else ["impulse_length_in"] + ["contact_length_in"] * drum
+    if paper or not mesh:
+        finger += [k for k in ("impulse_length_in", "section_semi_axes_m") if k not in finger]
+    material = [k for k in cfg["material"] if k != "alpha_per_s" or ("design" in ran and cfg["material"][k] is not None)]
+    keys = [("material", material), ("finger", finger), ("drum", list(cfg["drum"]) if drum else []),
+            ("damping", ["kind"] if "design" in ran or ("contact" in ran and not cfg["study"]["paper"]) else []),
+            ("requirements", list(cfg["requirements"]) if "design" in ran else [])]
+    return [(sec, key, cfg[sec][key]) for sec, names in keys for key in names]
+
+
 def _inputs(out):
-    """The finger and drum inputs of this run (``config.toml``), each with its unit."""
+    """The inputs this run used (``config.toml``, :func:`used_inputs`), each with its unit."""
 
     if not (out / CONFIG_NAME).exists():
         return ""
     cfg = _inputs_of(out)
+    ran = _ran(out)
+    ran = set(STEP_NAMES) if ran is None else ran
     rows = [{"input": f"[{sec}] {key}", "value": ", ".join(f"{v:g}" for v in val) if isinstance(val, list) else val,
-             "unit": SCHEMA[sec][key].unit} for sec in ("material", "finger", "drum") for key, val in cfg[sec].items()]
-    return (f"<p>Finger and drum inputs (from <code>{CONFIG_NAME}</code>; study settings are in the same file). "
-            "Calibration uses each measured record's own finger (its JSON sidecar).</p>"
+             "unit": SCHEMA[sec][key].unit} for sec, key, val in used_inputs(cfg, ran)]
+    return (f"<p>The inputs the steps of this run used (from <code>{CONFIG_NAME}</code>, which holds every "
+            "setting). Calibration uses each measured record's own finger (its JSON sidecar).</p>"
             + _table(rows, [("input", "input"), ("value", "value"), ("unit", "unit")]))
 
 
-def write_index(out):
-    """Write ``out/index.html`` (and ``out/index.pdf`` of the figures) from the study's outputs."""
-    out = Path(out)
-    stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    body = [f"<h1>ccedi design study</h1><p>Generated {stamp} from the files in this directory. Units: SI "
-            "unless a header says otherwise; every number below was computed by this run.</p>",
-            "<h2>Run</h2>", _timings(out), _skipped(out), _failed(out), _warnings(out), _inputs(out)]
-    for title, section, figures in SECTIONS:
+def _sections(out, sections):
+    """The HTML of ``sections`` ((title, section, figures)) with this run's figures."""
+    body = []
+    for title, section, figures in sections:
         body += [f"<h2>{html.escape(title)}</h2>", section(out)]
         body += [_figure(src, cap) for src, cap in figures if (out / src).exists()]
+    return body
+
+
+def write_index(out):
+    """Write ``out/index.html`` (and ``out/index.pdf`` of the figures) from the study's
+    outputs: the run, the configured finger's sections, then the paper's reproduction when
+    one of its steps ran.
+
+    Parameters
+    ----------
+    out : str or Path
+        The study's output directory.
+
+    Returns
+    -------
+    Path
+        ``out/index.html``.
+    """
+    out = Path(out)
+    stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    finger = _load(out, "finger.json")
+    name = f" of {html.escape(finger['name'])}" if finger else ""
+    ran = _ran(out)
+    paper = (ran is None or ran & set(PAPER_STEPS)) and any((out / f).exists() for f in PAPER_OUTPUTS)
+    body = [f"<h1>ccedi design study{name}</h1><p>Generated {stamp} from the files in this directory. Units: SI "
+            "unless a header says otherwise; every number below was computed by this run.</p>",
+            "<h2>Run</h2>", _timings(out), _skipped(out), _failed(out), _warnings(out), _inputs(out)]
+    body += _sections(out, FINGER_SECTIONS)
+    if paper:
+        body += ["<h1>Reproduction of the paper (Liu and Lee, 2012)</h1><p>The paper's own finger (4.5 in, its "
+                 "rubber and section unless the inputs change them) and the steel rod.</p>"]
+        body += _sections(out, PAPER_SECTIONS)
     page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>ccedi design study</title>"
             f"<style>{STYLE}</style></head><body>{''.join(body)}</body></html>\n")
     _write_pdf(out)

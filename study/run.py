@@ -1,28 +1,36 @@
-"""``ccedi study``: the whole design study on the bundled data, one step after another,
+"""``ccedi study``: the design study of the configured finger, one step after another,
 each writing its sub-report under the output directory, then ``index.html``.
 
-Steps (each the ``write_*`` function of a sub-command, :mod:`ccedi.study.commands`, or a
-function of :mod:`ccedi.study.paper_steps`):
+The study is about the configured finger (a ``[finger] mesh``, or the generated
+elliptical finger of ``[finger] impulse_length_in``); its steps (:data:`FINGER_STEPS`,
+each the ``write_*`` function of a sub-command, :mod:`ccedi.study.commands`):
 
-  table1        paper Table 1 (SM-A, SM-B, SM-C, DM)              -> table1.json
-  steel_rod     CCEDI on the steel rod (Figs. 3, 4)                -> steel_rod/
+  finger        its mesh, stable step, tip stiffness, first frequency -> finger.json
   impulse       impulse responses for several alpha (Fig. 7)       -> impulse/
-  mesh          SM-A against SM-B and the DM at one alpha (Fig. 6) -> mesh/
-  damping_fits  alpha_cr over finger lengths, Eq. (7)/(8) (Fig. 8) -> damping_fits/
   contact       the drum contact sweep (Figs. 10, 13, 14)          -> contact/
+                ([damping] kind; with paper, the paper's global damping)
   design        ROM surrogate, optimum, Pareto front, FEA re-check -> design/
   calibrate     close the loop on the bundled measured records     -> calibrate/<record>/
                 (a record the declared finger cannot explain is reported, model_adequate:
                 false in its JSON and in index.html, and the next record is calibrated)
-  report        index.html (and index.pdf) from the files above
 
+The paper's reproduction is its own part, run with ``[study] paper = true`` or
+``ccedi study --paper`` (what ``make demo`` runs; :data:`PAPER_STEPS`, functions of
+:mod:`ccedi.study.paper_steps` and the table1 and damping-fits commands):
+
+  table1        paper Table 1 (SM-A, SM-B, SM-C, DM)              -> table1.json
+  steel_rod     CCEDI on the steel rod (Figs. 3, 4)                -> steel_rod/
+  mesh          SM-A against SM-B and the DM at one alpha (Fig. 6) -> mesh/
+  damping_fits  alpha_cr over finger lengths, Eq. (7)/(8) (Fig. 8) -> damping_fits/
+
+``index.html`` reports the finger first, then the paper's reproduction when it ran.
 The inputs are parsed and validated once; every step gets them as objects, and the
 resolved inputs are written to ``config.toml`` first, for the record.
 
-With a ``[finger] mesh`` every step that computes a finger runs on that mesh (table1 adds
-its row, impulse, contact), and the steps that need the generated elliptical finger at
-other lengths or meshes (mesh, damping_fits, design: :func:`skipped_steps`) are skipped;
-their reasons go to ``study.json`` (``skipped``), stdout and ``index.html``.
+With a ``[finger] mesh`` every step that computes a finger runs on that mesh, and the
+steps that need the generated elliptical finger at other lengths or meshes (mesh,
+damping_fits, design: :func:`skipped_steps`) are skipped; their reasons go to
+``study.json`` (``skipped``), stdout and ``index.html``.
 Every output is written atomically, so an interrupted study (Ctrl-C) leaves the
 finished steps' files and no partial ones; ``study.json`` records each finished step's
 wall time [s] and validity warnings (:mod:`ccedi.fea.solvers.validity`; the index lists them).
@@ -40,6 +48,7 @@ from ccedi.progress import progress_bar
 from . import paper_steps
 from .config import CONFIG_NAME, SCHEMA, finger_inputs, to_toml
 from .report import write_index
+from .steps import FINGER_STEPS, LONGEST_FIRST, PAPER_STEPS, STEP_NAMES
 
 QUICK = {"study": {"impulse_t_end_s": 0.05, "mesh_comparison_t_end_s": 0.03, "identification_lengths_in": [3.0, 4.5],
                    "contact_alphas_per_s": [600.0], "contact_t_end_s": 1.0, "design_fea_check": False,
@@ -67,7 +76,13 @@ def steps(cfg, out, scheduler):
         (name, description, thunk) per step, in the study's order.
     """
     from ccedi.study.commands.design import options_from, write_designs
-    from ccedi.study.commands.fea import contact_setup, write_contact_sweep, write_impulse, write_table1
+    from ccedi.study.commands.fea import (
+        contact_setup,
+        write_contact_sweep,
+        write_finger,
+        write_impulse,
+        write_table1,
+    )
     from ccedi.study.commands.rom import write_damping_fits
 
     f, s = cfg["finger"], cfg["study"]
@@ -76,9 +91,12 @@ def steps(cfg, out, scheduler):
     material, semi_axes = finger_inputs(cfg)
     records = [Path(r) for r in s["measured_records"]]
     design = options_from(cfg, fea_check=s["design_fea_check"])
+    contact_damping = "global" if s["paper"] else cfg["damping"]["kind"]
     # The DM's stiffness is the one its dimensions were fitted to (benchmarks/dm_fit.py); its
     # nonlinear solves at 2.8 mm would take tens of minutes, so the study leaves it out.
     return [
+        ("finger", "the finger: stable step, stiffness, first frequency", lambda: write_finger(
+            cfg, out / "finger.json", stiffness=s["table1_stiffness"])),
         ("table1", "paper Table 1", lambda: write_table1(cfg, f["impulse_length_in"], out / "table1.json",
                                                          stiffness=s["table1_stiffness"], detailed=s["detailed_model"],
                                                          detailed_stiffness=False)),
@@ -93,8 +111,8 @@ def steps(cfg, out, scheduler):
         ("damping_fits", "alpha_cr over lengths (Fig. 8)", lambda: write_damping_fits(
             cfg, s["identification_lengths_in"], out / "damping_fits", scheduler=scheduler)),
         ("contact", "drum contact sweep (Figs. 10, 13, 14)", lambda: write_contact_sweep(
-            contact_setup(cfg), s["contact_alphas_per_s"], out / "contact", t_end_s=s["contact_t_end_s"],
-            scheduler=scheduler)),
+            contact_setup(cfg), s["contact_alphas_per_s"], out / "contact", damping=contact_damping,
+            t_end_s=s["contact_t_end_s"], scheduler=scheduler)),
         ("design", "design optimisation and FEA re-check, with the declared and the calibrated inputs",
          lambda: write_designs(cfg, design, s["design_calibration_record"], out / "design", scheduler)),
         ("calibrate", "close the loop on measured records", lambda: calibrate_records(records, out / "calibrate")),
@@ -158,9 +176,27 @@ def calibrate_records(records, out):
     return inadequate
 
 
-STEP_NAMES = ("table1", "steel_rod", "impulse", "mesh", "damping_fits", "contact", "design", "calibrate")
-LONGEST_FIRST = ("design", "contact", "damping_fits", "steel_rod", "mesh", "table1", "impulse", "calibrate")
-"""Submission order on a cluster: the longest steps (measured) first."""
+
+
+def wanted_steps(cfg, only=None):
+    """The names of the steps a study runs, in the study's order.
+
+    Parameters
+    ----------
+    cfg : dict
+        Validated inputs (:func:`ccedi.study.config.load`).
+    only : sequence of str, optional
+        Exactly these steps (a paper step named here runs without ``[study] paper``).
+
+    Returns
+    -------
+    tuple of str
+        :data:`FINGER_STEPS`, then :data:`PAPER_STEPS` with ``[study] paper``; or the
+        names in ``only``, in that order.
+    """
+    if only is not None:
+        return tuple(name for name in STEP_NAMES if name in only)
+    return FINGER_STEPS + (PAPER_STEPS if cfg["study"]["paper"] else ())
 
 
 def _run_step(name, cfg, out, scheduler):
@@ -228,7 +264,7 @@ def _check_records(records, key="measured_records"):
 
 
 def run_study(cfg, out, scheduler=None, quick=False, only=None):
-    """Run the study steps (all, or the names in ``only``) and write ``out/index.html``.
+    """Run the study's steps (:func:`wanted_steps`) and write ``out/index.html``.
     Serial: one step after another in this process. Otherwise every step is a task on the
     Dask cluster, longest first, and its runs are mapped over the same cluster. Returns
     the index path. The measured records are checked before any step runs.
@@ -272,8 +308,10 @@ def run_study(cfg, out, scheduler=None, quick=False, only=None):
         cfg = {sec: {**keys, **QUICK.get(sec, {})} for sec, keys in cfg.items()}
     out = Path(out)
     scheduler = scheduler or cfg["study"]["scheduler"]
-    skipped = {name: why for name, why in skipped_steps(cfg).items() if only is None or name in only}
-    todo = [st for st in steps(cfg, out, scheduler) if (only is None or st[0] in only) and st[0] not in skipped]
+    wanted = wanted_steps(cfg, only)
+    skipped = {name: why for name, why in skipped_steps(cfg).items() if name in wanted}
+    todo = sorted((st for st in steps(cfg, out, scheduler) if st[0] in wanted and st[0] not in skipped),
+                  key=lambda st: wanted.index(st[0]))
     if any(name == "calibrate" for name, _, _ in todo):
         _check_records(cfg["study"]["measured_records"])
     if any(name == "design" for name, _, _ in todo) and cfg["study"]["design_calibration_record"]:

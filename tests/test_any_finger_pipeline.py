@@ -16,9 +16,12 @@ from ccedi.errors import InputError
 from ccedi.fea.contact.drum import DrumSetup, ObjectStress, finger_frame, finger_on_drum, first_contact_angle
 from ccedi.fea.contact.penalty import boundary_nodes
 from ccedi.fea.io.lsdyna import read_keyword
+from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import Mesh
 from ccedi.fea.mesh.gmsh_fingers import write_tapered_finger
 from ccedi.fea.mesh.readers import read_finger_mesh
+from ccedi.fea.model import cantilever_model
+from ccedi.fea.solvers.modal import natural_frequencies
 from ccedi.models import ContactResponse
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.study.cli import main
@@ -200,6 +203,27 @@ def test_quick_study_with_a_mesh_states_why_it_skips_steps(finger, tmp_path, cap
     assert "design skipped" in capsys.readouterr().out
 
 
+def test_a_study_of_a_mesh_reports_that_finger_first_and_only_the_inputs_it_used(finger, tmp_path):
+    """The finger step describes the mesh (its first frequency, the element that sets its
+    step); the page leads with it, has no paper section, and lists the mesh's keys but not
+    the generated finger's lengths, which the mesh overrides."""
+    toml, mesh = finger
+    out = tmp_path / "study"
+    assert main(["study", "--quick", "--config", str(toml), "--scheduler", "serial", "--out", str(out),
+                 "--only", "finger"]) == 0
+    row = json.loads((out / "finger.json").read_text())
+    omega1 = natural_frequencies(cantilever_model(mesh, RUBBER), 1)[0]
+    assert (row["element_type"], row["nodes"], row["mesh_file"]) == ("tet10", mesh.n_nodes, str(toml.parent / "finger.msh"))
+    assert row["length_m"] == pytest.approx(inch_to_m(4.5), rel=1e-6)           # as Gmsh placed the tip
+    assert row["f1_hz"] == pytest.approx(omega1 / (2 * np.pi), rel=1e-9)
+    assert row["alpha_cr_first_mode_per_s"] == pytest.approx(2 * omega1, rel=1e-9)
+    page = (out / "index.html").read_text()
+    assert page.index("ccedi design study of finger.msh") < page.index("The finger: stable step")
+    assert "Reproduction of the paper" not in page and "SM-B" not in page
+    assert "[finger] mesh" in page and "impulse_length_in" not in page and "contact_length_in" not in page
+    assert f"{row['f1_hz']:.4g}" in page
+
+
 @pytest.mark.slow
 def test_whole_quick_study_on_an_imported_finger(tmp_path):
     """``ccedi study --quick --config FILE`` with a [finger] mesh (4-node tetrahedra, coarse)
@@ -208,7 +232,8 @@ def test_whole_quick_study_on_an_imported_finger(tmp_path):
     out = tmp_path / "study"
     assert main(["study", "--quick", "--config", str(toml), "--scheduler", "serial", "--out", str(out)]) == 0
     record = json.loads((out / "study.json").read_text())
-    assert set(record["wall_time_s"]) == {"table1", "steel_rod", "impulse", "contact", "calibrate"}
+    assert set(record["wall_time_s"]) == {"finger", "impulse", "contact", "calibrate"}
+    assert set(record["skipped"]) == {"design"}
     summary = pd.read_csv(out / "contact" / "contact_summary_global.csv")
     assert (summary.energy_balance_error < 0.02).all()
     assert (out / "index.html").exists() and "given mesh" in (out / "contact" / "contact_report.md").read_text()

@@ -19,12 +19,12 @@ def test_interrupt_leaves_finished_steps_and_no_temporary_files(tmp_path, monkey
         from ccedi.outputs import atomic_write
         atomic_write(tmp_path / "second" / "result.json", interrupted)
 
-    monkeypatch.setattr(study_run, "steps", lambda cfg, out, scheduler: [("table1", "one", first),
+    monkeypatch.setattr(study_run, "steps", lambda cfg, out, scheduler: [("finger", "one", first),
                                                                        ("impulse", "two", second)])
     assert main(["study", "--out", str(tmp_path), "--scheduler", "serial"]) == 130
     assert "interrupted" in capsys.readouterr().err
     assert json.loads((tmp_path / "first" / "result.json").read_text()) == {"x_m": 1.0}
-    assert list(json.loads((tmp_path / "study.json").read_text())["wall_time_s"]) == ["table1"]
+    assert list(json.loads((tmp_path / "study.json").read_text())["wall_time_s"]) == ["finger"]
     assert not list(tmp_path.rglob("*.tmp")) and not (tmp_path / "second" / "result.json").exists()
     assert not (tmp_path / "index.html").exists()
 
@@ -57,7 +57,7 @@ def test_index_reports_the_numbers_of_the_run_and_marks_missing_steps(tmp_path):
                                                    "stiffness_N_per_m": 74.35}})
     page = write_index(tmp_path).read_text()
     assert "4.411" in page and "74.35" in page and "tip stiffness [N/m]" in page
-    assert page.count("did not run") == 8
+    assert page.count("did not run") == 9
 
 
 def test_export_csv_vtu_and_parquet(tmp_path, capsys):
@@ -101,3 +101,51 @@ def test_index_shows_the_impulse_step_of_a_real_run(tmp_path):
     page = write_index(tmp_path).read_text()
     assert "SM-A 3-in finger (" in page and "hex8 elements" in page
     assert f"{peak['peak_tip_uy_m']:.4g}" in page
+
+
+def _recording_steps(ran):
+    """A stand-in for the study's steps that records which ran, in order."""
+    from ccedi.study.steps import STEP_NAMES
+
+    return lambda cfg, out, scheduler: [(name, name, lambda name=name: ran.append(name)) for name in STEP_NAMES]
+
+
+def test_a_study_is_the_fingers_and_the_paper_is_its_own_part(tmp_path, monkeypatch):
+    """Without --paper the study runs the finger's steps only; --paper (or [study] paper)
+    adds the paper's reproduction after them; --only names any step."""
+    from ccedi.study.steps import FINGER_STEPS, PAPER_STEPS
+
+    for args, expected in ((["--scheduler", "serial"], FINGER_STEPS),
+                           (["--scheduler", "serial", "--paper"], FINGER_STEPS + PAPER_STEPS),
+                           (["--scheduler", "serial", "--only", "table1", "impulse"], ("impulse", "table1"))):
+        ran = []
+        monkeypatch.setattr(study_run, "steps", _recording_steps(ran))
+        out = tmp_path / "-".join(args)
+        assert main(["study", "--out", str(out)] + args) == 0
+        assert tuple(ran) == expected
+    toml = tmp_path / "paper.toml"
+    toml.write_text("[study]\npaper = true\n")
+    ran = []
+    monkeypatch.setattr(study_run, "steps", _recording_steps(ran))
+    assert main(["study", "--config", str(toml), "--scheduler", "serial", "--out", str(tmp_path / "p")]) == 0
+    assert tuple(ran) == FINGER_STEPS + PAPER_STEPS
+
+
+def test_inputs_listed_are_those_the_steps_used():
+    from ccedi.study.config import validate
+    from ccedi.study.report import used_inputs
+
+    def keys(cfg, ran):
+        return {f"[{sec}] {key}" for sec, key, _ in used_inputs(cfg, set(ran))}
+
+    generated = validate({})
+    assert keys(generated, ["finger", "impulse"]) == {"[material] E_Pa", "[material] nu", "[material] rho_kg_m3",
+                                                      "[finger] impulse_length_in", "[finger] section_semi_axes_m"}
+    with_drum = keys(generated, ["finger", "contact"])
+    assert "[finger] contact_length_in" in with_drum and "[drum] omega_rad_s" in with_drum
+    assert "[damping] kind" in with_drum and not any(k.startswith("[requirements]") for k in with_drum)
+    assert "[requirements] max_object_force_N" in keys(generated, ["design"])
+    meshed = {**generated, "finger": {**generated["finger"], "mesh": "f.msh"}}
+    assert not {"[finger] impulse_length_in", "[finger] contact_length_in",
+                "[finger] section_semi_axes_m"} & keys(meshed, ["finger", "impulse", "contact"])
+    assert "[finger] impulse_length_in" in keys(meshed, ["finger", "table1"])      # the paper's finger

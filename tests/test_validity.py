@@ -250,13 +250,13 @@ def test_study_records_step_warnings_and_the_index_lists_them(tmp_path, monkeypa
         warnings.warn("alpha = 70 1/s: tip deflection 40 mm is 35% of the length", ValidityWarning)
 
     monkeypatch.setattr(study_run, "steps", lambda cfg, out, scheduler: [("impulse", "one", flagged_step),
-                                                                       ("table1", "two", lambda: None)])
+                                                                       ("finger", "two", lambda: None)])
     assert main(["study", "--out", str(tmp_path), "--scheduler", "serial"]) == 0
     err = capsys.readouterr().err
     assert err.count("ccedi study: warning: impulse: alpha = 70 1/s: tip deflection") == 1
     record = json.loads((tmp_path / "study.json").read_text())
     assert record["warnings"] == {"impulse": ["alpha = 70 1/s: tip deflection 40 mm is 35% of the length"],
-                                  "table1": []}
+                                  "finger": []}
     page = (tmp_path / "index.html").read_text()
     assert "Validity warnings (1)" in page and "tip deflection 40 mm is 35% of the length" in page
 

@@ -8,6 +8,7 @@
 """
 # Imports inside functions: building the parser imports no library, so that `ccedi --help`
 # answers at once (tests/test_layout.py); each command loads what it runs.
+import math
 from pathlib import Path
 
 from ccedi.errors import InputError
@@ -73,6 +74,59 @@ def write_table1(cfg, length_in, json_path=None, stiffness=True, detailed=True, 
     if json_path:
         write_json(json_path, result)
         print(f"wrote {json_path}")
+    return result
+
+
+def write_finger(cfg, json_path, stiffness=True):
+    """The configured finger's own row (the ``[finger] mesh``, or the generated finger of
+    ``[finger] impulse_length_in``): its mesh, stable step, tip stiffness, first natural
+    frequency and the element that sets its step, printed and written as JSON.
+
+    Parameters
+    ----------
+    cfg : dict
+        Validated inputs (:func:`ccedi.study.config.load`).
+    json_path : str or Path
+        Where to write the row.
+    stiffness : bool, optional
+        Also solve the nonlinear static tip stiffness [N/m].
+
+    Returns
+    -------
+    dict
+        The finger's description (:func:`finger_of`) and its Table 1 row
+        (:func:`ccedi.fea.cases.studies.table1_row`, with ``omega1_rad_s``), plus
+        ``f1_hz`` [Hz], ``mass_kg`` [kg], ``alpha_cr_first_mode_per_s`` (2 omega_1, the
+        mass-proportional damping that makes the first mode critically damped [1/s]) and
+        ``step_set_by`` (the element that sets the stable step: name, size [m], centroid [m]).
+    """
+    from ccedi.fea.cases.studies import table1_row
+    from ccedi.fea.mesh import sm_a
+    from ccedi.fea.model import cantilever_model
+    from ccedi.fea.solvers.explicit import limiting_element
+    from ccedi.outputs import write_json
+    from ccedi.study.config import finger_inputs
+
+    material, _ = finger_inputs(cfg)
+    mesh, length_in, finger = finger_of(cfg)
+    if mesh is None:
+        mesh = sm_a(length_in=length_in, semi_axes_m=cfg["finger"]["section_semi_axes_m"])
+    print("finger: the stable step, " + ("the tip stiffness (nonlinear static solves), " if stiffness else "")
+          + "the first natural frequency (modal solve)", flush=True)
+    row = table1_row(mesh, material, stiffness=stiffness, omega1=True)
+    model = cantilever_model(mesh, material)
+    limiting = limiting_element(model)
+    omega1 = row["omega1_rad_s"]
+    result = {**finger, **row, "f1_hz": omega1 / (2.0 * math.pi), "mass_kg": float(model.total_mass),
+              "alpha_cr_first_mode_per_s": 2.0 * omega1,
+              "step_set_by": {"element": limiting["element"], "length_m": limiting["length_m"],
+                              "median_length_m": limiting["median_length_m"],
+                              "centroid_m": [float(c) for c in limiting["centroid_m"]]}}
+    print(f"finger: {finger['name']}: stable step {_fmt(row['dt_us'])} us, first frequency "
+          f"{_fmt(result['f1_hz'])} Hz, 2 omega_1 = {_fmt(result['alpha_cr_first_mode_per_s'])} 1/s"
+          + (f", tip stiffness {_fmt(row['stiffness_N_per_m'])} N/m" if stiffness else ""), flush=True)
+    write_json(json_path, result)
+    print(f"wrote {json_path}")
     return result
 
 

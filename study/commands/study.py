@@ -1,6 +1,6 @@
 """``ccedi`` sub-commands of the end-to-end study (:mod:`ccedi.study`).
 
-  study   the whole design study on the bundled data -> reports/index.html
+  study   the design study of the configured finger (--paper: and the paper's reproduction) -> OUT/index.html
   init    write a commented example study TOML
   export  a model as an LS-DYNA keyword deck, or a run's results as VTU, CSV or Parquet
 """
@@ -31,15 +31,18 @@ def add_parsers(sub):
     sub : argparse._SubParsersAction
         The sub-command registry of the ``ccedi`` parser.
     """
-    s = add_command(sub, "study", help="the whole design study on the bundled data: identification, ROMs, design, "
-                       "FEA re-check, calibration -> OUT/index.html")
+    s = add_command(sub, "study", help="the design study of the configured finger (the bundled one by default): its "
+                       "stiffness and first frequency, impulse and contact runs, design with FEA re-check, "
+                       "calibration -> OUT/index.html; with --paper, the paper's reproduction too")
     s.add_argument("--config", help="study TOML (default: built-in defaults; see ccedi init)")
     add_output_argument(s, "--out", "dir", default="reports", help="output directory (default reports)")
     add_scheduler_argument(s, default=None)
     s.add_argument("--quick", action="store_true", help="a few-minute smoke run of every step (short runs, "
                    "one length, one contact alpha, no FEA re-check)")
-    s.add_argument("--only", nargs="+", metavar="STEP", help="run only these steps (table1 steel_rod impulse mesh "
-                   "damping_fits contact design calibrate), then rewrite index.html")
+    s.add_argument("--paper", action="store_true", help="also reproduce the paper on its own finger: Table 1, the "
+                   "steel rod, Figs. 6 and 8, the contact sweep with its global damping ([study] paper = true)")
+    s.add_argument("--only", nargs="+", metavar="STEP", help="run only these steps (finger impulse contact design "
+                   "calibrate; the paper's: table1 steel_rod mesh damping_fits), then rewrite index.html")
     s.set_defaults(func=cmd_study)
     i = add_command(sub, "init", help="write a commented example study TOML (every key, its unit, range and default)")
     add_output_argument(i, "path", "file", nargs="?", default="study.toml", help="file to write (default study.toml)")
@@ -67,6 +70,8 @@ def cmd_study(args):
     from ccedi.study.run import STEP_NAMES, run_study
 
     cfg = load_config(args)
+    if args.paper:
+        cfg["study"]["paper"] = True
     unknown = sorted(set(args.only or ()) - set(STEP_NAMES))
     if unknown:
         raise InputError(f"--only: unknown step {unknown[0]!r} (steps: {' '.join(STEP_NAMES)})")
