@@ -234,7 +234,7 @@ def test_whole_quick_study_on_an_imported_finger(tmp_path):
     record = json.loads((out / "study.json").read_text())
     assert set(record["wall_time_s"]) == {"finger", "impulse", "contact", "calibrate"}
     assert set(record["skipped"]) == {"design"}
-    summary = pd.read_csv(out / "contact" / "contact_summary_global.csv")
+    summary = pd.read_csv(out / "contact" / "contact_summary_relative.csv")      # [damping] kind
     assert (summary.energy_balance_error < 0.02).all()
     assert (out / "index.html").exists() and "given mesh" in (out / "contact" / "contact_report.md").read_text()
 

@@ -69,3 +69,15 @@ def test_a_sweep_that_never_touches_reports_no_contact(tmp_path, capsys):
     assert "| 180 | no contact within the run |" in report
     summary = pd.read_csv(tmp_path / "contact_summary_global.csv")
     assert summary.contact_start_s.isna().all() and summary.first_contact_side.isna().all()
+
+
+def test_a_relative_damping_sweep_alone_has_its_report(tmp_path):
+    """A sweep with relative damping only (a user's study) gets its own report table, without
+    the paper's global-damping timings beside it."""
+    from ccedi.study.commands.fea import write_contact_sweep
+
+    coarse = DrumSetup(finger_section_elements=3, finger_elements_along=26)
+    write_contact_sweep(coarse, [180.0], tmp_path, damping="relative", t_end_s=0.05, n_outputs=5, scheduler="serial")
+    report = (tmp_path / "contact_report.md").read_text()
+    assert "## Relative damping" in report and "(paper)" not in report and "## Global damping" not in report
+    assert "| 180 | no contact within the run |" in report

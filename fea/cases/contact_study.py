@@ -6,6 +6,7 @@ import numpy as np
 import pandas as pd
 
 from ccedi.distributed import map_runs
+from ccedi.errors import InputError
 from ccedi.fea.contact.drum import PAPER_CONTACT, DrumSetup, contact_run, contact_summary, finger_mesh
 from ccedi.fea.solvers.validity import run_label
 
@@ -211,39 +212,14 @@ def validity_lines(global_table, relative_table=None):
     return [f"- {w}" for w in found]
 
 
-def contact_report(setup: DrumSetup, global_table, global_history, relative_table=None, relative_history=None):
-    """Markdown comparing the global-damping sweep with the paper (section 3.4) and with
-    relative damping. Tables are the summaries of :func:`sweep`; histories the long frames.
-
-    Parameters
-    ----------
-    setup : DrumSetup
-    global_table, global_history : pandas.DataFrame
-        Summaries and history of the global-damping sweep.
-    relative_table, relative_history : pandas.DataFrame, optional
-        The same for relative damping.
-
-    Returns
-    -------
-    str
-        Markdown.
-    """
-    finger = finger_mesh(setup)
-    lines = ["# Finger on the rotating drum: contact study", "",
-             f"Set-up: drum radius {1e3 * setup.drum_radius_m:g} mm, finger {1e3 * setup.finger_length_m:g} mm "
-             f"({'SM-A' if setup.finger is None else 'given mesh'}, {finger.n_elements} {finger.element_type}), omega {setup.omega_rad_s:g} rad/s, object semi-axes "
-             f"{1e3 * setup.object_semi_axes_m[0]:g} x {1e3 * setup.object_semi_axes_m[1]:g} mm at "
-             f"({1e3 * setup.object_center_m[0]:g}, {1e3 * setup.object_center_m[1]:g}) mm, mu {setup.friction:g}, "
-             f"initial angle {setup.theta0_rad:.5f} rad (calibrated: alpha = 7.5 1/s touches at 0.32 s). "
-             "Object rigid in the dynamics; its stress from a linear static FE solve at each output.", "",
-             "## Global damping (the paper's), against the paper", "",
-             "| alpha [1/s] | first contact [s] (paper) | side | last contact [s] | duration [s] (paper) | "
-             "break-away point [mm] | peak force [N] | max finger stress [MPa] | max object stress [MPa] | "
-             "penetration / thickness | energy error |", "|---|---|---|---|---|---|---|---|---|---|---|"]
-    for _, r in global_table.iterrows():
+def _summary_lines(table, paper):
+    """One Markdown row per run of a sweep summary, with the paper's contact timings in
+    parentheses where ``paper`` (the global-damping sweep at the paper's alphas)."""
+    lines = []
+    for _, r in table.iterrows():
         a = float(r.alpha_per_s)
-        p_first = PAPER_CONTACT["first_contact_s"].get(a)
-        p_dur = PAPER_CONTACT["contact_duration_s"].get(a)
+        p_first = PAPER_CONTACT["first_contact_s"].get(a) if paper else None
+        p_dur = PAPER_CONTACT["contact_duration_s"].get(a) if paper else None
         last = r.last_contact_point_m if isinstance(r.last_contact_point_m, str) else "-"
         if last != "-":
             xy = [1e3 * float(v) for v in last.strip("[]").split(",")]
@@ -257,8 +233,54 @@ def contact_report(setup: DrumSetup, global_table, global_history, relative_tabl
                      + (f" ({p_dur:g})" if p_dur else "") + f" | {last} | {r.peak_reaction_force_N:.2f} | "
                      f"{1e-6 * r.max_finger_stress_Pa:.3f} | {1e-6 * r.max_object_stress_Pa:.3f} | "
                      f"{r.penetration_to_thickness:.4f} | {r.energy_balance_error:.4f} |")
-    lines += ["", "## Validity warnings", ""] + validity_lines(global_table, relative_table)
-    if relative_table is not None:
+    return lines
+
+
+def contact_report(setup: DrumSetup, global_table, global_history, relative_table=None, relative_history=None):
+    """Markdown of a contact sweep: the global-damping sweep against the paper (section
+    3.4) and against relative damping, or the relative-damping sweep alone. Tables are the
+    summaries of :func:`sweep`; histories the long frames.
+
+    Parameters
+    ----------
+    setup : DrumSetup
+    global_table, global_history : pandas.DataFrame or None
+        Summaries and history of the global-damping sweep (None: not run).
+    relative_table, relative_history : pandas.DataFrame, optional
+        The same for relative damping.
+
+    Returns
+    -------
+    str
+        Markdown.
+
+    Raises
+    ------
+    InputError
+        Neither sweep is given.
+    """
+    if global_table is None and relative_table is None:
+        raise InputError("contact_report needs the summary of a global or a relative damping sweep, got neither")
+    finger = finger_mesh(setup)
+    lines = ["# Finger on the rotating drum: contact study", "",
+             f"Set-up: drum radius {1e3 * setup.drum_radius_m:g} mm, finger {1e3 * setup.finger_length_m:g} mm "
+             f"({'SM-A' if setup.finger is None else 'given mesh'}, {finger.n_elements} {finger.element_type}), omega {setup.omega_rad_s:g} rad/s, object semi-axes "
+             f"{1e3 * setup.object_semi_axes_m[0]:g} x {1e3 * setup.object_semi_axes_m[1]:g} mm at "
+             f"({1e3 * setup.object_center_m[0]:g}, {1e3 * setup.object_center_m[1]:g}) mm, mu {setup.friction:g}, "
+             f"initial angle {setup.theta0_rad:.5f} rad (calibrated: alpha = 7.5 1/s touches at 0.32 s). "
+             "Object rigid in the dynamics; its stress from a linear static FE solve at each output.", ""]
+    header = ["| alpha [1/s] | first contact [s]{} | side | last contact [s] | duration [s]{} | "
+              "break-away point [mm] | peak force [N] | max finger stress [MPa] | max object stress [MPa] | "
+              "penetration / thickness | energy error |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    if global_table is not None:
+        lines += ["## Global damping (the paper's), against the paper", "",
+                  header[0].format(" (paper)", " (paper)"), header[1], *_summary_lines(global_table, paper=True)]
+    else:
+        lines += ["## Relative damping (on the velocity relative to the drum: a finger turned in air)", "",
+                  header[0].format("", ""), header[1], *_summary_lines(relative_table, paper=False)]
+    lines += ["", "## Validity warnings", ""] + validity_lines(*[t for t in (global_table, relative_table)
+                                                               if t is not None])
+    if global_table is not None and relative_table is not None:
         lines += ["", "## Global against relative damping", "",
                   "Global mass damping acts on the absolute velocity, so it drags a turning finger back "
                   "(a load alpha rho A omega r per unit length); relative damping acts on the velocity in the "

@@ -379,8 +379,8 @@ def _cmd_contact_sweep(args):
 
 
 def write_contact_report(setup, out):
-    """``contact_report.md`` from the summaries and histories in ``out`` (global, and
-    relative if present); nothing when the global sweep is missing.
+    """``contact_report.md`` from the summaries and histories in ``out`` (global and
+    relative, either or both); nothing when neither sweep is there.
 
     Parameters
     ----------
@@ -401,9 +401,9 @@ def write_contact_report(setup, out):
         return (pd.read_csv(s), pd.read_csv(h)) if s.exists() and h.exists() else (None, None)
 
     g_table, g_hist = load("global")
-    if g_table is None:
-        return
     r_table, r_hist = load("relative")
+    if g_table is None and r_table is None:
+        return
     write_text(out / "contact_report.md", contact_report(setup, g_table, g_hist, r_table, r_hist))
 
 
