@@ -32,7 +32,7 @@ from scipy.signal import butter, sosfiltfilt
 
 from ccedi.fea.contact.drum import DrumSetup, FullContactModel
 from ccedi.fea.material import NeoHookean
-from ccedi.rom.contact_rom import ReducedContactModel
+from ccedi.rom.contact_rom import DEFAULT_SEGMENTS, reduce_contact_model
 from ccedi.rom.sensor import DEFAULT_DAMPING_RATIO, DEFAULT_NATURAL_FREQUENCY_HZ, Transducer
 
 from .effects import CONTACT_CATALOGUE, ContactScales, Parameter
@@ -140,8 +140,9 @@ def radially_offset(center_m, offset_m):
 
 @lru_cache(maxsize=4)
 def _chain(setup: DrumSetup):
-    """The co-rotational chain ROM of a set-up (built once per finger and drum)."""
-    return ReducedContactModel(setup, nonlinear=True)
+    """The co-rotational chain ROM of a set-up, reduced from its full FE model (built once
+    per finger and drum)."""
+    return reduce_contact_model(FullContactModel(setup), n_segments=DEFAULT_SEGMENTS, nonlinear=True)
 
 
 @dataclass(frozen=True)

@@ -31,9 +31,9 @@ import numpy as np
 import pandas as pd
 
 from ccedi.errors import InputError
-from ccedi.fea.contact.drum import DrumSetup, ObjectStress
+from ccedi.fea.contact.drum import DrumSetup, FullContactModel, ObjectStress
 from ccedi.outputs import write_csv, write_json
-from ccedi.rom.contact_rom import ReducedContactModel
+from ccedi.rom.contact_rom import reduce_contact_model
 from ccedi.rom.superelement import fitting_segments
 
 from . import outputs as outputs_module
@@ -358,9 +358,13 @@ class Surrogate:
 
 
 def rom_factory(setup: DrumSetup):
-    """The design's default contact model: the ROM with :func:`ccedi.design.outputs.rom_segments`
-    superelements for the set-up's finger length (on a finger mesh, as many of them as
-    its elements allow, :func:`ccedi.rom.superelement.fitting_segments`).
+    """The design's default contact model: the full FE model of the set-up reduced
+    (:func:`ccedi.rom.contact_rom.reduce_contact_model`) to a chain of
+    :func:`ccedi.design.outputs.rom_segments` superelements for the set-up's finger length
+    (on a finger mesh, as many of them as its elements allow,
+    :func:`ccedi.rom.superelement.fitting_segments`). Any
+    :class:`ccedi.models.ContactModel` factory can take its place (``model_factory``), the
+    full model's included.
 
     Parameters
     ----------
@@ -372,7 +376,8 @@ def rom_factory(setup: DrumSetup):
     ccedi.rom.contact_rom.ReducedContactModel
     """
     n = rom_segments(setup.finger_length_m)
-    return ReducedContactModel(setup, n_segments=n if setup.finger is None else fitting_segments(setup.finger, n))
+    return reduce_contact_model(FullContactModel(setup),
+                                n_segments=n if setup.finger is None else fitting_segments(setup.finger, n))
 
 
 def run_rom(setup: DrumSetup, points, damping="relative", progress=None, model_factory=rom_factory,

@@ -35,7 +35,7 @@ from ccedi.fea.cases.studies import finger_impulse_model, impulse_response
 from ccedi.fea.contact.drum import DrumSetup, FullContactModel
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import SEMI_AXES
-from ccedi.rom.contact_rom import ReducedContactModel
+from ccedi.rom.contact_rom import DEFAULT_SEGMENTS, reduce_contact_model
 from ccedi.rom.modal import fit_to_response, nrmse, reduce_impulse_model
 from ccedi.rom.sensor import Transducer
 from ccedi.units import m_to_inch
@@ -147,14 +147,15 @@ def contact_cases(setup: DrumSetup, alphas=(7.5, 180.0, 600.0), damping="global"
     """
     build = None
     transducer = transducer or Transducer()
+    full = FullContactModel(setup) if full is None else full
     if reduced is None:
         contacts = [contact] if contact is None or isinstance(contact, str) else list(contact)
         t0 = time.perf_counter()
-        reduced = [ReducedContactModel(setup, nonlinear=nl, contact=c) for c in contacts for nl in (True, False)]
+        reduced = [reduce_contact_model(full, n_segments=DEFAULT_SEGMENTS, nonlinear=nl, contact=c)
+                   for c in contacts for nl in (True, False)]
         build = (time.perf_counter() - t0) / len(reduced)
     for r in reduced:
         r.run(alphas[0], damping, t_end_s=1e-3, n_outputs=1)          # compile outside the timing
-    full = FullContactModel(setup) if full is None else full
     cases = []
     for alpha in alphas:
         ref = full.run(alpha, damping, t_end_s, n_outputs, progress=progress)

@@ -29,7 +29,7 @@ import numpy as np
 import pandas as pd
 
 from ccedi.errors import InputError, SolverError, require_finite_positive
-from ccedi.fea.contact.drum import DrumSetup, finger_mesh, finger_on_drum
+from ccedi.fea.contact.drum import DrumSetup, FullContactModel, finger_mesh, finger_on_drum
 from ccedi.fea.contact.penalty import penalty_stiffness
 from ccedi.fea.model import cantilever_model
 from ccedi.fea.solvers.explicit import TSSFAC, critical_time_step
@@ -58,6 +58,7 @@ from ccedi.rom.superelement import (
     fe_tip_stiffness,
     finger_chain,
     fit_tip_stiffness,
+    fitting_segments,
     linear_matrices,
     stress_recovery,
 )
@@ -439,3 +440,47 @@ class ReducedContactModel:
         """Finger stress [Pa] per output from the station states, zone by zone."""
         e = self.stress.deformations(P_out, TH_out, self.chain.station_z_m, self.nonlinear)
         return self.stress.max_von_mises(e, nonlinear=self.nonlinear)
+
+
+def reduce_contact_model(full: FullContactModel, n_segments=None, nonlinear=True, fit=True, contact=None):
+    """The reductor of the contact model: the superelement chain of a full FE contact
+    model's finger, with the same run signature and response type (pyMOR's way: a
+    reductor takes the full model and returns the reduced one, so a study swaps one for
+    the other with one argument).
+
+    The chain is cut from the full model's own finger mesh and material (the generated
+    prism or any mesh, :func:`ccedi.rom.superelement.chain_cuts`), its bending stiffness
+    fitted to that mesh's FE tip stiffness, and it runs on the full model's drum, object
+    and friction.
+
+    Parameters
+    ----------
+    full : ccedi.fea.contact.drum.FullContactModel
+        The full model to reduce.
+    n_segments : int, optional
+        Superelements along the finger (default: :data:`DEFAULT_SEGMENTS`, or on a finger
+        mesh as many as its elements allow up to it,
+        :func:`ccedi.rom.superelement.fitting_segments`).
+    nonlinear : bool, optional
+        Co-rotational (True) or linear (False) kinematics.
+    fit : bool, optional
+        Scale the bending stiffness to the FE tip stiffness.
+    contact : str, optional
+        "stations" or "face" (:class:`ReducedContactModel`).
+
+    Returns
+    -------
+    ReducedContactModel
+
+    Raises
+    ------
+    InputError
+        ``full`` is not a full contact model, or the chain cannot be built
+        (:class:`ReducedContactModel`).
+    """
+    if not isinstance(full, FullContactModel):
+        raise InputError(f"reduce_contact_model reduces a FullContactModel, got {type(full).__name__}")
+    setup = full.setup
+    if n_segments is None:
+        n_segments = DEFAULT_SEGMENTS if setup.finger is None else fitting_segments(setup.finger, DEFAULT_SEGMENTS)
+    return ReducedContactModel(setup, n_segments=n_segments, nonlinear=nonlinear, fit=fit, contact=contact)

@@ -433,11 +433,14 @@ def reduce_impulse_model(full, n_modes=6, alpha=0.0, fit_t_end_s=None, fit_n_out
     Raises
     ------
     InputError
-        The full model's pulse is unknown.
+        The full model's pulse is unknown, or it has no solid elements.
     """
     if full.force_N is None or full.duration_s is None:
         raise InputError("the full model's pulse (force_N, duration_s) must be known to reduce it")
     model = full.fea_model(alpha)
+    if model.mesh.n_elements == 0:
+        raise InputError(f"the modal reductor needs solid elements (its modes come from their tangent); the full "
+                         f"model {full.name!r} has none (a structure of rods, such as the steel rod)")
     rom = tip_modal_rom(model, n_modes=n_modes)
     if fit_t_end_s is not None:
         t, y = full.run(alpha, fit_t_end_s, fit_n_outputs).tip_signal()

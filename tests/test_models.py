@@ -23,7 +23,6 @@ from ccedi.models import (
     ImpulseModel,
     ImpulseResponse,
     contact_timing,
-    validate_run_args,
 )
 from ccedi.rom.ccedi import critical_alpha
 from ccedi.rom.contact_rom import ReducedContactModel
@@ -113,23 +112,6 @@ def test_contact_responses_declare_the_same_core_columns(contact_responses):
     with pytest.raises(InputError, match="contact_nodes"):
         ContactResponse(history=pd.DataFrame({c: [0.0] for c in names if c != "contact_nodes"}),
                         summary={c.name: None for c in CONTACT_CORE_SUMMARY})
-
-
-@pytest.mark.parametrize("kwargs, match", [({"alpha": -1.0}, "alpha"), ({"damping": "local"}, "damping"),
-                                           ({"t_end_s": 0.0}, "t_end_s"), ({"n_outputs": 2.5}, "n_outputs")])
-def test_every_model_checks_its_run_arguments_alike(kwargs, match, finger_3in):
-    args = {"alpha": 10.0, "damping": "global", "t_end_s": 0.01, "n_outputs": 2, **kwargs}
-    with pytest.raises(InputError, match=match):
-        validate_run_args(args["alpha"], args["t_end_s"], args["n_outputs"], args["damping"])
-    models = [FullContactModel(COARSE, object_stress=False), ReducedContactModel(COARSE, n_segments=5)]
-    for m in models:
-        with pytest.raises(InputError, match=match):
-            m.run(**args)
-    if "damping" not in kwargs:
-        args.pop("damping")
-        for m in finger_3in[:2]:
-            with pytest.raises(InputError, match=match):
-                m.run(**args)
 
 
 def test_design_builds_its_surrogate_runs_from_the_factory(tmp_path):
