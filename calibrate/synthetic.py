@@ -40,7 +40,7 @@ of std ``NOISE_FRACTION`` x range is added. The true Young's modulus and alpha d
 the declared ones (seeded, within +-8 % and 3-5 1/s).
 
 One more clean control comes from the full 3-D explicit FEA of the 4.5-in SM-A finger
-(:func:`ccedi.fea.cases.studies.impulse_response`, hexahedral neo-Hookean solid, 1 s): the
+(:func:`ccedi.fea.cases.studies.finger_impulse_model`, hexahedral neo-Hookean solid, 1 s): the
 nonlinear, lumped-mass explicit solid the calibration's linear modes must match without
 an effect. It is kept when present (regenerating it takes minutes; ``--solid`` forces it).
 
@@ -56,7 +56,7 @@ import pandas as pd
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from ccedi.fea.cases.studies import impulse_response
+from ccedi.fea.cases.studies import finger_impulse_model
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR, sm_a
 from ccedi.fea.model import cantilever_model, face_node_weights
@@ -400,9 +400,8 @@ def solid_record(seed):
     meta : dict
         The JSON sidecar (kind, declared finger, load, sensor noise std [m]).
     """
-    fe = impulse_response(length_in=SOLID["length_in"], alpha=SOLID["alpha_per_s"], force_N=SOLID["force_N"],
-                          duration_s=PULSE_S, t_end_s=SOLID["record_s"],
-                          n_outputs=int(round(SOLID["record_s"] * SAMPLE_RATE_HZ)))
+    fe = finger_impulse_model(length_in=SOLID["length_in"], force_N=SOLID["force_N"], duration_s=PULSE_S).run(
+        SOLID["alpha_per_s"], SOLID["record_s"], int(round(SOLID["record_s"] * SAMPLE_RATE_HZ)))
     t = np.concatenate([[0.0], fe.history.time_s.values])
     y = np.concatenate([[0.0], fe.history.tip_uy_m.values])
     noise = NOISE_FRACTION * float(np.ptp(y))
@@ -435,7 +434,7 @@ def write_bundled_set(out_dir, solid=False):
     manifest = {"control_fea_solid": {"E_factor": 1.0, "alpha_per_s": SOLID["alpha_per_s"],
                                       "force_N": SOLID["force_N"], "duration_s": PULSE_S, "effects": {},
                                       "in_catalogue": True,
-                                      "generator": "ccedi.fea.cases.studies.impulse_response (3-D SM-A solid)"}}
+                                      "generator": "ccedi.fea.cases.studies.finger_impulse_model (3-D SM-A solid)"}}
     for i, (name, truth) in enumerate(bundled_set().items()):
         frame, meta = record(truth, seed=1000 + i)
         write_csv(out_dir / f"{name}.csv", frame)

@@ -95,12 +95,12 @@ def steel_rod(out):
 
 
 def _mesh_run(name, length_in, alpha, force_N, duration_s, t_end_s, material, semi_axes_m):
-    from ccedi.fea.cases.studies import impulse_response
+    from ccedi.fea.cases.studies import finger_impulse_model
     from ccedi.fea.mesh import sm_a, sm_b
 
     mesh = {"SM-A": sm_a, "SM-B": sm_b}[name](length_in=length_in, semi_axes_m=semi_axes_m)
-    res = impulse_response(alpha=alpha, force_N=force_N, duration_s=duration_s, t_end_s=t_end_s, mesh=mesh,
-                           material=material)
+    res = finger_impulse_model(force_N=force_N, duration_s=duration_s, material=material, mesh=mesh).run(
+        alpha, t_end_s, 400)
     h = res.history[["time_s", "tip_uy_m", "max_von_mises_Pa"]].copy()
     h.insert(0, "model", name)
     return h, res.summary

@@ -5,7 +5,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
-from ccedi.fea.cases.studies import impulse_model, impulse_response
+from ccedi.fea.cases.studies import finger_impulse_model, impulse_model
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import elliptical_cantilever
 from ccedi.fea.model import cantilever_model, face_node_weights
@@ -66,7 +66,7 @@ def test_rom_matches_full_fea_impulse():
     response: its fit moves 1.5 %) is checked on the ``rom-check`` command's output, which
     runs that case (tests/test_contact_rom.py::test_rom_check_cli_writes_the_case_keys)."""
     alpha, force, duration = 20.0, 0.1, 0.01
-    h = impulse_response(alpha=alpha, force_N=force, duration_s=duration, t_end_s=0.2, n_outputs=400).history
+    h = finger_impulse_model(force_N=force, duration_s=duration).run(alpha, 0.2, 400).history
     rom = tip_modal_rom(impulse_model(alpha=alpha, force_N=force), n_modes=3)
     assert nrmse(rom.pulse_response(h.time_s, force, duration), h.tip_uy_m) < 0.02
     fit = fit_to_response(rom, h.time_s.values, h.tip_uy_m.values, force, duration)

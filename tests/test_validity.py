@@ -214,7 +214,7 @@ def test_a_solver_error_inside_the_runs_is_one_line(tmp_path, capsys, monkeypatc
     line, which stands alone."""
     import ccedi.fea.cases.studies as studies
 
-    def inverted(alpha, kwargs):
+    def inverted(alpha, **kwargs):
         raise SolverError("element 3 inverted (J <= 0) at t = 0.001 s, step 250")
     monkeypatch.setattr(studies, "_impulse_run", inverted)
     rc, shown, _ = impulse_cli(tmp_path, capsys, 1.0, 0.02)

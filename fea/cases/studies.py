@@ -186,36 +186,7 @@ def impulse_model(length_in=4.5, alpha=180.0, force_N=1.0, duration_s=0.01, mate
                             pulses=[tip_pulse(mesh, [0.0, force_N, 0.0], duration_s)])
 
 
-def impulse_response(length_in=4.5, alpha=180.0, force_N=1.0, duration_s=0.01, t_end_s=0.2,
-                     n_outputs=400, material=RUBBER, beta=0.0, mesh=None, semi_axes_m=SEMI_AXES):
-    """Tip response of :func:`impulse_model` (the solver's result; the model-interface
-    form is :meth:`FullImpulseModel.run` of :func:`finger_impulse_model`).
-
-    Parameters
-    ----------
-    length_in, alpha, force_N, duration_s, material, beta, mesh, semi_axes_m
-        As :func:`impulse_model`.
-    t_end_s : float, optional
-        Simulated time [s].
-    n_outputs : int, optional
-        Output times.
-
-    Returns
-    -------
-    ccedi.fea.solvers.explicit.RunResult
-        History (``tip_uy_m`` [m], ``max_von_mises_Pa`` [Pa], ``reaction_y_N`` [N], energies,
-        ...) and summary of the explicit run (:func:`impulse_run`, with its ``warnings``).
-
-    Raises
-    ------
-    SolverError
-        The solver cannot continue, or the tip deflection reaches the finger's length.
-    """
-    model = impulse_model(length_in, alpha, force_N, duration_s, material, beta, mesh, semi_axes_m)
-    return impulse_run(model, t_end_s, n_outputs)
-
-
-def impulse_run(model, t_end_s, n_outputs):
+def _checked_run(model, t_end_s, n_outputs):
     """Explicit run of an impulse test with its tip deflection check
     (:func:`ccedi.fea.solvers.validity.tip_deflection_warnings`).
 
@@ -300,7 +271,8 @@ class FullImpulseModel:
             History: the solver's (core ``time_s``, ``tip_uy_m``; extras
             :data:`ccedi.models.FE_IMPULSE_EXTRA_COLUMNS`); summary: ``model``,
             ``alpha_per_s`` and the solver's summary (``wall_time_s``, ``steps``,
-            ``warnings``, ...) of :func:`impulse_run`.
+            ``warnings``, ...) of the explicit run, with the tip deflection check
+            (:func:`ccedi.fea.solvers.validity.tip_deflection_warnings`).
 
         Raises
         ------
@@ -310,7 +282,7 @@ class FullImpulseModel:
             The explicit solver cannot continue, or the tip deflection reaches the length.
         """
         alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs)
-        res = impulse_run(self.model_factory(alpha), t_end_s, n_outputs)
+        res = _checked_run(self.model_factory(alpha), t_end_s, n_outputs)
         return ImpulseResponse(history=res.history,
                                summary={"model": self.name, "alpha_per_s": alpha, **res.summary})
 
@@ -354,19 +326,21 @@ def finger_impulse_model(length_in=4.5, force_N=1.0, duration_s=0.01, material=R
                             force_N=force_N, duration_s=duration_s)
 
 
-def _impulse_run(alpha, kwargs):
+def _impulse_run(alpha, finger, t_end_s, n_outputs):
     """One run of :func:`impulse_study`: (history DataFrame with an alpha_per_s column, summary)."""
-    res = impulse_response(alpha=float(alpha), **kwargs)
+    res = finger_impulse_model(**finger).run(float(alpha), t_end_s, n_outputs)
     h = res.history[["time_s", "tip_uy_m", "max_von_mises_Pa", "reaction_y_N"]].copy()
     h.insert(0, "alpha_per_s", float(alpha))
     return h, res.summary
 
 
-def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), scheduler="serial", **kwargs):
-    """Fig. 7 analogue: tip responses for several alpha [1/s], one run per alpha mapped
-    through :func:`ccedi.distributed.map_runs` (``scheduler``). Returns (history, summaries):
-    a long DataFrame with columns alpha_per_s, time_s, tip_uy_m, max_von_mises_Pa,
-    reaction_y_N and a list of run summaries.
+def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), scheduler="serial", t_end_s=0.2, n_outputs=400,
+                  **finger):
+    """Fig. 7 analogue: tip responses for several alpha [1/s], one run of
+    :func:`finger_impulse_model` per alpha mapped through
+    :func:`ccedi.distributed.map_runs` (``scheduler``). Returns (history, summaries): a long
+    DataFrame with columns alpha_per_s, time_s, tip_uy_m, max_von_mises_Pa, reaction_y_N and
+    a list of run summaries.
 
     Parameters
     ----------
@@ -374,13 +348,19 @@ def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), scheduler="serial",
         Damping coefficients [1/s].
     scheduler : str, optional
         :func:`ccedi.distributed.map_runs` scheduler.
-    **kwargs
-        Passed to :func:`impulse_response`.
+    t_end_s : float, optional
+        Simulated time of each run [s].
+    n_outputs : int, optional
+        Output times of each run.
+    **finger
+        The impulse test, passed to :func:`finger_impulse_model` (``length_in``,
+        ``force_N``, ``duration_s``, ``material``, ``beta``, ``mesh``, ``semi_axes_m``).
 
     Returns
     -------
     tuple
         (history DataFrame, list of summaries).
     """
-    runs = map_runs(partial(_impulse_run, kwargs=kwargs), alphas, scheduler, label="impulse runs")
+    runs = map_runs(partial(_impulse_run, finger=finger, t_end_s=t_end_s, n_outputs=n_outputs), alphas, scheduler,
+                    label="impulse runs")
     return pd.concat([h for h, _ in runs], ignore_index=True), [s for _, s in runs]
