@@ -22,8 +22,9 @@ from pathlib import Path
 import pandas as pd
 
 IGNORED = re.compile(r"wall_time|elapsed|ns_per|per_eval|speedup|build_time|timestamp|generated|from_cache|"
-                     r"cached|scheduler|dt_initial_s$|^warnings$")
-"""Keys (or CSV columns) whose values are not results: timings, cache flags, where it ran."""
+                     r"cached|scheduler|sha256|^config$")
+"""Keys (or CSV columns) whose values are not results: timings, cache flags and source
+hashes, and the inputs (``study.json``'s ``config``, whose paths name the checkout)."""
 
 
 def leaves(value, path=""):
