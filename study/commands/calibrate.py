@@ -96,8 +96,8 @@ def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None, 
 
     from ccedi.calibrate.experiment import load_experiment
     from ccedi.calibrate.loop import calibrate, summary
-    from ccedi.calibrate.report import write_report
     from ccedi.outputs import write_json, write_text
+    from ccedi.study.calibration_report import write_report
     from ccedi.study.config import calibrated_config
 
     t0 = time.perf_counter()

@@ -10,12 +10,15 @@ reaction force [N] instead (``reaction_force_N``, ``baseline_N``, ``final_N``).
 """
 from pathlib import Path
 
-import numpy as np
-import pandas as pd
+import matplotlib
 
-from ccedi.outputs import write_csv, write_figure, write_text
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402  (after choosing the file-only backend)
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
 
-from .loop import Calibration
+from ccedi.calibrate.loop import Calibration  # noqa: E402
+from ccedi.outputs import write_csv, write_figure, write_text  # noqa: E402
 
 SIGNALS = {"impulse": ("tip displacement", "tip_displacement_m", "m", 1e3, "mm"),
            "contact": ("reaction force", "reaction_force_N", "N", 1.0, "N")}
@@ -23,10 +26,6 @@ SIGNALS = {"impulse": ("tip displacement", "tip_displacement_m", "m", 1e3, "mm")
 
 
 def _figures(cal: Calibration):
-    import matplotlib  # matplotlib loads only when a figure is drawn
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt  # matplotlib loads only when a figure is drawn
-
     name_, _, _, k, unit = SIGNALS[cal.experiment.kind]
     t = cal.experiment.time_s
     y = cal.experiment.signal
