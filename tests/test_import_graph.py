@@ -117,6 +117,28 @@ def test_libraries_do_not_import_the_application(module):
     assert upward == [], f"{module} imports the application layer: {upward}"
 
 
+PLOT_WRITERS = {"ccedi.outputs"}
+"""Library modules allowed to load matplotlib: the writer of a PDF from PNG pages."""
+
+
+def _imports_matplotlib(path):
+    for node in ast.walk(ast.parse(path.read_text())):
+        names = ([a.name for a in node.names] if isinstance(node, ast.Import)
+                 else [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
+        if any(name.split(".")[0] == "matplotlib" for name in names):
+            return True
+    return False
+
+
+def test_only_the_application_draws():
+    """Plotting belongs to the application (study): the libraries return numbers, and no
+    library module imports matplotlib (but the PDF writer of ccedi.outputs)."""
+    drawing = sorted(m for m, path in _modules().items()
+                     if not m.startswith(APPLICATION) and m not in PLOT_WRITERS and _imports_matplotlib(path))
+    assert drawing == [], f"library modules that draw: {drawing}"
+    assert _imports_matplotlib(_modules()["ccedi.study.figures"])             # the check sees an import
+
+
 def test_core_modules_import_no_subpackage():
     """ccedi's shared modules (errors, units, quantities, progress, models) sit under the
     libraries: none imports fea, rom, design, calibrate or study."""
