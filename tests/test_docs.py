@@ -120,3 +120,63 @@ def test_readme_names_only_real_subcommands():
     named = _readme_commands()
     assert {"init", "study", "design"} <= named, named
     assert named <= set(sub.choices), f"not sub-commands of ccedi: {sorted(named - set(sub.choices))}"
+
+
+PLACEHOLDERS = {"FILE": "study.toml", "PATH": "out.json", "DIR": "out", "MEASURED.csv": "measured.csv", "L": "4.5",
+                "A": "180", "STEP": "finger"}
+"""Words the docs' command lines stand in for a value with, and a value of each."""
+SYNOPSIS = re.compile(r"[\[\]|]|\.\.\.|: error:")
+"""A usage synopsis (optional parts in brackets, choices, repetition) or an error line."""
+
+
+def _command_lines():
+    """(page, line, in a code block) of every ``ccedi SUBCOMMAND ...`` line in the README
+    and docs: the lines of code blocks and the inline code spans."""
+    found = []
+    for page in PAGES:
+        text = page.read_text(encoding="utf-8")
+        blocks = [line.strip() for block in FENCE.finditer(text) for line in block.group(0).splitlines()]
+        spans = INLINE_CODE.findall(FENCE.sub("", text))
+        for line, fenced in [(b, True) for b in blocks] + [(s, False) for s in spans]:
+            line = line.split(" #")[0].strip()
+            if re.match(r"ccedi\s+[a-z][a-z0-9_-]*(\s|$)", line):          # not an output line ("ccedi study: ...")
+                found.append((page.name, line, fenced))
+    return found
+
+
+def _subparsers():
+    (sub,) = [a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction)]
+    return sub.choices
+
+
+def test_every_documented_command_line_parses():
+    """Every ``ccedi`` command line of a code block parses with the real command line
+    (placeholders such as FILE replaced by a value); every flag a synopsis or an inline
+    mention names is one its sub-command has."""
+    commands, broken, parsed, checked = _subparsers(), [], 0, 0
+    for page, line, fenced in _command_lines():
+        words = line.split()
+        name = words[1]
+        if name not in commands:
+            if fenced:
+                broken.append(f"{page}: {line!r}: no sub-command {name!r}")
+            continue
+        options = {o for action in commands[name]._actions for o in action.option_strings}
+        flags = [w.strip("[]") for w in words if w.strip("[]").startswith("--")]
+        broken += [f"{page}: {line!r}: {name} has no {f}" for f in flags if f.split("=")[0] not in options]
+        checked += len(flags)
+        if fenced and not SYNOPSIS.search(line):
+            try:
+                commands[name].parse_args([PLACEHOLDERS.get(w, w) for w in words[2:]])
+                parsed += 1
+            except SystemExit:
+                broken.append(f"{page}: {line!r}: does not parse")
+    assert not broken, "\n".join(broken)
+    assert parsed >= 3 and checked >= 50, (parsed, checked)     # the check reads the docs' commands
+
+
+def test_the_command_line_check_catches_a_stale_flag():
+    commands = _subparsers()
+    with pytest.raises(SystemExit):
+        commands["study"].parse_args(["--no-such-flag"])
+    assert "--paper" in {o for a in commands["study"]._actions for o in a.option_strings}
