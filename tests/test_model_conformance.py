@@ -11,6 +11,7 @@ coarse 8-in finger on the drum and the chain ROMs its reductor makes
 import inspect
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from ccedi.design.optimise import Design
@@ -131,12 +132,23 @@ def test_contact_model_conformance(contact_models, contact_responses, label):
     assert (h.reaction_force_N >= 0).all()
     assert (h.reaction_force_N + 1e-9 >= np.hypot(h.contact_force_x_N, h.contact_force_y_N)).all()
     assert (h.reaction_force_N[h.contact_nodes == 0] == 0).all()       # no contact point, no force
+    counts = h.contact_nodes.to_numpy()                                 # FE: float column, ROM: int; both counts
+    assert np.array_equal(counts, np.round(counts)) and (counts >= 0).all()
     assert s["contact_start_s"] is not None
     np.testing.assert_array_equal(h.reaction_force_N, again.history.reaction_force_N)        # deterministic
     for bad, match in (({"alpha": -1.0}, "alpha"), ({"damping": "local"}, "damping"), ({"t_end_s": 0.0}, "t_end_s"),
                        ({"n_outputs": 2.5}, "n_outputs")):
         with pytest.raises(InputError, match=match):
             model.run(**{"alpha": 10.0, "damping": "global", "t_end_s": 0.01, "n_outputs": 2, **bad})
+
+
+def test_a_response_without_a_core_column_is_refused():
+    names = _names(CONTACT_CORE_COLUMNS)
+    with pytest.raises(InputError, match="contact_nodes"):
+        ContactResponse(history=pd.DataFrame({c: [0.0] for c in names if c != "contact_nodes"}),
+                        summary={c.name: None for c in CONTACT_CORE_SUMMARY})
+    with pytest.raises(InputError, match="tip_uy_m"):
+        ImpulseResponse(history=pd.DataFrame({"time_s": [0.1]}), summary={c.name: None for c in IMPULSE_CORE_SUMMARY})
 
 
 def test_the_reduced_contact_models_touch_when_the_full_one_does(contact_responses):
