@@ -20,6 +20,8 @@ the eigenvalues of A_i). The integrator is for the nonlinear cases. The step is
 h <= H_OMEGA / omega_max and divides the output interval; the step containing the end of
 the pulse is split there, so the impulse F0 T is integrated exactly.
 """
+from collections import namedtuple
+
 import numpy as np
 from numba import njit
 
@@ -34,14 +36,61 @@ for a 1 ms pulse (10 modes), a few % of the 1e-2 noise floor, and 3x faster than
 (1.4e-6, 2.1e-5)."""
 
 
+ModalTerms = namedtuple("ModalTerms", "w2 c b g inv_tau")
+ModalTerms.__doc__ = """The linear terms of the modal equations (module docstring), one entry per mode.
+
+Attributes
+----------
+w2 : (n,) ndarray
+    omega_i^2 [rad^2/s^2].
+c : (n,) ndarray
+    2 zeta_i omega_i [1/s].
+b : (n,) ndarray
+    Tip values b_i [1/sqrt(kg)].
+g : float
+    Relaxation strength of the standard linear solid [-].
+inv_tau : float
+    1 / tau [1/s].
+"""
+TipNonlinearity = namedtuple("TipNonlinearity", "cq shapes sw fc kc")
+TipNonlinearity.__doc__ = """The nonlinear forces: distributed drag and the tip's friction and stiffening.
+
+Attributes
+----------
+cq : float
+    Quadratic drag per unit length c_q [N s^2/m^3].
+shapes : (k, n) ndarray
+    Mode shapes Phi_ik at the drag points [1/sqrt(kg)].
+sw : (k,) ndarray
+    Weights of the drag points [m].
+fc : float
+    Coulomb friction force F_c [N].
+kc : float
+    Cubic stiffening k_3 [N/m^3].
+"""
+Pulse = namedtuple("Pulse", "force_N t_on t_off")
+Pulse.__doc__ = """The rectangular tip pulse F(t) = force_N for t_on <= t < t_off.
+
+Attributes
+----------
+force_N : float
+    Force [N].
+t_on, t_off : float
+    Start and end [s].
+"""
+
+
 @njit(cache=True)
-def _rates(state, n, w2, c, b, g, inv_tau, force, cq, shapes, sw, fc, kc, out):
+def _rates(state, modal, tip, force, out):
+    n = modal.w2.shape[0]
+    w2, c, b, g, inv_tau = modal.w2, modal.c, modal.b, modal.g, modal.inv_tau
+    cq, shapes, sw = tip.cq, tip.shapes, tip.sw
     u = 0.0
     du = 0.0
     for i in range(n):
         u += b[i] * state[i]
         du += b[i] * state[n + i]
-    f = force - (fc * np.tanh(du / V_SLIP) + kc * u * u * u)
+    f = force - (tip.fc * np.tanh(du / V_SLIP) + tip.kc * u * u * u)
     for i in range(n):
         out[n + i] = b[i] * f
     if cq != 0.0:
@@ -61,49 +110,48 @@ def _rates(state, n, w2, c, b, g, inv_tau, force, cq, shapes, sw, fc, kc, out):
 
 
 @njit(cache=True)
-def _rk4(state, h, n, w2, c, b, g, inv_tau, force, cq, shapes, sw, fc, kc, k1, k2, k3, k4, tmp):
-    """One RK4 step of length h with the applied tip force ``force`` constant over it."""
+def _rk4(state, h, modal, tip, force, work):
+    """One RK4 step of length h with the applied tip force ``force`` constant over it;
+    ``work``: the stages k1..k4 and a scratch state."""
+    k1, k2, k3, k4, tmp = work
     m = len(state)
-    _rates(state, n, w2, c, b, g, inv_tau, force, cq, shapes, sw, fc, kc, k1)
+    _rates(state, modal, tip, force, k1)
     for j in range(m):
         tmp[j] = state[j] + 0.5 * h * k1[j]
-    _rates(tmp, n, w2, c, b, g, inv_tau, force, cq, shapes, sw, fc, kc, k2)
+    _rates(tmp, modal, tip, force, k2)
     for j in range(m):
         tmp[j] = state[j] + 0.5 * h * k2[j]
-    _rates(tmp, n, w2, c, b, g, inv_tau, force, cq, shapes, sw, fc, kc, k3)
+    _rates(tmp, modal, tip, force, k3)
     for j in range(m):
         tmp[j] = state[j] + h * k3[j]
-    _rates(tmp, n, w2, c, b, g, inv_tau, force, cq, shapes, sw, fc, kc, k4)
+    _rates(tmp, modal, tip, force, k4)
     for j in range(m):
         state[j] += h * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]) / 6.0
 
 
 @njit(cache=True)
-def _integrate(n_out, dt_out, substeps, w2, c, b, g, inv_tau, F0, t_on, t_off, cq, shapes, sw, fc, kc):
-    n = len(w2)
+def _integrate(n_out, dt_out, substeps, modal, tip, pulse):
+    n = modal.w2.shape[0]
     state = np.zeros(3 * n)
-    k1 = np.zeros(3 * n)
-    k2 = np.zeros(3 * n)
-    k3 = np.zeros(3 * n)
-    k4 = np.zeros(3 * n)
-    tmp = np.zeros(3 * n)
+    work = (np.zeros(3 * n), np.zeros(3 * n), np.zeros(3 * n), np.zeros(3 * n), np.zeros(3 * n))
     y = np.zeros(n_out)
     h = dt_out / substeps
     t = 0.0
+    t_on, t_off = pulse.t_on, pulse.t_off
     for k in range(1, n_out):
         for s in range(substeps):
             t_next = (k - 1) * dt_out + (s + 1) * h
             for edge in (t_on, t_off):
                 if t < edge < t_next:
-                    force = F0 if t_on <= 0.5 * (t + edge) < t_off else 0.0
-                    _rk4(state, edge - t, n, w2, c, b, g, inv_tau, force, cq, shapes, sw, fc, kc, k1, k2, k3, k4, tmp)
+                    force = pulse.force_N if t_on <= 0.5 * (t + edge) < t_off else 0.0
+                    _rk4(state, edge - t, modal, tip, force, work)
                     t = edge
-            force = F0 if t_on <= 0.5 * (t + t_next) < t_off else 0.0
-            _rk4(state, t_next - t, n, w2, c, b, g, inv_tau, force, cq, shapes, sw, fc, kc, k1, k2, k3, k4, tmp)
+            force = pulse.force_N if t_on <= 0.5 * (t + t_next) < t_off else 0.0
+            _rk4(state, t_next - t, modal, tip, force, work)
             t = t_next
         u = 0.0
         for i in range(n):
-            u += b[i] * state[i]
+            u += modal.b[i] * state[i]
         y[k] = u
     return y
 
@@ -217,10 +265,12 @@ def integrate_tip(time_s, modes, zeta, force_N, duration_s, start_s=0.0, prony_g
     n_out = int(round(t[-1] / dt)) + 1
     w = modes.omega_rad_s
     substeps = max(1, int(np.ceil(dt * float(np.max(w)) / H_OMEGA)))
-    y = _integrate(n_out, dt, substeps, w**2, 2.0 * np.asarray(zeta) * w, modes.tip, float(prony_g),
-                   1.0 / float(prony_tau_s), float(force_N), float(start_s), float(start_s + duration_s),
-                   float(drag_N_s2_m3), np.ascontiguousarray(modes.shapes), modes.shape_weights, float(friction_N),
-                   float(cubic_N_m3))
+    modal = ModalTerms(w2=w**2, c=2.0 * np.asarray(zeta) * w, b=modes.tip, g=float(prony_g),
+                       inv_tau=1.0 / float(prony_tau_s))
+    tip = TipNonlinearity(cq=float(drag_N_s2_m3), shapes=np.ascontiguousarray(modes.shapes), sw=modes.shape_weights,
+                          fc=float(friction_N), kc=float(cubic_N_m3))
+    pulse = Pulse(force_N=float(force_N), t_on=float(start_s), t_off=float(start_s + duration_s))
+    y = _integrate(n_out, dt, substeps, modal, tip, pulse)
     grid = np.arange(n_out) * dt
     if len(grid) == len(t) and np.allclose(grid, t, rtol=0.0, atol=1e-9 * dt + 1e-12):
         return y
