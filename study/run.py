@@ -76,7 +76,7 @@ def steps(cfg, out, scheduler):
     material, semi_axes = finger_inputs(cfg)
     records = [Path(r) for r in s["measured_records"]]
     design = options_from(cfg, fea_check=s["design_fea_check"])
-    # The DM's stiffness is the one its dimensions were fitted to (benchmarks/dm_fit.py); its
+    # The DM's stiffness is the one its dimensions were fitted to (validation/dm_fit.py); its
     # nonlinear solves at 2.8 mm would take tens of minutes, so the study leaves it out.
     return [
         ("table1", "paper Table 1", lambda: write_table1(cfg, f["impulse_length_in"], out / "table1.json",

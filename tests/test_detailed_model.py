@@ -95,7 +95,7 @@ def test_dm_modal_rom_follows_explicit_run():
     """The 6-mode ROM of the coarse DM (10 mm) against the explicit solver under the
     paper's pulse at alpha = 180 1/s for its first 3 ms (6146 steps, some 30 s idle): NRMSE
     < 2 % (measured 0.92 %; on the Delaunay mesh, before HXT, a sliver inverted at 2.19 ms).
-    The 0.05 s comparison is benchmarks/dm_fig6.py's."""
+    The 0.05 s comparison is validation/dm_fig6.py's."""
     mesh = detailed_model(10e-3)
     full = finger_impulse_model(mesh=mesh, material=RUBBER)
     rom = reduce_impulse_model(full, n_modes=6, alpha=180.0)

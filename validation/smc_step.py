@@ -13,7 +13,7 @@ script measures, on the same mesh (:func:`ccedi.fea.mesh.gmsh_fingers.sm_c`, nu 
   ``tests/test_tet4.py``, 4000 steps) at 1.3 x the half-altitude estimate and at 1.02 x
   the real limit: whether each diverges, and at which step.
 
-Prints and writes benchmarks/smc_step.json. Run: ``.venv/bin/python benchmarks/smc_step.py``
+Prints and writes validation/smc_step.json. Run: ``.venv/bin/python validation/smc_step.py``
 (a few minutes).
 """
 import platform
@@ -21,7 +21,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-from _output import report  # (benchmarks/ is on sys.path when run as a script)
 
 from ccedi.fea.cases.studies import PAPER_TABLE1
 from ccedi.fea.elements import tet10
@@ -30,6 +29,7 @@ from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh.gmsh_fingers import sm_c
 from ccedi.fea.model import cantilever_model
 from ccedi.fea.solvers.explicit import TSSFAC, SolidMaterial, critical_time_step
+from ccedi.outputs import report_figures
 
 OUT = Path(__file__).with_suffix(".json")
 STEPS = 4000
@@ -75,7 +75,7 @@ def main():
         fig |= {f"{name}_dt_us": 1e6 * dt, f"{name}_diverged_at_step": divergence_step(model, dt),
                 f"{name}_wall_s": round(time.perf_counter() - t0, 1)}
     fig |= {"steps_checked": STEPS, "python": platform.python_version(), "machine": platform.machine()}
-    report(fig, OUT)
+    report_figures(fig, OUT)
 
 
 if __name__ == "__main__":

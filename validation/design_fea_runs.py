@@ -5,10 +5,10 @@ so the expensive part, the full explicit FE runs, is done once and kept: every c
 :data:`CASES` (finger length x alpha x damping kind) is run with
 :class:`ccedi.fea.contact.drum.FullContactModel` (no per-output object stress: the design computes
 its own) for :data:`T_END_S` at :data:`OUTPUT_STEP_S`, and its history written to
-``benchmarks/cache/design_fea/L{L}_a{alpha}_{kind}.csv.gz`` with a JSON sidecar (summary,
-wall time). ``benchmarks/design_rom_check.py`` reads them.
+``validation/cache/design_fea/L{L}_a{alpha}_{kind}.csv.gz`` with a JSON sidecar (summary,
+wall time). ``validation/design_rom_check.py`` reads them.
 
-Run: ``NUMBA_NUM_THREADS=1 .venv/bin/python benchmarks/design_fea_runs.py [global|relative ...]``
+Run: ``NUMBA_NUM_THREADS=1 .venv/bin/python validation/design_fea_runs.py [global|relative ...]``
 (one process per damping kind uses one core each; ~25 min per kind on the 2-core AMD VM).
 """
 import json

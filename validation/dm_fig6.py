@@ -13,9 +13,9 @@ paper's 2.8 mm) under the paper's impulse (1 N for 10 ms at the tip, alpha = 180
   of both full runs and the quasi-static estimates the study uses
   (:func:`ccedi.rom.finger_identification.detailed_model_comparison`).
 
-Prints and writes benchmarks/dm_fig6.json (``--estimate-only``: the mesh and the estimate).
+Prints and writes validation/dm_fig6.json (``--estimate-only``: the mesh and the estimate).
 
-Run: ``.venv/bin/python benchmarks/dm_fig6.py [--size-mm 2.8] [--t-end-s 0.05] [--estimate-only]``.
+Run: ``.venv/bin/python validation/dm_fig6.py [--size-mm 2.8] [--t-end-s 0.05] [--estimate-only]``.
 """
 import argparse
 import platform
@@ -23,12 +23,12 @@ import time
 from pathlib import Path
 
 import numpy as np
-from _output import report  # (benchmarks/ is on sys.path when run as a script)
 
 from ccedi.fea.cases.studies import finger_impulse_model
 from ccedi.fea.mesh import sm_a
 from ccedi.fea.mesh.gmsh_fingers import DM_CONE_RADIUS, DM_RIB_THICKNESS, detailed_model
 from ccedi.fea.solvers.explicit import TSSFAC, critical_time_step
+from ccedi.outputs import report_figures
 from ccedi.rom.ccedi import match_alpha
 from ccedi.rom.finger_identification import PAPER_FIG6, detailed_model_comparison
 from ccedi.rom.modal import ModalImpulseModel, fit_to_response, nrmse, reduce_impulse_model
@@ -56,7 +56,7 @@ def main():
            "dt_us": dt * 1e6, "t_end_s": args.t_end_s, "steps": steps,
            "estimated_wall_s": round(steps * mesh.n_elements * TET10_NS_PER_ELEMENT_CYCLE * 1e-9, 0),
            "python": platform.python_version(), "machine": platform.machine()}
-    report(fig, OUT)
+    report_figures(fig, OUT)
     if args.estimate_only:
         return
     t0 = time.perf_counter()
@@ -72,7 +72,7 @@ def main():
                 "fe_peak_von_mises_Pa": float(res.history.max_von_mises_Pa.max()),
                 "rom_peak_tip_uy_m": float(y_rom.max()), "rom_nrmse": nrmse(y_rom, y_fe),
                 "fitted_rom_nrmse": fitted.nrmse_after, "fe_warnings": res.summary["warnings"]})
-    report(fig, OUT)
+    report_figures(fig, OUT)
     sm = finger_impulse_model(mesh=sm_a(length_in=4.5)).run(ALPHA, 0.2, N_OUTPUTS)
     t_sm, y_sm = sm.tip_signal()
     fitted_model = ModalImpulseModel(fitted.rom, full.force_N, full.duration_s)
@@ -89,7 +89,7 @@ def main():
                 "rom_sm_a_under_damped_at_180": cmp.sm_a_under_damped,
                 "quasi_static_peak_von_mises_Pa": cmp.peak_stress_Pa, "omega1_rad_s": cmp.omega1_rad_s,
                 "total_wall_s": round(time.perf_counter() - t0, 1)})
-    report(fig, OUT)
+    report_figures(fig, OUT)
 
 
 if __name__ == "__main__":

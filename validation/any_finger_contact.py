@@ -7,11 +7,11 @@ alpha = 180 1/s with global damping. The initial angle puts the undeformed finge
 object 20 ms after the start (:func:`ccedi.fea.contact.drum.first_contact_angle`), so that
 ``T_END_S`` covers the approach, the contact and the sliding; the object stress is off
 (its static solves are not what is measured). Prints and writes to
-benchmarks/any_finger_contact.json, per element type: nodes, elements, steps, wall time [s],
+validation/any_finger_contact.json, per element type: nodes, elements, steps, wall time [s],
 ns per element-cycle, contact start and end [s], peak force [N], energy balance error,
 validity warnings.
 
-Run: ``.venv/bin/python benchmarks/any_finger_contact.py``.
+Run: ``.venv/bin/python validation/any_finger_contact.py``.
 """
 import platform
 import sys
@@ -19,11 +19,10 @@ import tempfile
 from dataclasses import replace
 from pathlib import Path
 
-from _output import report  # benchmarks/ is on sys.path when run as a script
-
 from ccedi.fea.contact.drum import DrumSetup, contact_run, contact_summary, first_contact_angle
 from ccedi.fea.mesh.gmsh_fingers import write_tapered_finger
 from ccedi.fea.mesh.readers import read_finger_mesh
+from ccedi.outputs import report_figures
 
 OUT = Path(__file__).with_suffix(".json")
 SIZE_M = 0.012
@@ -54,7 +53,7 @@ def main():
                 "contact_start_s": s["contact_start_s"], "contact_end_s": s["contact_end_s"],
                 "peak_reaction_force_N": round(s["peak_reaction_force_N"], 4),
                 "energy_balance_error": s["energy_balance_error"], "warnings": s["warnings"]}.items()})
-    report(figures, OUT)
+    report_figures(figures, OUT)
 
 
 if __name__ == "__main__":

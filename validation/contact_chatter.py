@@ -11,17 +11,17 @@ Measured (2026-12-01, IEEE-arithmetic kernels): with friction the FE chatters at
 with 3.7 N rms about a ~15 N mean and the ROM with 1.0 (stations) / 2.0 N (face), their means and impulses within
 4 %; without friction both chatter by 1.1 N and their peaks agree within 4-6 %.
 
-Run: ``.venv/bin/python benchmarks/contact_chatter.py`` (two FE runs, ~5 min); writes
-benchmarks/contact_chatter.json.
+Run: ``.venv/bin/python validation/contact_chatter.py`` (two FE runs, ~5 min); writes
+validation/contact_chatter.json.
 """
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from _output import report  # benchmarks/ is on sys.path when run as a script
 
 from ccedi.fea.cases.contact_study import window_mean
 from ccedi.fea.contact.drum import DrumSetup, FullContactModel
+from ccedi.outputs import report_figures
 from ccedi.rom.contact_rom import ReducedContactModel
 
 OUT = Path(__file__).with_suffix(".json")
@@ -47,7 +47,7 @@ def main():
             "fea": force_figures(FullContactModel(setup, object_stress=False).run(ALPHA, n_outputs=N_OUTPUTS).history),
             **{f"rom_{c}": force_figures(ReducedContactModel(setup, contact=c).run(ALPHA, n_outputs=N_OUTPUTS).history)
                for c in ("stations", "face")}}
-    report(figures, OUT)
+    report_figures(figures, OUT)
 
 
 if __name__ == "__main__":

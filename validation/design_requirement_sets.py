@@ -11,17 +11,16 @@ full FEA, its binding requirement named.
 Everything else is the default (relative damping, the default requirements, the
 model-error margins of ``data/design/rom_check.json``). Each set runs ``ccedi design``'s
 :func:`ccedi.study.commands.design.write_design` with the FEA re-check of its optimum
-(ROM grids cached under ``benchmarks/cache/design_sets/``; ~3 min of ROM runs per drum
+(ROM grids cached under ``validation/cache/design_sets/``; ~3 min of ROM runs per drum
 speed and ~2 min per FE run on the 2-core AMD VM).
 
-Run: ``.venv/bin/python benchmarks/design_requirement_sets.py``; writes
-benchmarks/design_requirement_sets.json.
+Run: ``.venv/bin/python validation/design_requirement_sets.py``; writes
+validation/design_requirement_sets.json.
 """
 from dataclasses import replace
 from pathlib import Path
 
-from _output import report  # benchmarks/ is on sys.path when run as a script
-
+from ccedi.outputs import report_figures
 from ccedi.study.commands.design import options_from, write_design
 from ccedi.study.commands.fea import contact_setup
 from ccedi.study.config import validate
@@ -49,7 +48,7 @@ def main():
                          "on_bounds": result["on_bounds"], "fea_meets_requirements": check["meets_requirements"],
                          "fea_requirements": check["requirements"], "surrogate_error": check["relative_error"],
                          "fea_wall_time_s": check["wall_time_s"]}
-    report(figures, OUT)
+    report_figures(figures, OUT)
 
 
 if __name__ == "__main__":

@@ -9,9 +9,9 @@ and, for the unrefined meshes (n = 1), the paper's Table-1 nonlinear tip stiffne
 of 1 N and 2 N, :func:`ccedi.fea.solvers.static.tip_stiffness`). The peer reference is CalculiX 2.20 C3D20R on
 SM-A split 2 x 2 x 2 (the same geometry): 69.25 N/m, 14.194 Hz.
 
-Prints and writes benchmarks/hex_convergence.json (rewritten after every mesh).
+Prints and writes validation/hex_convergence.json (rewritten after every mesh).
 
-Run: ``.venv/bin/python benchmarks/hex_convergence.py [max_n_sm_a] [max_n_sm_b]``
+Run: ``.venv/bin/python validation/hex_convergence.py [max_n_sm_a] [max_n_sm_b]``
 (default 3 and 1; SM-A at n = 3 takes about 10 min, SM-B at n = 2 longer).
 """
 import json
@@ -20,18 +20,18 @@ import time
 from pathlib import Path
 
 import numpy as np
-from _output import report  # noqa: E402  (benchmarks/ is on sys.path when run as a script)
 
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import refine_hexes, sm_a, sm_b
 from ccedi.fea.model import cantilever_model
 from ccedi.fea.solvers.modal import natural_frequencies
 from ccedi.fea.solvers.static import tip_deflection, tip_stiffness
+from ccedi.outputs import report_figures
 
 OUT = Path(__file__).with_suffix(".json")
 C3D20R_SM_A = {"linear_stiffness_N_per_m": 69.25, "f1_Hz": 14.194}
 """CalculiX 2.20, C3D20R on SM-A split 2 x 2 x 2 (measured for the issue that introduced
-this benchmark)."""
+this study)."""
 
 
 def measure(mesh, n, nonlinear):
@@ -60,7 +60,7 @@ def main(max_n_a=3, max_n_b=1):
             figures["sm_a_coarse_over_c3d20r"] = {
                 key: round(figures["sm_a"][0][key] / C3D20R_SM_A[key] - 1.0, 4) for key in C3D20R_SM_A}
             OUT.write_text(json.dumps(figures, indent=2) + "\n")
-    report(figures, OUT)
+    report_figures(figures, OUT)
 
 
 if __name__ == "__main__":

@@ -9,20 +9,19 @@ design space) and the optimum itself, computes the design outputs
 each. Reported: the FEA objective at the optimum, the feasible grid points, and the best
 of them relative to the optimum (acceptance: none better by more than 3 %).
 
-Run: ``.venv/bin/python benchmarks/design_fea_grid.py [DESIGN_JSON]`` (21 FE runs on a
+Run: ``.venv/bin/python validation/design_fea_grid.py [DESIGN_JSON]`` (21 FE runs on a
 2-worker Dask cluster, ~20 min on the 2-core AMD VM); writes
-benchmarks/design_fea_grid.json.
+validation/design_fea_grid.json.
 """
 import json
 import sys
 from pathlib import Path
 
-from _output import report  # benchmarks/ is on sys.path when run as a script
-
 from ccedi.design.optimise import OBJECTIVES, Design
 from ccedi.design.recheck import fea_check
 from ccedi.design.requirements import Requirements
 from ccedi.fea.contact.drum import DrumSetup
+from ccedi.outputs import report_figures
 from ccedi.units import inch_to_m
 
 OUT = Path(__file__).with_suffix(".json")
@@ -53,7 +52,7 @@ def main(path):
     at_optimum = rows[0]["fea"][key]
     feasible = [r for r in rows[1:] if r["meets_requirements"]]
     best = min(feasible, key=lambda r: r["fea"][key], default=None)
-    report({"design": str(path), "objective": key, "damping": p["damping"],
+    report_figures({"design": str(path), "objective": key, "damping": p["damping"],
             "optimum": {"alpha_per_s": o["alpha_per_s"], "length_in": o["length_in"],
                         "fea_objective": at_optimum, "fea_meets_requirements": rows[0]["meets_requirements"]},
             "grid_points": len(rows) - 1, "feasible_grid_points": len(feasible),

@@ -11,23 +11,22 @@ the 10-node tetrahedron at 4 and 2 mm. The constant-strain shear is stiff in ben
 any nu (its error falls as h^2); a locking element would converge to a stiffer value, or
 not at all.
 
-Prints and writes benchmarks/tet_locking.json (stiffness [N/m], error against the
+Prints and writes validation/tet_locking.json (stiffness [N/m], error against the
 converged hexahedral value [%], nodes, wall time of the solve [s]).
 
-Run: ``.venv/bin/python benchmarks/tet_locking.py`` (some minutes).
+Run: ``.venv/bin/python validation/tet_locking.py`` (some minutes).
 """
 import platform
 import sys
 import time
 from pathlib import Path
 
-from _output import report  # (benchmarks/ is on sys.path when run as a script)
-
 from ccedi.fea.elements.tet4 import tet4_group
 from ccedi.fea.material import NeoHookean
 from ccedi.fea.mesh.tet_mesh import box_cantilever, quadratic_tets, split_hexes
 from ccedi.fea.model import cantilever_model
 from ccedi.fea.solvers.static import tip_deflection
+from ccedi.outputs import report_figures
 
 OUT = Path(__file__).with_suffix(".json")
 BOX = (0.06, 0.012, 0.008)
@@ -73,7 +72,7 @@ def main():
     for (kind, divisions), k in runs.items():
         figures[f"{kind}_{4 / divisions:.3g}mm_vs_converged_percent"] = round(100 * (k / converged - 1), 2)
     figures |= {"python": sys.version.split()[0], "machine": platform.machine()}
-    report(figures, OUT)
+    report_figures(figures, OUT)
 
 
 if __name__ == "__main__":

@@ -17,17 +17,15 @@ HXT gives a different mesh for any change of the geometry, even of a fraction of
 nanometre (ribs 0.8138 mm: 28 512 nodes; the fit's 0.81382518 mm: 28 404; 0.8138252 mm:
 28 371), so the counts of the fit's row are not the shipped DM's.
 
-Prints and writes benchmarks/dm_fit.json (``--ratio-only``: dm_fit_ratio.json,
+Prints and writes validation/dm_fit.json (``--ratio-only``: dm_fit_ratio.json,
 ``--row-only``: dm_row.json).
 
-Run: ``.venv/bin/python benchmarks/dm_fit.py [--start-cone-radius-mm R] [--ratio-size-mm 6]
+Run: ``.venv/bin/python validation/dm_fit.py [--start-cone-radius-mm R] [--ratio-size-mm 6]
 [--nonlinear-ratio X] [--ratio-only | --row-only] [--rtol 0.01] [--check]``.
 """
 import argparse
 import time
 from pathlib import Path
-
-from _output import report  # (benchmarks/ is on sys.path when run as a script)
 
 from ccedi.fea.cases.studies import PAPER_TABLE1, table1_row
 from ccedi.fea.material import RUBBER
@@ -43,6 +41,7 @@ from ccedi.fea.mesh.gmsh_fingers import (
 )
 from ccedi.fea.model import cantilever_model
 from ccedi.fea.solvers.static import tip_deflection, tip_stiffness
+from ccedi.outputs import report_figures
 
 OUT = Path(__file__).with_suffix(".json")
 
@@ -79,7 +78,7 @@ def main():
         fig.update({"ratio_size_mm": args.ratio_size_mm, "ratio_linear_N_per_m": k_lin,
                     "ratio_nonlinear_N_per_m": k_nl, "ratio_wall_s": round(time.perf_counter() - t0, 1)})
     fig["nonlinear_ratio"] = ratio
-    report(fig, out)
+    report_figures(fig, out)
     if args.ratio_only:
         return
     t0 = time.perf_counter()
@@ -88,19 +87,19 @@ def main():
     fig.update({"cone_radius_m": fit.cone_radius_m, "rib_thickness_m": fit.rib_thickness_m,
                 "cad_volume_cm3": 1e6 * fit.volume_m3, "fit_stiffness_N_per_m": fit.stiffness_N_per_m,
                 "evaluations": fit.evaluations, "fit_wall_s": round(time.perf_counter() - t0, 1)})
-    report(fig, out)
+    report_figures(fig, out)
     t0 = time.perf_counter()
     mesh = detailed_model(cone_radius_m=fit.cone_radius_m, rib_thickness_m=fit.rib_thickness_m)
     row = table1_row(mesh, RUBBER, stiffness=False, omega1=True)
     fig["row_without_stiffness_wall_s"] = round(time.perf_counter() - t0, 1)
     fig.update({f"dm_{k}": v for k, v in row.items()})
     fig["paper"] = PAPER_TABLE1["DM"]
-    report(fig, out)
+    report_figures(fig, out)
     if args.check:
         t0 = time.perf_counter()
         fig["dm_stiffness_N_per_m"] = tip_stiffness(cantilever_model(mesh, RUBBER))
         fig["nonlinear_stiffness_wall_s"] = round(time.perf_counter() - t0, 1)
-        report(fig, out)
+        report_figures(fig, out)
 
 
 def row_only(check):
@@ -117,13 +116,13 @@ def row_only(check):
     fig["sm_a_steps_to_0_2_s"] = table1_row(sm_a(length_in=4.5), RUBBER, stiffness=False)["steps_to_0_2_s"]
     fig["dm_step_ratio"] = fig["dm_steps_to_0_2_s"] / fig["sm_a_steps_to_0_2_s"]
     fig["paper"] = PAPER_TABLE1["DM"]
-    report(fig, out)
+    report_figures(fig, out)
     if check:
         t0 = time.perf_counter()
         fig["dm_stiffness_N_per_m"] = tip_stiffness(cantilever_model(mesh, RUBBER))
         fig["nonlinear_ratio"] = fig["dm_stiffness_N_per_m"] / fig["dm_linear_stiffness_N_per_m"]
         fig["nonlinear_stiffness_wall_s"] = round(time.perf_counter() - t0, 1)
-        report(fig, out)
+        report_figures(fig, out)
 
 
 if __name__ == "__main__":

@@ -14,10 +14,10 @@ The tapered finger with a transverse hole of :func:`ccedi.fea.mesh.gmsh_fingers.
   alpha = 180 1/s) and alpha_cr by the CCEDI bisection on the full FE model beside the
   same search on its 6-mode modal ROM.
 
-Prints and writes benchmarks/any_finger.json, row by row as each size finishes (the
+Prints and writes validation/any_finger.json, row by row as each size finishes (the
 figures of sizes not run this time are kept from the file).
 
-Run: ``.venv/bin/python benchmarks/any_finger.py [--sizes-mm 6 4 3 2] [--full-fe]``.
+Run: ``.venv/bin/python validation/any_finger.py [--sizes-mm 6 4 3 2] [--full-fe]``.
 """
 import argparse
 import json
@@ -27,8 +27,6 @@ import tempfile
 import time
 from pathlib import Path
 
-from _output import report  # (benchmarks/ is on sys.path when run as a script)
-
 from ccedi.fea.cases.studies import finger_impulse_model, table1_row
 from ccedi.fea.io.calculix import ccx_version, run_calculix
 from ccedi.fea.material import RUBBER
@@ -36,6 +34,7 @@ from ccedi.fea.mesh.gmsh_fingers import TAPERED_REFINEMENT_SIZES, write_tapered_
 from ccedi.fea.mesh.readers import read_finger_mesh
 from ccedi.fea.model import cantilever_model, face_node_weights
 from ccedi.fea.solvers.static import tip_deflection
+from ccedi.outputs import report_figures
 from ccedi.rom.finger_identification import finger_alpha_cr
 from ccedi.rom.modal import reduce_impulse_model
 
@@ -102,11 +101,11 @@ def main(sizes_m=SIZES_M, with_full_fe=False):
             meshes.append(mesh)
             row["row_wall_s"] = round(time.perf_counter() - t0, 1)
             figures.update({f"{row['size_mm']:g}mm_{k}": v for k, v in row.items() if k != "size_mm"})
-            report(figures, OUT)
+            report_figures(figures, OUT)
         if with_full_fe:
             figures.update({f"{1e3 * sizes_m[0]:g}mm_{k}": v
                             for k, v in full_fe(meshes[0]).items()})
-            report(figures, OUT)
+            report_figures(figures, OUT)
 
 
 if __name__ == "__main__":

@@ -7,14 +7,14 @@ mesh) on the drum with relative damping at the alphas of ``ALPHAS``: the design'
 stations of the tetrahedral mesh) and the full FEA each run until the next object
 arrives, and every design output is compared (:func:`ccedi.design.model_error.output_error`:
 relative, or at the 5 mm scale for lengths). ~9 min of FEA per alpha on one core of the
-2-core AMD VM; the FEA's outputs are cached in ``benchmarks/cache/`` (delete the CSV to
+2-core AMD VM; the FEA's outputs are cached in ``validation/cache/`` (delete the CSV to
 run them again).
 
-Prints and writes ``benchmarks/imported_finger_rom_check.json``: the mesh, the chain
+Prints and writes ``validation/imported_finger_rom_check.json``: the mesh, the chain
 (segments, fitted bending factor), and per alpha both models' outputs and the errors; per
 output the largest |error|.
 
-Run: ``.venv/bin/python benchmarks/imported_finger_rom_check.py``.
+Run: ``.venv/bin/python validation/imported_finger_rom_check.py``.
 """
 import json
 import platform

@@ -1,20 +1,20 @@
 """``ccedi design --config`` on an imported tetrahedral finger, to an FEA-checked design.
 
 The tapered finger with a transverse hole (8 mm 4-node tetrahedra, the mesh of
-``benchmarks/imported_finger_rom_check.py``) given as ``[finger] mesh``; the rubber's
+``validation/imported_finger_rom_check.py``) given as ``[finger] mesh``; the rubber's
 allowable root stress 4 MPa (the finger's FE root stress is above the default 2 MPa
 everywhere), every other requirement at its default; the objective is the throughput
 (the fastest drum, 10-80 rpm, two objects per revolution). The design varies alpha and
 the drum speed on the contact ROM built on the mesh and verifies its optimum by the
 mesh's full FEA. About 16 min on the 2-core AMD VM (with the test suite running beside
-it); the design's files go to ``benchmarks/cache/imported_finger_design/`` and are
+it); the design's files go to ``validation/cache/imported_finger_design/`` and are
 summarised from there when they exist (delete them to run again).
 
-Writes ``benchmarks/imported_finger_design.json``: the optimum, what binds, the FEA
+Writes ``validation/imported_finger_design.json``: the optimum, what binds, the FEA
 re-check of each recommended design (meets every requirement?, the largest |error| of
 the surrogate), and the verification runs.
 
-Run: ``.venv/bin/python benchmarks/imported_finger_design.py``.
+Run: ``.venv/bin/python validation/imported_finger_design.py``.
 """
 import json
 import platform

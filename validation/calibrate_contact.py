@@ -12,8 +12,8 @@ records, false positives among the clean controls, the largest time. The chain R
 built and compiled before the timing; the 1-minute load average is recorded (the times
 scale with it on the shared 2-core machine).
 
-Run: ``.venv/bin/python benchmarks/calibrate_contact.py [--contact face] [NAME ...]`` (every
-record of the manifest by default; ~2-4 min each); writes benchmarks/calibrate_contact.json,
+Run: ``.venv/bin/python validation/calibrate_contact.py [--contact face] [NAME ...]`` (every
+record of the manifest by default; ~2-4 min each); writes validation/calibrate_contact.json,
 or calibrate_contact_face.json with the chain's face contact
 (``ccedi.rom.contact_rom.DEFAULT_CONTACT`` set to "face" for the run).
 """
@@ -23,10 +23,9 @@ import sys
 import time
 from pathlib import Path
 
-from _output import report  # benchmarks/ is on sys.path when run as a script
-
 from ccedi.calibrate.experiment import load_experiment
 from ccedi.calibrate.loop import calibrate, calibration_model, summary
+from ccedi.outputs import report_figures
 
 DATA = Path(__file__).parents[1] / "data" / "contact"
 OUT = Path(__file__).with_suffix(".json")
@@ -87,7 +86,7 @@ def main(args):
                     "max_wall_time_s": max(r["wall_time_s"] for r in rows.values()),
                     "max_cpu_time_s": max(r["cpu_time_s"] for r in rows.values()),
                     "load_average_1min_after": round(os.getloadavg()[0], 1), "per_record": rows})
-    report(figures, out)
+    report_figures(figures, out)
 
 
 if __name__ == "__main__":

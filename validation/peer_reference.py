@@ -15,12 +15,12 @@ frequency f1 (consistent mass):
       surface, :func:`ccedi.fea.mesh.gmsh_fingers.sm_c`) at 4 mm and 2 mm average length.
 
 A finger that is not a prism is compared with CalculiX mesh for mesh in
-benchmarks/any_finger.py.
+validation/any_finger.py.
 
-Prints a table and writes benchmarks/peer_reference.json (wall times of the ccx runs, one
+Prints a table and writes validation/peer_reference.json (wall times of the ccx runs, one
 thread, and the ccx version).
 
-Run: ``.venv/bin/python benchmarks/peer_reference.py [--quick] [--big]`` (``--quick``:
+Run: ``.venv/bin/python validation/peer_reference.py [--quick] [--big]`` (``--quick``:
 n = 1 and 2 of SM-A only, about 100 s).
 """
 import json

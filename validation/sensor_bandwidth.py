@@ -8,23 +8,23 @@ interval) at the same times, reads both through second-order Butterworth low-pas
 (:class:`ccedi.rom.sensor.Transducer`, zeta = 1/sqrt(2)) of 25 Hz to 1 kHz and reports
 ROM / FEA - 1 of the peak reading, and the FE's peak reading [N].
 
-Measured (2026-12-02, from the rom-check run of benchmarks/rom_check_sensor.json): the
+Measured (2026-12-02, from the rom-check run of validation/rom_check_sensor.json): the
 face model stays within 10 % at every alpha up to 100 Hz (+2.3 to +5.2 % at alpha 7.5)
 and fails alpha = 7.5 from 200 Hz (+22 %: its own chatter shows); the stations model
 fails alpha = 7.5 from 100 Hz (-11.5 %, -8.6 % at 50 Hz); at alpha 180 and 600 both stay
 within 5 % at every bandwidth.
 
-Run: ``.venv/bin/python benchmarks/sensor_bandwidth.py DIR`` (seconds); writes
-benchmarks/sensor_bandwidth.json.
+Run: ``.venv/bin/python validation/sensor_bandwidth.py DIR`` (seconds); writes
+validation/sensor_bandwidth.json.
 """
 import sys
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from _output import report  # benchmarks/ is on sys.path when run as a script
 
 from ccedi.fea.contact.drum import DrumSetup
+from ccedi.outputs import report_figures
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.rom.sensor import Transducer
 
@@ -46,7 +46,7 @@ def main(forces_dir):
                 rom = float(sensor.measured(t, rom_N).max())
                 figures[f"alpha {alpha}, {contact}, {f_n:g} Hz: error"] = round(rom / fe - 1.0, 4)
                 figures[f"alpha {alpha}, {f_n:g} Hz: FE peak reading N"] = round(fe, 3)
-    report(figures, OUT)
+    report_figures(figures, OUT)
 
 
 if __name__ == "__main__":
