@@ -10,7 +10,7 @@ script measures, on the same mesh (:func:`ccedi.fea.mesh.gmsh_fingers.sm_c`, nu 
   L_e = h_min / 2 (the altitude of the 8 sub-tetrahedra of a 10-node element, whose
   nodes are half as far apart), each x 0.9 against Table 1's 1.26 us;
 * undamped central differences from small random velocities (the 1.3 x check of
-  ``tests/test_tet4.py``, 4000 steps) at 1.3 x the half-altitude estimate and at 1.02 x
+  ``tests/unit/fea/test_tet4.py``, 4000 steps) at 1.3 x the half-altitude estimate and at 1.02 x
   the real limit: whether each diverges, and at which step.
 
 Prints and writes validation/smc_step.json. Run: ``.venv/bin/python validation/smc_step.py``

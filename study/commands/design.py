@@ -2,7 +2,7 @@
 mesh, the drum speed) that meet the designer's requirements (:mod:`ccedi.design`), checked
 by the full FEA, with a report that explains the decision."""
 # Imports inside functions: building the parser imports no library, so that `ccedi --help`
-# answers at once (tests/test_layout.py); each command loads what it runs.
+# answers at once (tests/conventions/test_layout.py); each command loads what it runs.
 import time
 import warnings
 from dataclasses import dataclass, fields, replace

@@ -5,7 +5,7 @@
   rom-check      reduced models against the full FEA (impulse and contact cases)
 """
 # Imports inside functions: building the parser imports no library, so that `ccedi --help`
-# answers at once (tests/test_layout.py); each command loads what it runs.
+# answers at once (tests/conventions/test_layout.py); each command loads what it runs.
 import math
 
 from ccedi.errors import InputError, ModelInadequate

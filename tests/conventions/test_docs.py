@@ -4,13 +4,12 @@ sub-commands that exist."""
 import argparse
 import importlib.util
 import re
-from pathlib import Path
 
 import pytest
+from conftest import ROOT
 
 from ccedi.study.cli import build_parser
 
-ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
 DOCS = ROOT / "docs"
 PAGES = [README, *sorted(DOCS.glob("*.md"))]

@@ -131,7 +131,7 @@ def test_corotational_forces_vanish_under_rigid_rotation(finger_8in):
 def test_rotating_chain_drag_matches_beam_theory(damping):
     """Rotating frame without contact (object far away): global mass damping drags the
     4.5-in finger back by the Euler-Bernoulli deflection under alpha rho A omega r (the
-    full FE model meets the same figure, tests/test_rotation.py); relative damping does not."""
+    full FE model meets the same figure, tests/verification/test_rotation.py); relative damping does not."""
     setup = DrumSetup(finger_length_m=0.1143, object_center_m=(5.0, 5.0), theta0_rad=0.0)
     area, inertia = ellipse_section_properties()
     drag = drum_drag_tip_deflection(20.0, RUBBER.rho, area, setup.omega_rad_s, setup.drum_radius_m,
@@ -195,7 +195,7 @@ def test_linear_rom_misses_the_large_deflection(coarse_contact):
 @pytest.mark.slow
 def test_rom_check_cli_writes_the_case_keys(tmp_path):
     """The impulse case of ``rom-check`` at alpha = 180 1/s (4.5-in finger, 0.1 N for 10 ms,
-    3 modes) is acceptance 1 of tests/test_modal_rom.py::test_rom_matches_full_fea_impulse
+    3 modes) is acceptance 1 of tests/unit/rom/test_modal_rom.py::test_rom_matches_full_fea_impulse
     at that alpha: NRMSE < 2 % before and after the fit, the fit no worse, and the fitted
     frequencies within 1 % for the modes carrying at least 1 % of the static tip flexibility."""
     out = tmp_path / "rc.json"

@@ -12,6 +12,7 @@ import meshio
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import ROOT
 
 from ccedi.distributed import check_scheduler
 from ccedi.errors import InputError
@@ -28,8 +29,6 @@ from ccedi.outputs import write_csv, write_figure, write_json, write_pdf_figures
 from ccedi.study.cli import main
 from ccedi.study.commands.fea import finger_of
 from ccedi.study.config import load
-
-ROOT = Path(__file__).resolve().parents[1]
 
 BAD_SCHEDULERS = ["fast", "tcp://10.0.0.5", "10.0.0.5:port", "", "local ", "serial,local", "tcp://:8786",
                   "Serial"]

@@ -4,9 +4,9 @@ same allowed range (``... = VALUE: must be in LO..HI (UNIT)``, one line)."""
 import json
 import re
 import shutil
-from pathlib import Path
 
 import pytest
+from conftest import ROOT
 
 from ccedi.calibrate.experiment import load_experiment
 from ccedi.errors import InputError
@@ -18,7 +18,7 @@ from ccedi.quantities import QUANTITIES
 from ccedi.study.cli import main
 from ccedi.study.config import validate
 
-RECORD = Path(__file__).parents[1] / "data" / "measured" / "control_high.csv"
+RECORD = ROOT / "data" / "measured" / "control_high.csv"
 
 
 def _allowed(message):

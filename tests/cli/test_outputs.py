@@ -61,7 +61,7 @@ def test_vtu_of_every_element_type_under_a_homogeneous_stretch(tmp_path, kind):
 @pytest.mark.slow
 def test_cli_table1_writes_every_key(tmp_path):
     """``table1`` without the nonlinear static solves (SM-B's and SM-C's took minutes; the
-    stiffness key is checked on SM-A's row in tests/test_static.py): keys, counts, volume,
+    stiffness key is checked on SM-A's row in tests/verification/test_static.py): keys, counts, volume,
     steps and the step ratio. SM-C (Gmsh, 10-node tetrahedra) is the same finger as SM-A
     and SM-B: its small-load (linear) tip stiffness and its first frequency within 2 % of
     theirs (measured 70.91 N/m against 70.24 and 70.90; the nonlinear 1-2 N figures differ

@@ -2,11 +2,11 @@
 JSON keys, and bad data leaving no file behind."""
 import json
 import shutil
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import ROOT
 
 from ccedi.calibrate import dynamics
 from ccedi.calibrate.dynamics import integrate_tip, viscoelastic_pulse_response
@@ -20,7 +20,7 @@ from ccedi.rom.modal import ModalROM, nrmse
 from ccedi.study.cli import main
 from ccedi.units import inch_to_m
 
-DATA = Path(__file__).parents[1] / "data" / "measured"
+DATA = ROOT / "data" / "measured"
 RECORD = "time_delay_low"
 AREA, INERTIA = ellipse_section_properties()
 LENGTH = inch_to_m(8.0)

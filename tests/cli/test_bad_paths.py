@@ -3,6 +3,7 @@ exit status 1, no file written, and the computation never started."""
 from pathlib import Path
 
 import pytest
+from conftest import ROOT
 
 from ccedi.study import cli
 from ccedi.study.commands import calibrate, design, fea
@@ -219,11 +220,10 @@ def test_the_toml_load_and_damping_keys_share_the_sidecar_range(toml_key, quanti
 def test_the_data_readme_states_the_table_ranges():
     """data/README.md's sidecar table gives each field the range of ccedi.quantities."""
     import re
-    from pathlib import Path
 
     from ccedi.quantities import QUANTITIES
 
-    readme = (Path(__file__).parents[1] / "data" / "README.md").read_text()
+    readme = (ROOT / "data" / "README.md").read_text()
     rows = dict(re.findall(r"^\| `([A-Za-z0-9_.]+)`[^|]*\|[^|]*\| ([^|]*) \|", readme, re.MULTILINE))
     for field, quantity in [("finger.E_Pa", "E_Pa"), ("finger.nu", "nu"), ("finger.rho_kg_m3", "rho_kg_m3"),
                             ("load.force_N", "force_N"), ("load.duration_s", "pulse_duration_s"),

@@ -31,7 +31,7 @@ from ccedi.rom.modal import ModalImpulseModel, reduce_impulse_model
 from ccedi.units import inch_to_m
 
 COARSE = DrumSetup(finger_section_elements=3, finger_elements_along=26)
-"""The 8-in contact case on a 3 x 3 x 26 finger mesh (as tests/test_contact_rom.py)."""
+"""The 8-in contact case on a 3 x 3 x 26 finger mesh (as tests/unit/rom/test_contact_rom.py)."""
 
 SHORT = {"t_end_s": 0.7, "n_outputs": 70}
 """A contact run that covers first contact (alpha = 180 1/s touches at ~0.33 s)."""

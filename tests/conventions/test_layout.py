@@ -6,11 +6,10 @@ import shutil
 import subprocess
 import sys
 import zipfile
-from pathlib import Path
 
 import pytest
+from conftest import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 LIBRARIES = ("fea", "rom", "design", "calibrate")
 """Top-level folders holding the libraries (ccedi.fea, ccedi.rom, ...)."""
 

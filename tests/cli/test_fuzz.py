@@ -31,6 +31,7 @@ from unittest import mock
 
 import numpy as np
 import pytest
+from conftest import ROOT
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
@@ -43,7 +44,7 @@ from ccedi.study.config import SCHEMA, load, to_toml
 from ccedi.study.config import example as init_toml
 from ccedi.units import inch_to_m
 
-DATA = Path(__file__).resolve().parents[1] / "data" / "measured"
+DATA = ROOT / "data" / "measured"
 RECORDS = ("control_low", "control_fea_solid")
 EXAMPLES = 500                   # per input kind, in the normal run
 LONG_EXAMPLES = 2500             # per input kind, in the slow run

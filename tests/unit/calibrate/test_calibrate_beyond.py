@@ -2,10 +2,10 @@
 nothing in noise), a root-compliance record is not called a tip mass, and the loop
 closes (``ccedi calibrate --write-config`` read back by every ``--config`` command)."""
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import ROOT
 
 from ccedi.calibrate.experiment import load_experiment
 from ccedi.calibrate.finger_modes import finger_basis
@@ -16,7 +16,7 @@ from ccedi.study.cli import main
 from ccedi.study.config import drum_setup, load
 from ccedi.units import inch_to_m
 
-DATA = Path(__file__).parents[1] / "data" / "measured"
+DATA = ROOT / "data" / "measured"
 
 
 @pytest.fixture(scope="module")
@@ -116,7 +116,7 @@ def test_the_study_design_is_rerun_with_the_calibrated_inputs(tmp_path):
     from ccedi.study.config import validate
     from ccedi.study.report import write_index
 
-    record = Path(__file__).parents[1] / "data" / "contact" / "friction_high.csv"
+    record = ROOT / "data" / "contact" / "friction_high.csv"
     cfg = validate({"study": {"calibration_fea_correction": False}})
     options = DesignOptions(grid=(4, 4), validation_runs=1, pareto_points=4, starts=1, fea_check=False)
     out = tmp_path / "design"

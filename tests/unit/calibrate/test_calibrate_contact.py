@@ -3,11 +3,11 @@ it must obey (exact E scaling, a drum-angle offset as a time shift, the transduc
 loop on the bundled full-FEA records and the calibrated [drum] read back."""
 import json
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import ROOT
 from scipy.signal import butter, sosfiltfilt
 
 from ccedi.calibrate.contact_model import DrumContactModel, declared_setup, radially_offset
@@ -21,7 +21,7 @@ from ccedi.rom.sensor import Transducer
 from ccedi.study.cli import main
 from ccedi.study.config import drum_setup, load
 
-DATA = Path(__file__).parents[1] / "data" / "contact"
+DATA = ROOT / "data" / "contact"
 T = np.arange(1, 1501) / 1000.0
 
 

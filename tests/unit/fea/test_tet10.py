@@ -1,6 +1,6 @@
 """The 10-node quadratic tetrahedron: HRZ mass, locking-free tip deflection at nu = 0.499,
 the stable step on a Gmsh finger with curved elements, and the energy balance of an impulse run (the checks it shares with the 4-node element are
-parametrised in tests/test_tet4.py)."""
+parametrised in tests/unit/fea/test_tet4.py)."""
 import numpy as np
 import pytest
 from conftest import BOX

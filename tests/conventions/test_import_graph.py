@@ -3,11 +3,10 @@ a function): no circle, and the libraries (ccedi's core modules, fea, rom, desig
 calibrate) never import the application layer (study)."""
 import ast
 from functools import lru_cache
-from pathlib import Path
 
 import pytest
+from conftest import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 TOP = {"ccedi": ROOT / "ccedi", "ccedi.fea": ROOT / "fea", "ccedi.rom": ROOT / "rom", "ccedi.design": ROOT / "design",
        "ccedi.calibrate": ROOT / "calibrate", "ccedi.study": ROOT / "study"}
 PACKAGES = {f"{name}{'.' if rel.parts else ''}{'.'.join(rel.parts)}": folder / rel

@@ -13,16 +13,16 @@ are both found; the effect outside the catalogue is reported as an unexplained r
 with a sparse term, and no catalogued effect is added. The truths are read from
 manifest.json, which the calibration never sees."""
 import json
-from pathlib import Path
 
 import pytest
+from conftest import ROOT
 
 from ccedi.calibrate.experiment import load_experiment
 from ccedi.calibrate.loop import calibrate, summary
 
 pytestmark = pytest.mark.slow          # its fixture calibrates every bundled record (minutes)
 
-DATA = Path(__file__).parents[1] / "data" / "measured"
+DATA = ROOT / "data" / "measured"
 MANIFEST = json.loads((DATA / "manifest.json").read_text())["records"]
 AT_NOISE = 1.1
 """'At the noise floor': final NRMSE within 10 % of the noise-floor NRMSE."""

@@ -64,7 +64,7 @@ def test_rom_matches_full_fea_impulse():
     that carry at least 1 % of the static tip flexibility. The same acceptance at alpha =
     180 1/s (where the third mode carries 0.4 % and, heavily damped, is not resolved by the
     response: its fit moves 1.5 %) is checked on the ``rom-check`` command's output, which
-    runs that case (tests/test_contact_rom.py::test_rom_check_cli_writes_the_case_keys)."""
+    runs that case (tests/unit/rom/test_contact_rom.py::test_rom_check_cli_writes_the_case_keys)."""
     alpha, force, duration = 20.0, 0.1, 0.01
     h = impulse_response(alpha=alpha, force_N=force, duration_s=duration, t_end_s=0.2, n_outputs=400).history
     rom = tip_modal_rom(impulse_model(alpha=alpha, force_N=force), n_modes=3)

@@ -8,10 +8,10 @@ and no effect added. The records are fresh synthetic ones (:mod:`ccedi.calibrate
 the linear FE solid integrated by Newmark) with a known truth."""
 import json
 import shutil
-from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import ROOT
 
 from ccedi.calibrate.adequacy import EFFECT_ALLOWANCE, FREQUENCY_MARGIN, assess, record_first_mode
 from ccedi.calibrate.experiment import load_experiment
@@ -22,7 +22,7 @@ from ccedi.calibrate.synthetic import Truth, record, solid_system
 from ccedi.study.cli import main
 from ccedi.units import inch_to_m
 
-DATA = Path(__file__).parents[1] / "data" / "measured"
+DATA = ROOT / "data" / "measured"
 ALPHA = 4.2
 """True mass-proportional damping of the synthetic records [1/s] (zeta_1 = 0.075)."""
 

@@ -9,7 +9,7 @@ from ccedi.rom.chain_dynamics import ChainOutputs, ChainState, ContactPoints, Dr
 from ccedi.rom.contact_rom import ReducedContactModel
 
 COARSE = DrumSetup(finger_section_elements=3, finger_elements_along=26)
-"""The coarse 8-in contact case of tests/test_contact_rom.py."""
+"""The coarse 8-in contact case of tests/unit/rom/test_contact_rom.py."""
 
 T_CONTACT_S = 0.302
 """Drum time, from the calibrated start, shortly before the finger meets the object [s]

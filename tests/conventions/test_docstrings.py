@@ -26,8 +26,8 @@ the code has to explain itself.
 
 There is one test per module, so a module that does not yet follow the conventions
 fails on its own and lists *all* its offenders (``module:name: missing parameter x``)
-in one message. ``python tests/test_docstrings.py`` prints the offender count of each
-module.
+in one message. ``python tests/conventions/test_docstrings.py`` prints the offender count
+of each module.
 """
 import ast
 import dataclasses
