@@ -15,11 +15,10 @@ import os
 import time
 from pathlib import Path
 
-from _output import report  # benchmarks/ is on sys.path when run as a script
-
 from ccedi.calibrate.experiment import load_experiment
 from ccedi.calibrate.loop import calibrate
 from ccedi.calibrate.model import FingerModel
+from ccedi.outputs import report_figures
 
 DATA = Path(__file__).parents[1] / "data" / "measured"
 OUT = Path(__file__).with_suffix(".json")
@@ -42,7 +41,7 @@ def main():
         figures[f"{name}_modes"] = cal.model.n_modes
         figures[f"{name}_samples"] = len(exp.time_s)
     figures["load_average_1min_after"] = round(os.getloadavg()[0], 1)
-    report(figures, OUT)
+    report_figures(figures, OUT)
 
 
 if __name__ == "__main__":

@@ -17,9 +17,9 @@ import sys
 from pathlib import Path
 
 import numba as nb
-from _output import report  # benchmarks/ is on sys.path when run as a script
 
 from ccedi.fea.contact.drum import DrumSetup, contact_run, contact_summary
+from ccedi.outputs import report_figures
 
 OUT = Path(__file__).with_suffix(".json")
 REPEATS = 3
@@ -56,7 +56,7 @@ def main():
         figures["same_history_1_and_2_threads"] = bool(runs[1][0].history.equals(runs[2][0].history))
     figures.update({"load_average_before": round(load_before, 2), "load_average_after": round(os.getloadavg()[0], 2),
                     "cores": os.cpu_count(), "python": sys.version.split()[0], "machine": platform.machine()})
-    report(figures, OUT)
+    report_figures(figures, OUT)
 
 
 if __name__ == "__main__":

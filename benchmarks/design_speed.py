@@ -10,13 +10,12 @@ Run: ``.venv/bin/python benchmarks/design_speed.py``; writes benchmarks/design_s
 import time
 from pathlib import Path
 
-from _output import report  # benchmarks/ is on sys.path when run as a script
-
 from ccedi.design.optimise import DesignProblem, sensitivities
 from ccedi.design.pareto import pareto_front
 from ccedi.design.recheck import verified_optimum
 from ccedi.design.surrogate import Surrogate, design_space, grid_points, run_rom
 from ccedi.fea.contact.drum import DrumSetup
+from ccedi.outputs import report_figures
 
 OUT = Path(__file__).with_suffix(".json")
 
@@ -32,7 +31,7 @@ def main():
     sensitivities(problem, optimum)
     front = pareto_front(problem, n_points=24)
     t3 = time.perf_counter()
-    report({"rom_grid_runs": len(grid), "rom_grid_wall_time_s": round(t1 - t0, 2),
+    report_figures({"rom_grid_runs": len(grid), "rom_grid_wall_time_s": round(t1 - t0, 2),
             "surrogate_fit_wall_time_s": round(t2 - t1, 3),
             "optimum_and_pareto_wall_time_s": round(t3 - t2, 3), "pareto_points": len(front),
             "whole_front_incl_grid_s": round(t3 - t0, 2), "target_s": 60.0}, OUT)

@@ -22,13 +22,13 @@ from pathlib import Path
 
 import numba as nb
 import numpy as np
-from _output import report  # noqa: E402  (benchmarks/ is on sys.path when run as a script)
 
 from ccedi.fea.elements.hex8_kernels import internal_forces_numba  # noqa: E402
 from ccedi.fea.material import RUBBER  # noqa: E402
 from ccedi.fea.mesh import sm_a  # noqa: E402
 from ccedi.fea.model import cantilever_model, tip_pulse  # noqa: E402
 from ccedi.fea.solvers.explicit import SolidMaterial, run  # noqa: E402
+from ccedi.outputs import report_figures  # noqa: E402
 
 OUT = Path(__file__).with_suffix(".json")
 THREADS = (1, 2)
@@ -104,7 +104,7 @@ def main():
         "machine": platform.machine(),
         "processor": platform.processor() or platform.machine(),
     })
-    report(figures, OUT)
+    report_figures(figures, OUT)
 
 
 if __name__ == "__main__":

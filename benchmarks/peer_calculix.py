@@ -8,7 +8,7 @@ own stable step), then CalculiX 2.20 (``*DYNAMIC, EXPLICIT`` with C3D8R on the s
 to at small strain, its own stable increment; :func:`ccedi.fea.io.calculix.calculix_impulse_deck`).
 CalculiX 2.20's C3D8R hourglass vectors are defective (``shape8hr.f``, replaced upstream in
 2025): this compares speed; accuracy is compared with its C3D20R/C3D8I implicit runs in
-``benchmarks/peer_reference.py``. The tip histories are still compared (the weighted tip
+``validation/peer_reference.py``. The tip histories are still compared (the weighted tip
 deflection along y, interpolated on CalculiX's output times).
 
 Prints and writes benchmarks/peer_calculix.json: wall time, steps and ns per
@@ -28,7 +28,6 @@ from pathlib import Path
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
-from _output import report  # noqa: E402  (benchmarks/ is on sys.path when run as a script)
 
 from ccedi.errors import SolverError  # noqa: E402
 from ccedi.fea.cases.studies import impulse_model  # noqa: E402
@@ -42,6 +41,7 @@ from ccedi.fea.io.calculix import (  # noqa: E402
 )
 from ccedi.fea.material import RUBBER  # noqa: E402
 from ccedi.fea.solvers.explicit import run  # noqa: E402
+from ccedi.outputs import report_figures  # noqa: E402
 
 OUT = Path(__file__).with_suffix(".json")
 ALPHA = 180.0
@@ -101,7 +101,7 @@ def main():
         "load_average_1min_at_end": round(os.getloadavg()[0], 2),
         "python": sys.version.split()[0], "machine": platform.machine(),
     }
-    report(figures, OUT)
+    report_figures(figures, OUT)
 
 
 if __name__ == "__main__":

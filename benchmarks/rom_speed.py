@@ -14,10 +14,10 @@ import time
 from pathlib import Path
 
 import numpy as np
-from _output import report  # benchmarks/ is on sys.path when run as a script
 
 from ccedi.fea.cases.studies import finger_impulse_model, impulse_model
 from ccedi.fea.contact.drum import DrumSetup, FullContactModel
+from ccedi.outputs import report_figures
 from ccedi.rom.check import compare_contact
 from ccedi.rom.contact_rom import ReducedContactModel
 from ccedi.rom.modal import nrmse, tip_modal_rom
@@ -45,7 +45,7 @@ def main():
                "impulse_target_speedup": 5000,
                "nrmse_rom_vs_fe": nrmse(y, fe.history.tip_uy_m.values)}
     figures.update(contact_figures())
-    report(figures, OUT)
+    report_figures(figures, OUT)
 
 
 def contact_figures(alpha=180.0):

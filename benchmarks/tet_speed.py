@@ -21,7 +21,6 @@ from pathlib import Path
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
-from _output import report  # noqa: E402  (benchmarks/ is on sys.path when run as a script)
 
 from ccedi.fea.elements import tet4, tet10  # noqa: E402
 from ccedi.fea.elements.hex8_kernels import internal_forces_numba  # noqa: E402
@@ -30,6 +29,7 @@ from ccedi.fea.mesh import sm_a  # noqa: E402
 from ccedi.fea.mesh.tet_mesh import quadratic_tets, split_hexes  # noqa: E402
 from ccedi.fea.model import cantilever_model, tip_pulse  # noqa: E402
 from ccedi.fea.solvers.explicit import TSSFAC, SolidMaterial, critical_time_step, run  # noqa: E402
+from ccedi.outputs import report_figures  # noqa: E402
 
 OUT = Path(__file__).with_suffix(".json")
 STEPS = 4000
@@ -88,7 +88,7 @@ def main():
     figures.update({"openradioss_tet4_element_ns": 165.0, "openradioss_tet10_element_ns": 676.0,
                     "python": sys.version.split()[0], "machine": platform.machine(),
                     "processor": platform.processor() or platform.machine()})
-    report(figures, OUT)
+    report_figures(figures, OUT)
 
 
 if __name__ == "__main__":

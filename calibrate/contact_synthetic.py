@@ -35,7 +35,7 @@ Each FE run takes ~3 minutes of CPU here; the runs are cached as ``fe/NAME.csv``
 reaction_force_N at 0.5 ms) in the output directory and reused (``--cached-only`` writes
 just the records whose run is cached). The controls at alpha 180
 and 600 1/s are at the declared E (:data:`AT_DECLARED_E`): their cached runs are the full
-FE runs of ``ccedi rom-check`` (benchmarks/rom_check_sensor.json), the same model and
+FE runs of ``ccedi rom-check`` (validation/rom_check_sensor.json), the same model and
 outputs. Regenerate:
 ``.venv/bin/python -m ccedi.calibrate.contact_synthetic [OUT_DIR]`` (deterministic).
 """

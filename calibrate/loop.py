@@ -367,7 +367,7 @@ def calibrate(exp: Experiment, candidates=None, progress=None, fea_correction=Fa
         docstring, step 1; a contact record's chain by one full explicit run on the drum,
         ~2 minutes). No effect on an impulse record, whose base model is
         the FE model's own modes. Default False: on the bundled contact set it found the
-        right effect in 7 of 13 records against the chain alone's 8 (benchmarks/calibrate_contact.json).
+        right effect in 7 of 13 records against the chain alone's 8 (validation/calibrate_contact.json).
 
     Returns
     -------

@@ -100,6 +100,31 @@ def write_json(path, data):
     return atomic_write(path, write)
 
 
+def report_figures(figures, path):
+    """Print ``figures`` one per line and write them as JSON to ``path``, atomically.
+
+    The output of the speed benchmarks (``benchmarks/``) and the validation studies
+    (``validation/``): each script writes its figures to a JSON file next to itself.
+
+    Parameters
+    ----------
+    figures : dict
+        Flat mapping of figure names to values (numpy scalars allowed; NaN and inf are
+        written as null, as by :func:`write_json`).
+    path : str or pathlib.Path
+        Output JSON file.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+    """
+    for key, value in figures.items():
+        print(f"{key:28s} {value}")
+    written = write_json(path, figures)
+    print(f"wrote {path}")
+    return written
+
 def write_csv(path, frame):
     """Write a pandas DataFrame as CSV (no index; column names carry the units), atomically.
 

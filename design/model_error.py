@@ -1,7 +1,7 @@
 """The surrogate's model against the full FEA: the error on each output, and the margin a
 design carries where the error is larger than :data:`TOLERANCE`.
 
-The check (``benchmarks/design_rom_check.py``) runs the design's contact ROM and the full
+The check (``validation/design_rom_check.py``) runs the design's contact ROM and the full
 explicit FEA on the same cases (finger length x alpha x damping kind) and keeps both
 runs' outputs (:func:`ccedi.design.outputs.design_outputs`). The error of an output is
 

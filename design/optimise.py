@@ -49,7 +49,7 @@ _OK = ("Solve_Succeeded", "Solved_To_Acceptable_Level")
 
 class ModelError:
     """How far the surrogate's model strays from the full FEA on one output, as measured
-    (``benchmarks/design_rom_check.py``): its under- and over-prediction over the design
+    (``validation/design_rom_check.py``): its under- and over-prediction over the design
     variables, interpolated linearly in (ln alpha, L) between the checked points (held
     constant beyond them).
 

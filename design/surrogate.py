@@ -167,7 +167,7 @@ paper's 20 rpm."""
 CHECKED_ALPHA_PER_S = (7.5, 600.0)
 """The default design space's alpha range [1/s]: the paper's 7.5 to 600 1/s. The contact
 ROM behind the surrogate is checked against the full FEA over 3 to 600 1/s
-(``benchmarks/design_rom_check.py``); below 7.5 1/s the finger's friction stick-slip grows
+(``validation/design_rom_check.py``); below 7.5 1/s the finger's friction stick-slip grows
 and the ROM's peak force falls 24-28 % below the FEA's at 3 1/s."""
 
 

@@ -1,7 +1,7 @@
 """Write docs/toml-reference.md, the reference of every study TOML key, from the schema.
 
 The reference is generated from :data:`ccedi.study.config.SCHEMA` (the one the inputs are
-validated against), so it cannot say other than the code: ``tests/test_docs.py`` checks that
+validated against), so it cannot say other than the code: ``tests/conventions/test_docs.py`` checks that
 the committed file equals :func:`reference_markdown`. After a change to the schema run::
 
     .venv/bin/python docs/make_reference.py

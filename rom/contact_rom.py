@@ -237,7 +237,7 @@ class ReducedContactModel:
     reading to +1.3 % of the FEA's (stations: -11.6 %); it is not the default because the
     contact calibration, which fits this chain, does worse with it (right effect in 6 of 13
     full-FEA records against 8, and a transducer bandwidth added to a clean control:
-    ``benchmarks/calibrate_contact_face.json``).
+    ``validation/calibrate_contact_face.json``).
     """
 
     def __init__(self, setup: DrumSetup, n_segments=DEFAULT_SEGMENTS, nonlinear=True, fit=True, contact=None,

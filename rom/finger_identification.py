@@ -250,7 +250,7 @@ def detailed_model_comparison(dm_mesh, sm_a_mesh=None, alpha=PAPER_FIG6["alpha_p
     least RMS difference over ``t_end_s``), all on the modal ROMs
     (:func:`ccedi.rom.modal.reduce_impulse_model`: ``n_modes`` modes of each FE model
     linearised at rest), which a full explicit run of the DM checks
-    (``benchmarks/dm_fig6.py``); peak stresses by :func:`quasi_static_peak_stress`.
+    (``validation/dm_fig6.py``); peak stresses by :func:`quasi_static_peak_stress`.
 
     Parameters
     ----------

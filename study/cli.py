@@ -11,7 +11,7 @@ Sub-commands (registered by the modules of :mod:`ccedi.study.commands`):
 Building the parser imports no library, so ``ccedi --help`` answers at once.
 """
 # Imports inside functions: building the parser imports no library, so that `ccedi --help`
-# answers at once (tests/test_layout.py); each command loads what it runs.
+# answers at once (tests/conventions/test_layout.py); each command loads what it runs.
 import argparse
 import sys
 import warnings

@@ -159,7 +159,7 @@ def dm_comparison(out, alpha, force_N, duration_s, material, t_end_s=0.2):
     :func:`ccedi.fea.mesh.gmsh_fingers.detailed_model`) on their modal ROMs at ``alpha`` [1/s],
     and the DM's alpha whose response is nearest SM-A's
     (:func:`ccedi.rom.finger_identification.detailed_model_comparison`; the ROM against a
-    full explicit run of the DM is ``benchmarks/dm_fig6.py``). Writes dm_comparison.csv/.json
+    full explicit run of the DM is ``validation/dm_fig6.py``). Writes dm_comparison.csv/.json
     and fig6_detailed_model.png in ``out``.
 
     Parameters

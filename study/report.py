@@ -178,7 +178,7 @@ def _detailed_model(out):
             f"response is nearest SM-A's at alpha = {s['dm_matching_alpha_per_s']:.4g} 1/s (paper "
             f"{s['paper_dm_matching_alpha_per_s']:g} 1/s; relative RMS misfit "
             f"{s['match_relative_rms_error']:.3g}). Stresses: the linear static deflection scaled to each peak "
-            "tip displacement (the ROM has no stresses); benchmarks/dm_fig6.py checks the ROM against a full "
+            "tip displacement (the ROM has no stresses); validation/dm_fig6.py checks the ROM against a full "
             "explicit run.</p>"
             + _table(rows, [("model", "model")] + [_col(k) for k in keys] + [("under-damped", "under_damped")]))
 

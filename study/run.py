@@ -92,7 +92,7 @@ def steps(cfg, out, scheduler):
     records = [Path(r) for r in s["measured_records"]]
     design = options_from(cfg, fea_check=s["design_fea_check"])
     contact_damping = "global" if s["paper"] else cfg["damping"]["kind"]
-    # The DM's stiffness is the one its dimensions were fitted to (benchmarks/dm_fit.py); its
+    # The DM's stiffness is the one its dimensions were fitted to (validation/dm_fit.py); its
     # nonlinear solves at 2.8 mm would take tens of minutes, so the study leaves it out.
     return [
         ("finger", "the finger: stable step, stiffness, first frequency", lambda: write_finger(

@@ -1,5 +1,6 @@
 """Shared fixtures: the paper's 4.5-in SM-A finger and its analytic beam values."""
 import os
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -9,6 +10,10 @@ from ccedi.fea.elements.hex8 import internal_forces_numpy
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import sm_a
 from ccedi.units import inch_to_m
+
+ROOT = Path(__file__).resolve().parents[1]
+"""The repository root (data/, examples/, docs/ and the package folders), for the tests in
+any sub-folder of tests/."""
 
 LENGTH_M = inch_to_m(4.5)
 

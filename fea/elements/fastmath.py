@@ -7,7 +7,7 @@ impulse run's von Mises stress in its last bits; a contact run's peak force by 0
 through the amplification of the contact chatter). Measured on the SM-A 4.5-in benchmark
 (benchmarks/fea_speed.py): 145 ns per element-cycle against 140 ns with the flags on a
 shared machine; 207 / 192 against 208 / 210 ns in two later pairs (VM noise dominates).
-tests/test_determinism.py checks that a cold and a warm cache give the same bits.
+tests/unit/fea/test_determinism.py checks that a cold and a warm cache give the same bits.
 """
 
 FASTMATH = False

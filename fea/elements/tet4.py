@@ -12,7 +12,7 @@ constraints (one per element, about 5-6 per node in a tetrahedral mesh) outnumbe
 3 displacement DOFs of a node. Averaging the volume change over the elements around
 each node leaves one constraint per node (Bonet & Burton). Free of locking, the linear
 tetrahedron is still stiff in bending at any nu (+94 / +24 % tip stiffness at 4 / 2 mm
-on the 60 x 12 x 8 mm test cantilever, ``benchmarks/tet_locking.py``), and the
+on the 60 x 12 x 8 mm test cantilever, ``validation/tet_locking.py``), and the
 node-based smoothed FEM (NS-FEM: strains averaged over the elements around each node)
 as soft; alpha-FEM takes the fraction alpha of the energy on the node-smoothed
 deformation gradients and 1 - alpha on the elements' own, alpha = 0.7 for tetrahedra
@@ -37,7 +37,7 @@ nodal shear stresses ``P_a = alpha mu (Fbar_a - Fbar_a^-T)``::
     f_k = V0_e [(1 - alpha) mu (F - F^-T) + Pbar_e + (pbar_e - q_e) J F^-T] grad0 N_k
 
 Measured on that cantilever at nu = 0.499 against the converged hexahedra
-(``benchmarks/tet_locking.py``): +13.7 / +1.8 / +0.3 % at 4 / 2 / 1 mm (alpha = 0.7),
+(``validation/tet_locking.py``): +13.7 / +1.8 / +0.3 % at 4 / 2 / 1 mm (alpha = 0.7),
 against +94 / +24.5 / +6.5 % with the element shear alone (alpha = 0).
 
 Lumped mass rho V0 / 4 per corner. Critical step: paper Eq. (6) with

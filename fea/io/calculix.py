@@ -10,7 +10,7 @@ The deck (:func:`calculix_deck`) holds, in SI units (m, kg, s, N, Pa):
   which for these elements coincide with CalculiX's (and Abaqus's): hexahedron corners 1-4
   on one face and 5-8 above them, the 20-node hexahedron's mid-edge nodes 9-20 on the edges
   1-2, 2-3, 3-4, 4-1, 5-6, 6-7, 7-8, 8-5, 1-5, 2-6, 3-7, 4-8, the 10-node tetrahedron's 5-10
-  on 1-2, 2-3, 1-3, 1-4, 2-4, 3-4. ``tests/test_calculix.py`` reads decks back with meshio's
+  on 1-2, 2-3, 1-3, 1-4, 2-4, 3-4. ``tests/unit/fea/test_calculix.py`` reads decks back with meshio's
   Abaqus reader (which maps these types without reordering) and runs C3D20R and C3D10
   cantilevers against beam theory (a mid-edge order swapped between the top face and the
   vertical edges makes ccx stop: "nonpositive jacobian");

@@ -55,7 +55,7 @@ Card layouts (field order, columns, meaning) follow the LS-DYNA Keyword User's M
 (Vol. I, the keyword's own page), as transcribed field by field in Ansys PyDyna's keyword
 classes, which are generated from the manual
 (https://github.com/ansys/pydyna, ``src/ansys/dyna/core/keywords/keyword_classes/auto/
-<group>/<keyword>.py``); each card writer names its keyword page. ``tests/test_lsdyna.py``
+<group>/<keyword>.py``); each card writer names its keyword page. ``tests/unit/fea/test_lsdyna.py``
 checks every card field by field against those layouts.
 """
 from dataclasses import dataclass, field

@@ -43,7 +43,7 @@ Poisson contraction, a stress boundary layer about one section depth long; with 
 4 mm elements the 4.5-in SM-A was 1.43 % stiffer than the converged solution of its
 geometry (linear tip stiffness against CalculiX C3D20R on SM-A split 2 x 2 x 2,
 69.248 N/m), with g = 0.5 0.56 % (first frequency +0.82 % -> +0.26 %), for the same
-nodes and elements and a stable step 1 % shorter (``benchmarks/hex_convergence.json``)."""
+nodes and elements and a stable step 1 % shorter (``validation/hex_convergence.json``)."""
 ROOT_REFINEMENT_DECAY = 1.5
 """Decay length tau of the root refinement, in elements (:func:`along_lengths`)."""
 

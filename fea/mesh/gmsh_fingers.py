@@ -10,7 +10,7 @@ SM-C, its detailed model DM and a finger that is not a prism.
   and tip stiffness;
 * :func:`tapered_finger`: an elliptical section tapering linearly from root to tip, with a
   transverse hole through it (along y, the bending direction) at mid-length: the
-  imported finger of the tests and benchmarks; :func:`write_tapered_finger` writes it as a
+  imported finger of the tests and validation studies; :func:`write_tapered_finger` writes it as a
   ``.msh`` file (v4 or v2) with physical groups ``clamp`` (root face), ``tip`` (tip face)
   and ``finger`` (the volume).
 
@@ -411,13 +411,13 @@ def _dm_inputs(cone_radius_m, rib_thickness_m):
 
 DM_CONE_RADIUS = 11.2186e-3
 """Root radius of the DM's cone [m]: fitted to Table 1's stiffness by
-:func:`fit_detailed_model` in ``benchmarks/dm_fit.py`` at 2.8 mm, the stiffness evaluated
+:func:`fit_detailed_model` in ``validation/dm_fit.py`` at 2.8 mm, the stiffness evaluated
 as the linear one at 2.8 mm times the nonlinear-to-linear ratio of a 6-mm DM (its
 nonlinear solves take a minute or two there, some 20 minutes at 2.8 mm). Fitted on the
 Delaunay mesh, re-measured on HXT's (:data:`DM_ALGORITHM_3D`): from this radius the fit's
 first evaluation is within its 1 % of 81.2 N/m (ratio 1.0496, 76.99 / 73.35 N/m at 6 mm;
 80.94 N/m), and the nonlinear Table 1 solve at 2.8 mm gives 80.49 N/m (-0.88 %,
-``benchmarks/dm_row.json``)."""
+``validation/dm_row.json``)."""
 DM_RIB_THICKNESS = 0.8138e-3
 """Thickness along z of the DM's ribs [m]: fitted to Table 1's volume (30 cm^3, CAD) at
 :data:`DM_CONE_RADIUS` (:func:`rib_thickness_for_volume`)."""
@@ -480,7 +480,7 @@ def detailed_model(element_size_m=DM_ELEMENT_LENGTH, cone_radius_m=DM_CONE_RADIU
     -------
     Mesh
         ``tets10`` (or ``tets4``), node sets ``root`` (the circular end, z = 0) and ``tip``
-        (the last rib's face, z = L). At the defaults (measured, ``benchmarks/dm_row.json``):
+        (the last rib's face, z = L). At the defaults (measured, ``validation/dm_row.json``):
         28512 nodes, 16389 elements, mesh volume 29.78 cm^3, stable step 0.585 us, nonlinear
         tip stiffness 80.49 N/m (paper: 36782, 23147, 30 cm^3, 0.22 us, 81.2 N/m).
 

@@ -5,7 +5,7 @@ Output paths are declared with :func:`add_output_argument` and checked by
 lost to a path it cannot write at the end.
 """
 # Imports inside functions: building the parser imports no library, so that `ccedi --help`
-# answers at once (tests/test_layout.py); each command loads what it runs.
+# answers at once (tests/conventions/test_layout.py); each command loads what it runs.
 import argparse
 import os
 import warnings

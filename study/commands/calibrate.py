@@ -13,7 +13,7 @@ cannot explain the record (:mod:`ccedi.calibrate.adequacy`) is not bad data: the
 then :class:`ccedi.errors.ModelInadequate` gives exit status 3.
 """
 # Imports inside functions: building the parser imports no library, so that `ccedi --help`
-# answers at once (tests/test_layout.py); each command loads what it runs.
+# answers at once (tests/conventions/test_layout.py); each command loads what it runs.
 from ccedi.errors import ModelInadequate
 from ccedi.study.commands.arguments import add_command, add_output_argument
 

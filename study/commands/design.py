@@ -2,7 +2,7 @@
 mesh, the drum speed) that meet the designer's requirements (:mod:`ccedi.design`), checked
 by the full FEA, with a report that explains the decision."""
 # Imports inside functions: building the parser imports no library, so that `ccedi --help`
-# answers at once (tests/test_layout.py); each command loads what it runs.
+# answers at once (tests/conventions/test_layout.py); each command loads what it runs.
 import time
 import warnings
 from dataclasses import dataclass, fields, replace
@@ -21,7 +21,7 @@ from ccedi.units import inch_to_m
 
 MODEL_ERROR_FILE = Path(__file__).resolve().parents[2] / "data" / "design" / "rom_check.json"
 """The ROM-against-FEA check the design takes its model-error margins from
-(``benchmarks/design_rom_check.py`` writes it)."""
+(``validation/design_rom_check.py`` writes it)."""
 
 REQUIREMENT_FLAGS = (("--max-object-force-N", "max_object_force_N", 1.0),
                      ("--max-object-stress-Pa", "max_object_stress_Pa", 1.0),
@@ -313,7 +313,7 @@ def _model_error(o, vary):
         return {}, None
     if not MODEL_ERROR_FILE.exists():
         warnings.warn(ValidityWarning(f"no ROM check at {MODEL_ERROR_FILE}: the design carries no model-error "
-                                      "margin (run benchmarks/design_rom_check.py)"), stacklevel=2)
+                                      "margin (run validation/design_rom_check.py)"), stacklevel=2)
         return {}, None
     errors = model_errors(read_cases(MODEL_ERROR_FILE), damping=o.damping, alpha_bounds_per_s=o.alpha_bounds,
                           length_bounds_in=o.length_bounds_in, tolerance=0.0)

@@ -7,7 +7,7 @@
   contact-report contact_report.md from the CSVs a sweep wrote
 """
 # Imports inside functions: building the parser imports no library, so that `ccedi --help`
-# answers at once (tests/test_layout.py); each command loads what it runs.
+# answers at once (tests/conventions/test_layout.py); each command loads what it runs.
 import math
 from pathlib import Path
 

@@ -5,7 +5,7 @@
   rom-check      reduced models against the full FEA (impulse and contact cases)
 """
 # Imports inside functions: building the parser imports no library, so that `ccedi --help`
-# answers at once (tests/test_layout.py); each command loads what it runs.
+# answers at once (tests/conventions/test_layout.py); each command loads what it runs.
 import math
 
 from ccedi.errors import InputError, ModelInadequate
@@ -454,7 +454,7 @@ def cmd_rom_check(args):
                         DEFAULT_DAMPING_RATIO if args.sensor_damping_ratio is None else args.sensor_damping_ratio)
     cfg = load_config(args)
     refuse_mesh(cfg, "rom-check", "compares the ROMs of the generated elliptical finger at several lengths with its "
-                "FEA; on a mesh, the contact ROM's check against its FEA is benchmarks/imported_finger_rom_check.py, "
+                "FEA; on a mesh, the contact ROM's check against its FEA is validation/imported_finger_rom_check.py, "
                 "and ccedi design --config FILE verifies its optimum by the mesh's FEA")
     material, semi_axes = finger_inputs(cfg)
     cases = impulse_cases(args.impulse_alphas, n_modes=args.modes, material=material,

@@ -5,7 +5,7 @@
   export  a model as an LS-DYNA keyword deck, or a run's results as VTU, CSV or Parquet
 """
 # Imports inside functions: building the parser imports no library, so that `ccedi --help`
-# answers at once (tests/test_layout.py); each command loads what it runs.
+# answers at once (tests/conventions/test_layout.py); each command loads what it runs.
 from pathlib import Path
 
 from ccedi.errors import InputError
