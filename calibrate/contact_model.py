@@ -320,7 +320,8 @@ class DrumContactModel:
         t_end = float(t[-1])
         spacing = min(float(np.median(np.diff(t))), FEA_OUTPUT_S)
         n_out = int(np.ceil(t_end / spacing))
-        h = FullContactModel(s, object_stress=False).run(v["alpha_per_s"], self.exp.damping, t_end, n_out).history
+        h = FullContactModel(s, object_stress=False).run(v["alpha_per_s"], damping=self.exp.damping, t_end_s=t_end,
+                                                         n_outputs=n_out).history
         return np.concatenate([[0.0], h.time_s.to_numpy()]), np.concatenate([[0.0], h.reaction_force_N.to_numpy()])
 
     def _at_record_times(self, t_fe, f_fe, v=None):

@@ -153,13 +153,13 @@ def contact_cases(setup: DrumSetup, alphas=(7.5, 180.0, 600.0), damping="global"
         reduced = [ReducedContactModel(setup, nonlinear=nl, contact=c) for c in contacts for nl in (True, False)]
         build = (time.perf_counter() - t0) / len(reduced)
     for r in reduced:
-        r.run(alphas[0], damping, t_end_s=1e-3, n_outputs=1)          # compile outside the timing
+        r.run(alphas[0], damping=damping, t_end_s=1e-3, n_outputs=1)  # compile outside the timing
     full = FullContactModel(setup) if full is None else full
     cases = []
     for alpha in alphas:
-        ref = full.run(alpha, damping, t_end_s, n_outputs, progress=progress)
+        ref = full.run(alpha, damping=damping, t_end_s=t_end_s, n_outputs=n_outputs, progress=progress)
         for r in reduced:
-            res = r.run(alpha, damping, t_end_s, n_outputs)
+            res = r.run(alpha, damping=damping, t_end_s=t_end_s, n_outputs=n_outputs)
             case = {"case": f"contact, {m_to_inch(setup.finger_length_m):.3g}-in finger, alpha {alpha:g} 1/s, "
                             f"{damping} damping",
                     "kind": "contact", "model": r.name, "contact": getattr(r, "contact", None),

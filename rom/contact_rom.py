@@ -5,8 +5,8 @@
 stiffness, and runs the chain's explicit dynamics in the drum's rotating frame
 (:mod:`ccedi.rom.chain_dynamics`). It answers the same question as
 :class:`ccedi.fea.contact.drum.FullContactModel`, through the same interface
-(:class:`ccedi.models.ContactModel`: ``run(alpha, damping, t_end_s, n_outputs, progress)
--> ContactResponse``, with the same core history columns and summary keys), so a study
+(:class:`ccedi.models.ContactModel`: ``run(alpha, *, damping, t_end_s, n_outputs,
+progress) -> ContactResponse``, with the same core history columns and summary keys), so a study
 swaps one for the other with one argument.
 
 ``nonlinear=True`` is the co-rotational chain (large rotations exact, the nonlinear
@@ -274,7 +274,7 @@ class ReducedContactModel:
             self.dt_s = TSSFAC * 2.0 / self.omega_contact_rad_s
         self.pt_h = point_offsets(chain, self.pt_seg, self.pt_xi)
 
-    def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
+    def run(self, alpha, *, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
         """Integrate the chain over the object.
 
         Parameters

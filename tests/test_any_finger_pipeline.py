@@ -128,7 +128,7 @@ class _Replay:
         self.history, self.summary = history, summary
         _Replay.built.append(setup)
 
-    def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
+    def run(self, alpha, *, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
         return ContactResponse(history=self.history, summary={"model": "fea", **self.summary})
 
 

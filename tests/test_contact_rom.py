@@ -136,7 +136,7 @@ def test_rotating_chain_drag_matches_beam_theory(damping):
     area, inertia = ellipse_section_properties()
     drag = drum_drag_tip_deflection(20.0, RUBBER.rho, area, setup.omega_rad_s, setup.drum_radius_m,
                                     setup.finger_length_m, RUBBER.E, inertia)
-    res = ReducedContactModel(setup, n_segments=10).run(20.0, damping, t_end_s=0.6, n_outputs=20)
+    res = ReducedContactModel(setup, n_segments=10).run(20.0, damping=damping, t_end_s=0.6, n_outputs=20)
     lag = tip_lag_series_m(setup, res.history)[-1]
     if damping == "global":
         assert lag == pytest.approx(drag, rel=0.06)

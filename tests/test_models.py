@@ -78,7 +78,7 @@ def test_impulse_responses_hold_the_core(finger_3in):
 def contact_figures(model: ContactModel, alpha=180.0):
     """The one contact-summary code, whatever the model: the core, the timing recomputed
     from the core history, and the response itself."""
-    response = model.run(alpha, "global", **SHORT)
+    response = model.run(alpha, damping="global", **SHORT)
     history, summary = response.core()
     return history, summary, contact_timing(history)
 

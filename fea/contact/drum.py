@@ -595,7 +595,7 @@ class FullContactModel:
         self.setup = setup
         self.object_stress = object_stress
 
-    def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
+    def run(self, alpha, *, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
         """Run the finger over the object (:func:`contact_run`).
 
         Parameters
