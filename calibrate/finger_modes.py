@@ -252,7 +252,7 @@ def finger_basis(length_m, semi_axes_m, nu, rho_kg_m3, E_Pa):
     """
     mesh = sm_a(length_m=length_m, semi_axes_m=tuple(semi_axes_m))
     model = cantilever_model(mesh, NeoHookean(E=E_Pa, nu=nu, rho=rho_kg_m3))
-    omega, phi = natural_frequencies(model, N_SOLVED_MODES, return_modes=True)
+    omega, phi = natural_frequencies(model, n_modes=N_SOLVED_MODES, return_modes=True)
     mass = model.mass
     tip_nodes = mesh.node_sets["tip"]
     w_tip = face_node_weights(mesh, tip_nodes)

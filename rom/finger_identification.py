@@ -70,7 +70,7 @@ def finger_omega1(length_in=None, material=RUBBER, semi_axes_m=SEMI_AXES, mesh=N
         omega_1 [rad/s].
     """
     mesh = sm_a(length_in=length_in, semi_axes_m=semi_axes_m) if mesh is None else mesh
-    return float(natural_frequencies(cantilever_model(mesh, material), 1)[0])
+    return float(natural_frequencies(cantilever_model(mesh, material), n_modes=1)[0])
 
 
 def finger_alpha_cr(length_in=None, rtol=0.01, material=RUBBER, semi_axes_m=SEMI_AXES, model=None, n_outputs=400,

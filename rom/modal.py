@@ -200,7 +200,7 @@ def modal_rom(model: Model, n_modes, load_nodes, load_weights, direction=1, outp
         raise InputError(f"n_modes must be an integer >= 1, got {n_modes!r}")
     if direction not in (0, 1, 2):
         raise InputError(f"direction must be 0, 1 or 2, got {direction!r}")
-    omega, phi = natural_frequencies(model, n_modes, x=x, return_modes=True)
+    omega, phi = natural_frequencies(model, n_modes=n_modes, x=x, return_modes=True)
     output_nodes = load_nodes if output_nodes is None else output_nodes
     output_weights = load_weights if output_weights is None else output_weights
     b = np.asarray(load_weights) @ phi[3 * np.asarray(load_nodes) + direction]

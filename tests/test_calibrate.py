@@ -50,7 +50,7 @@ def test_fe_modes_match_euler_bernoulli_and_scale_as_sqrt_E(basis):
     """The solid's first mode and static tip flexibility are the slender beam's within the
     shear and mesh error (2 %); the FE mass is the prism's; E scales omega exactly."""
     modes = basis.modes()
-    beam = cantilever_frequencies(6.1e6, 1000.0, LENGTH, AREA, INERTIA, 3)
+    beam = cantilever_frequencies(6.1e6, 1000.0, LENGTH, area=AREA, second_moment=INERTIA, n_modes=3)
     assert modes.omega_rad_s[0] == pytest.approx(beam[0], rel=0.02)
     assert modes.omega_rad_s[1] == pytest.approx(beam[1], rel=0.03)
     assert modes.static_flexibility_m_N == pytest.approx(LENGTH**3 / (3 * 6.1e6 * INERTIA), rel=0.02)

@@ -134,8 +134,8 @@ def test_rotating_chain_drag_matches_beam_theory(damping):
     full FE model meets the same figure, tests/test_rotation.py); relative damping does not."""
     setup = DrumSetup(finger_length_m=0.1143, object_center_m=(5.0, 5.0), theta0_rad=0.0)
     area, inertia = ellipse_section_properties()
-    drag = drum_drag_tip_deflection(20.0, RUBBER.rho, area, setup.omega_rad_s, setup.drum_radius_m,
-                                    setup.finger_length_m, RUBBER.E, inertia)
+    drag = drum_drag_tip_deflection(20.0, RUBBER.rho, area, omega=setup.omega_rad_s, drum_radius_m=setup.drum_radius_m,
+                                    length_m=setup.finger_length_m, E=RUBBER.E, second_moment=inertia)
     res = ReducedContactModel(setup, n_segments=10).run(20.0, damping=damping, t_end_s=0.6, n_outputs=20)
     lag = tip_lag_series_m(setup, res.history)[-1]
     if damping == "global":

@@ -32,7 +32,7 @@ def test_all_modes_reproduce_static_flexibility_exactly(small_model):
 def test_rom_frequencies_are_the_fe_frequencies(small_model):
     tip = small_model.mesh.node_sets["tip"]
     rom = modal_rom(small_model, 5, tip, face_node_weights(small_model.mesh, tip))
-    assert np.allclose(rom.omega_rad_s, natural_frequencies(small_model, 5), rtol=1e-10)
+    assert np.allclose(rom.omega_rad_s, natural_frequencies(small_model, n_modes=5), rtol=1e-10)
 
 
 @settings(max_examples=30, deadline=None)

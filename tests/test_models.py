@@ -40,9 +40,10 @@ SHORT = {"t_end_s": 0.7, "n_outputs": 70}
 @pytest.fixture(scope="module")
 def finger_3in():
     """A coarse 3-in finger (3 x 3 x 10) as a full FE impulse model and its modal ROM."""
-    mesh = elliptical_cantilever(inch_to_m(3.0), 3, 10, *SEMI_AXES)
+    a, b = SEMI_AXES
+    mesh = elliptical_cantilever(inch_to_m(3.0), 3, 10, a=a, b=b)
     full = finger_impulse_model(mesh=mesh)
-    omega1 = float(natural_frequencies(cantilever_model(mesh, RUBBER), 1)[0])
+    omega1 = float(natural_frequencies(cantilever_model(mesh, RUBBER), n_modes=1)[0])
     return full, reduce_impulse_model(full, n_modes=6), omega1
 
 

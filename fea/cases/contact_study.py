@@ -38,7 +38,7 @@ def _contact_case(alpha, setup, damping, t_end_s, n_outputs, progress):
     return s, h, shape
 
 
-def sweep(setup: DrumSetup, alphas=PAPER_ALPHAS, damping="global", t_end_s=1.5, n_outputs=300, progress=False,
+def sweep(setup: DrumSetup, *, alphas=PAPER_ALPHAS, damping="global", t_end_s=1.5, n_outputs=300, progress=False,
           scheduler="serial"):
     """Run every alpha, mapped through :func:`ccedi.distributed.map_runs` (``scheduler``).
     Returns (long history DataFrame with an alpha_per_s column, summaries DataFrame,
@@ -211,7 +211,7 @@ def validity_lines(global_table, relative_table=None):
     return [f"- {w}" for w in found]
 
 
-def contact_report(setup: DrumSetup, global_table, global_history, relative_table=None, relative_history=None):
+def contact_report(setup: DrumSetup, global_table, global_history, *, relative_table=None, relative_history=None):
     """Markdown comparing the global-damping sweep with the paper (section 3.4) and with
     relative damping. Tables are the summaries of :func:`sweep`; histories the long frames.
 

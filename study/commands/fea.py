@@ -305,7 +305,7 @@ def write_contact_sweep(setup, alphas, out, damping="global", t_end_s=1.5, n_out
     from ccedi.study.figures import plot_contact_shapes, plot_reaction_force, plot_stresses
 
     out = Path(out)
-    history, table, shapes = sweep(setup, alphas, damping=damping, t_end_s=t_end_s,
+    history, table, shapes = sweep(setup, alphas=alphas, damping=damping, t_end_s=t_end_s,
                                    n_outputs=n_outputs, progress=True, scheduler=scheduler)
     write_csv(out / f"contact_histories_{damping}.csv", history)
     write_csv(out / f"contact_summary_{damping}.csv", table)
@@ -350,7 +350,8 @@ def write_contact_report(setup, out):
     if g_table is None:
         return
     r_table, r_hist = load("relative")
-    write_text(out / "contact_report.md", contact_report(setup, g_table, g_hist, r_table, r_hist))
+    write_text(out / "contact_report.md",
+               contact_report(setup, g_table, g_hist, relative_table=r_table, relative_history=r_hist))
 
 
 def _contact_arguments(p):
