@@ -569,7 +569,7 @@ class DrumContactModel:
             after = t > 0.0
             F = np.zeros_like(t)
             rom = self.rom.on(self.setup_of(v)) if any(p in v for p in PHYSICAL) else self.rom
-            F[after] = np.hypot(*rom.reaction_force(v["alpha_per_s"], t[after], self.exp.damping,
+            F[after] = np.hypot(*rom.reaction_force(v["alpha_per_s"], t[after], damping=self.exp.damping,
                                                     E_factor=v["E_factor"]).T)
             if self.correction is not None:
                 F = F + self.correction

@@ -65,7 +65,7 @@ def test_natural_stiffness_needs_rigid_motion_invariance():
 
 def _zone_deformations(chain, P, TH, nonlinear):
     rec = stress_recovery(chain, RUBBER)
-    return rec, rec.deformations(P[None], TH[None], chain.station_z_m, nonlinear)
+    return rec, rec.deformations(P[None], TH[None], chain.station_z_m, nonlinear=nonlinear)
 
 
 def test_zone_deformations_are_the_chain_segments_natural_deformations(finger_8in):
@@ -81,7 +81,7 @@ def test_zone_deformations_are_the_chain_segments_natural_deformations(finger_8i
         _internal_forces(P, TH, np.diff(z), chain.natural_stiffness, nonlinear, np.zeros((len(z), 2)),
                          np.zeros(len(z)), E)
         segments = rec.zone_b - rec.zone_a == 1
-        e = rec.deformations(P[None], TH[None], z, nonlinear)[0]
+        e = rec.deformations(P[None], TH[None], z, nonlinear=nonlinear)[0]
         np.testing.assert_allclose(e[segments], E[rec.zone_a[segments]], rtol=1e-12, atol=1e-15)
 
 

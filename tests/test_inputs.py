@@ -23,7 +23,7 @@ def _write(tmp_path, text, name="inputs.toml"):
 
 def _omega1(cfg):
     material, semi_axes = finger_inputs(cfg)
-    return finger_omega1(4.5, material, semi_axes)
+    return finger_omega1(4.5, material=material, semi_axes_m=semi_axes)
 
 
 def test_first_frequency_follows_the_material_and_section_of_the_inputs():

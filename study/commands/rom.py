@@ -204,7 +204,7 @@ def _impulse_run(args, t_end_s):
     duration = DEFAULT_PULSE_S if args.duration_s is None else args.duration_s
     material, semi_axes = finger_inputs(cfg)
     mesh, length_in, finger = finger_of(cfg, args.length_in)
-    omega1 = finger_omega1(length_in, material, semi_axes, mesh=mesh)
+    omega1 = finger_omega1(length_in, material=material, semi_axes_m=semi_axes, mesh=mesh)
     t_end = max(t_end_s or 0.0, run_length_s(duration, omega1))
     model = finger_impulse_model(length_in, force_N=force, duration_s=duration, material=material,
                                  semi_axes_m=semi_axes, mesh=mesh)
@@ -316,7 +316,7 @@ def cmd_identify(args):
         print(f"identify: CCEDI on {data.source}: FE runs of {t_end:.3g} s each, alpha_cr bracketed from "
               f"2 omega_1 = {guess:.4g} 1/s", flush=True)
         crit = critical_alpha(model, guess, t_end, rtol=args.rtol, n_outputs=n_outputs)
-        ident = identify(data.time_s, data.tip_displacement_m, model, guess, noise_band=args.noise_band,
+        ident = identify(data.time_s, data.tip_displacement_m, model, alpha_guess=guess, noise_band=args.noise_band,
                          critical=crit, t_end_s=t_end, n_outputs=n_outputs)
         result = {"model": args.model, "finger": finger, "source": data.source, **adequacy,
                   "regime": ident.regime, "alpha_per_s": ident.alpha_per_s, "zeta": ident.zeta,
@@ -460,7 +460,7 @@ def cmd_rom_check(args):
     cases = impulse_cases(args.impulse_alphas, n_modes=args.modes, material=material,
                           semi_axes_m=semi_axes) if args.impulse_alphas else []
     if args.alphas:
-        cases += contact_cases(drum_setup(cfg), args.alphas, args.damping, t_end_s=args.t_end_s,
+        cases += contact_cases(drum_setup(cfg), alphas=args.alphas, damping=args.damping, t_end_s=args.t_end_s,
                                n_outputs=args.n_outputs, progress=True, contact=args.contact, transducer=sensor,
                                forces=args.forces_dir is not None)
     for c in cases:
