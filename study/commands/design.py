@@ -412,10 +412,10 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
             print(f"ROM runs {k}/{n} ({o.damping} damping)", flush=True)
 
     t0 = time.perf_counter()
-    grid, cached = cached_rom_runs(setup, grid_points(space, o.grid), out / "rom_grid.csv", o.damping, tick,
-                                   variables=space)
+    grid, cached = cached_rom_runs(setup, grid_points(space, o.grid), out / "rom_grid.csv", damping=o.damping,
+                                   progress=tick, variables=space)
     check_runs, _ = cached_rom_runs(setup, validation_points(space, o.validation_runs), out / "rom_validation.csv",
-                                    o.damping, tick, variables=space)
+                                    damping=o.damping, progress=tick, variables=space)
     surrogate = Surrogate.fit(space, grid)
     build_s = time.perf_counter() - t0
     problem = DesignProblem(surrogate, requirements=req, objective=o.objective, weights=o.weights,
@@ -467,7 +467,7 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
         print(f"no design meets the requirements; wrote {json_path}, {out}/design_report.md", flush=True)
         raise err from None
     t1 = time.perf_counter()
-    front = pareto_front(problem, o.pareto_output, n_points=o.pareto_points)
+    front = pareto_front(problem, second=o.pareto_output, n_points=o.pareto_points)
     pareto_s = time.perf_counter() - t1
     picks = recommended(front, optimum, o.pareto_output)[:o.fea_check_designs]
     checks = [] if not o.fea_check else recheck(setup, picks, damping=o.damping, limits=problem.limits,
