@@ -160,7 +160,7 @@ ROM_CONTACT_EXTRA_SUMMARY = (
 """Extra summary keys of the reduced contact model."""
 
 
-def validate_run_args(alpha, t_end_s, n_outputs, damping="global"):
+def validate_run_args(alpha, t_end_s, n_outputs, *, damping="global"):
     """Check the arguments of a model run (every model calls this).
 
     Parameters

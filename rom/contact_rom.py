@@ -308,7 +308,7 @@ class ReducedContactModel:
         SolverError
             The chain diverged, or the stress recovery inverted an element.
         """
-        alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs, damping)
+        alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs, damping=damping)
         s, ch = self.setup, self.chain
         t_out = np.linspace(0.0, t_end_s, int(n_outputs) + 1)[1:]
         wall0 = time.perf_counter()
@@ -403,7 +403,7 @@ class ReducedContactModel:
         t_out = np.asarray(time_s, dtype=float)
         if t_out.ndim != 1 or len(t_out) == 0 or t_out[0] <= 0.0 or np.any(np.diff(t_out) <= 0.0):
             raise InputError("time_s must be increasing times > 0 s")
-        alpha, _, _ = validate_run_args(alpha, float(t_out[-1]), len(t_out), damping)
+        alpha, _, _ = validate_run_args(alpha, float(t_out[-1]), len(t_out), damping=damping)
         C_out = self._integrate(alpha, damping, t_out, require_finite_positive("E_factor", E_factor))[3]
         return C_out[:, [_FX, _FY]]
 

@@ -169,7 +169,7 @@ def alpha_cr_table(lengths_in=(3.0, 4.5, 6.0, 8.0), *, rtol=0.01, scheduler="ser
         ``omega1_rad_s``, ``two_omega1_per_s``, ``paper_eq8_per_s``.
     """
     return map_runs(partial(_alpha_cr_row, rtol=rtol, material=material, semi_axes_m=semi_axes_m), lengths_in,
-                    scheduler, label="alpha_cr")
+                    scheduler=scheduler, label="alpha_cr")
 
 
 PAPER_FIG6 = {"alpha_per_s": 180.0, "dm_matching_alpha_per_s": 260.0}

@@ -120,7 +120,7 @@ def test_the_study_design_is_rerun_with_the_calibrated_inputs(tmp_path):
     cfg = validate({"study": {"calibration_fea_correction": False}})
     options = DesignOptions(grid=(4, 4), validation_runs=1, pareto_points=4, starts=1, fea_check=False)
     out = tmp_path / "design"
-    write_designs(cfg, options, str(record), out, scheduler="serial")
+    write_designs(cfg, options, str(record), out=out, scheduler="serial")
     declared = json.loads((out / "design.json").read_text())
     calibrated = json.loads((out / CALIBRATED / "design.json").read_text())
     cal = json.loads((out / CALIBRATED / "calibration.json").read_text())["calibrated"]

@@ -317,7 +317,7 @@ def test_fea_check_count_out_of_range_is_refused_before_any_run(tmp_path):
     from ccedi.study.commands.design import DesignOptions, write_design
 
     with pytest.raises(InputError, match="fea_check_designs must be 1, 2 or 3, got 4"):
-        write_design(DrumSetup(), DesignOptions(fea_check_designs=4), tmp_path / "d.json", tmp_path)
+        write_design(DrumSetup(), DesignOptions(fea_check_designs=4), json_path=tmp_path / "d.json", out=tmp_path)
     assert not list(tmp_path.iterdir())
 
 

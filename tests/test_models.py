@@ -121,7 +121,7 @@ def test_contact_responses_declare_the_same_core_columns(contact_responses):
 def test_every_model_checks_its_run_arguments_alike(kwargs, match, finger_3in):
     args = {"alpha": 10.0, "damping": "global", "t_end_s": 0.01, "n_outputs": 2, **kwargs}
     with pytest.raises(InputError, match=match):
-        validate_run_args(args["alpha"], args["t_end_s"], args["n_outputs"], args["damping"])
+        validate_run_args(args["alpha"], args["t_end_s"], args["n_outputs"], damping=args["damping"])
     models = [FullContactModel(COARSE, object_stress=False), ReducedContactModel(COARSE, n_segments=5)]
     for m in models:
         with pytest.raises(InputError, match=match):

@@ -70,7 +70,7 @@ def sweep(setup: DrumSetup, *, alphas=PAPER_ALPHAS, damping="global", t_end_s=1.
     """
     case = partial(_contact_case, setup=setup, damping=damping, t_end_s=t_end_s, n_outputs=n_outputs,
                    progress=progress and scheduler == "serial")
-    runs = map_runs(case, alphas, scheduler, label="contact runs")
+    runs = map_runs(case, alphas, scheduler=scheduler, label="contact runs")
     shapes = {float(a): shape for a, (_, _, shape) in zip(alphas, runs) if shape is not None}
     table = pd.DataFrame([{k: (WARNING_SEPARATOR.join(v) if k == "warnings" else str(v) if isinstance(v, list) else v)
                            for k, v in r.items()} for r, _, _ in runs])

@@ -383,5 +383,5 @@ def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), scheduler="serial",
     tuple
         (history DataFrame, list of summaries).
     """
-    runs = map_runs(partial(_impulse_run, kwargs=kwargs), alphas, scheduler, label="impulse runs")
+    runs = map_runs(partial(_impulse_run, kwargs=kwargs), alphas, scheduler=scheduler, label="impulse runs")
     return pd.concat([h for h, _ in runs], ignore_index=True), [s for _, s in runs]

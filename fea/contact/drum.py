@@ -625,7 +625,7 @@ class FullContactModel:
         SolverError
             The explicit solver cannot continue.
         """
-        alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs, damping)
+        alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs, damping=damping)
         result, model = contact_run(self.setup, alpha, damping=damping, t_end_s=t_end_s, n_outputs=n_outputs,
                                     progress=progress, object_stress=self.object_stress)
         summary = {"model": self.name, **contact_summary(self.setup, result, model)}

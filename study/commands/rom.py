@@ -199,7 +199,7 @@ def _impulse_run(args, t_end_s):
     if args.length_in is None and cfg["finger"]["mesh"] is None:
         raise InputError("--length-in (finger length, in) is required for --model finger without a [finger] mesh")
     if args.length_in is not None:
-        check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
+        check_flag("--length-in", args.length_in, section="finger", key="impulse_length_in")
     force = 1.0 if args.force_N is None else args.force_N
     duration = DEFAULT_PULSE_S if args.duration_s is None else args.duration_s
     material, semi_axes = finger_inputs(cfg)
@@ -344,7 +344,7 @@ def cmd_damping_fits(args):
     write_damping_fits(cfg, args.lengths_in, args.out, scheduler=args.scheduler)
 
 
-def write_damping_fits(cfg, lengths_in, out, scheduler="local"):
+def write_damping_fits(cfg, lengths_in, out, *, scheduler="local"):
     """alpha_cr of the configured SM-A finger at several lengths, the paper's Eq. (8) power
     law refitted (and Eq. (7) at the paper's four lengths): ``alpha_cr_fit.json`` and
     ``.png`` in ``out``.
