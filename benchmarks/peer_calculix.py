@@ -60,7 +60,7 @@ def ccedi_run(t_end_s):
 
 def calculix_run(model, t_end_s):
     """CalculiX's run: (time [s], tip deflection [m], wall [s], increments)."""
-    deck = calculix_impulse_deck(model.mesh, RUBBER, ALPHA, FORCE_N, DURATION_S, t_end_s,
+    deck = calculix_impulse_deck(model.mesh, RUBBER, ALPHA, force_N=FORCE_N, duration_s=DURATION_S, t_end_s=t_end_s,
                                  output_every=CCX_OUTPUT_EVERY)
     outputs, wall = run_ccx(deck.text)
     t, u = parse_tip_history(outputs["dat"], deck.tip_ids, deck.tip_weights)

@@ -153,7 +153,7 @@ def record_first_mode(exp: Experiment, noise_std_m):
                            noise_std_m=noise_std_m)
 
 
-def free_decay_mode(time_s, displacement_m, free_from_s, noise_std_m):
+def free_decay_mode(time_s, displacement_m, *, free_from_s, noise_std_m):
     """The first mode of a record's free decay, from ``free_from_s`` on (module docstring).
 
     Parameters

@@ -321,7 +321,8 @@ class DrumContactModel:
         t_end = float(t[-1])
         spacing = min(float(np.median(np.diff(t))), FEA_OUTPUT_S)
         n_out = int(np.ceil(t_end / spacing))
-        h = FullContactModel(s, object_stress=False).run(v["alpha_per_s"], self.exp.damping, t_end, n_out).history
+        h = FullContactModel(s, object_stress=False).run(v["alpha_per_s"], damping=self.exp.damping, t_end_s=t_end,
+                                                         n_outputs=n_out).history
         return np.concatenate([[0.0], h.time_s.to_numpy()]), np.concatenate([[0.0], h.reaction_force_N.to_numpy()])
 
     def _at_record_times(self, t_fe, f_fe, v=None):
@@ -569,7 +570,7 @@ class DrumContactModel:
             after = t > 0.0
             F = np.zeros_like(t)
             rom = self.rom.on(self.setup_of(v)) if any(p in v for p in PHYSICAL) else self.rom
-            F[after] = np.hypot(*rom.reaction_force(v["alpha_per_s"], t[after], self.exp.damping,
+            F[after] = np.hypot(*rom.reaction_force(v["alpha_per_s"], t[after], damping=self.exp.damping,
                                                     E_factor=v["E_factor"]).T)
             if self.correction is not None:
                 F = F + self.correction

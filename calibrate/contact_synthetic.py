@@ -189,8 +189,8 @@ def fe_force(truth: ContactTruth):
     pandas.DataFrame
         ``time_s`` [s] (0.5 ms outputs from 0) and ``reaction_force_N`` [N].
     """
-    res = FullContactModel(true_setup(truth), object_stress=False).run(truth.alpha_per_s, DAMPING, RECORD_S,
-                                                                       FE_OUTPUTS)
+    res = FullContactModel(true_setup(truth), object_stress=False).run(truth.alpha_per_s, damping=DAMPING,
+                                                                       t_end_s=RECORD_S, n_outputs=FE_OUTPUTS)
     h = res.history
     return pd.DataFrame({"time_s": np.concatenate([[0.0], h.time_s.to_numpy()]),
                          "reaction_force_N": np.concatenate([[0.0], h.reaction_force_N.to_numpy()])})

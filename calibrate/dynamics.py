@@ -156,7 +156,7 @@ def _integrate(n_out, dt_out, substeps, modal, tip, pulse):
     return y
 
 
-def viscoelastic_pulse_response(time_s, modes, zeta, force_N, duration_s, prony_g, prony_tau_s):
+def viscoelastic_pulse_response(time_s, modes, zeta, *, force_N, duration_s, prony_g, prony_tau_s):
     """Exact tip displacement of the viscoelastic modal model under a rectangular pulse.
 
     Per mode (module docstring, no tip nonlinearity, no drag) the state
@@ -221,7 +221,7 @@ def viscoelastic_pulse_response(time_s, modes, zeta, force_N, duration_s, prony_
     return force_N * (step(t) - step(t - duration_s))
 
 
-def integrate_tip(time_s, modes, zeta, force_N, duration_s, start_s=0.0, prony_g=0.0, prony_tau_s=1.0,
+def integrate_tip(time_s, modes, zeta, *, force_N, duration_s, start_s=0.0, prony_g=0.0, prony_tau_s=1.0,
                   drag_N_s2_m3=0.0, friction_N=0.0, cubic_N_m3=0.0):
     """Tip displacement of the modal finger model with nonlinear tip forces (module docstring).
 

@@ -105,7 +105,7 @@ class Finger:
             omega_1 = 1.8751^2 sqrt(E I / (rho A L^4)) [rad/s].
         """
         return float(cantilever_frequencies(self.E_Pa * E_factor, self.rho_kg_m3, self.length_m,
-                                            self.area_m2, self.second_moment_m4)[0])
+                                            area=self.area_m2, second_moment=self.second_moment_m4)[0])
 
 
 @dataclass(frozen=True)

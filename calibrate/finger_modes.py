@@ -133,7 +133,7 @@ class FingerBasis:
     root_inertia: float
     root_weight: float
 
-    def modes(self, E_factor=1.0, tip_mass_kg=0.0, root_stiffness=None, n_modes=None):
+    def modes(self, E_factor=1.0, *, tip_mass_kg=0.0, root_stiffness=None, n_modes=None):
         """Modes of the finger at E x ``E_factor`` with the Ritz additions (module docstring).
 
         Parameters
@@ -189,7 +189,7 @@ def _first(m, n):
     return Modes(m.omega_rad_s[:n], m.tip[:n], m.weight[:n], m.shapes[:, :n], m.shape_weights)
 
 
-def centre_line(mesh, mass, phi_y, points_m):
+def centre_line(mesh, mass, phi_y, *, points_m):
     """Mass-weighted mean y displacement of each layer of nodes along z, at ``points_m``.
 
     Nodes are grouped by their distance z from the root (rounded to 1e-6 L; at most 400
@@ -229,7 +229,7 @@ def centre_line(mesh, mass, phi_y, points_m):
 
 
 @lru_cache(maxsize=8)
-def finger_basis(length_m, semi_axes_m, nu, rho_kg_m3, E_Pa):
+def finger_basis(length_m, semi_axes_m, *, nu, rho_kg_m3, E_Pa):
     """The FE basis of a declared finger, cached per finger (module docstring).
 
     Parameters
@@ -252,7 +252,7 @@ def finger_basis(length_m, semi_axes_m, nu, rho_kg_m3, E_Pa):
     """
     mesh = sm_a(length_m=length_m, semi_axes_m=tuple(semi_axes_m))
     model = cantilever_model(mesh, NeoHookean(E=E_Pa, nu=nu, rho=rho_kg_m3))
-    omega, phi = natural_frequencies(model, N_SOLVED_MODES, return_modes=True)
+    omega, phi = natural_frequencies(model, n_modes=N_SOLVED_MODES, return_modes=True)
     mass = model.mass
     tip_nodes = mesh.node_sets["tip"]
     w_tip = face_node_weights(mesh, tip_nodes)
@@ -272,6 +272,6 @@ def finger_basis(length_m, semi_axes_m, nu, rho_kg_m3, E_Pa):
     xg, wg = np.polynomial.legendre.leggauss(N_DRAG_POINTS)
     points, weights = 0.5 * length * (xg + 1.0), 0.5 * length * wg
     return FingerBasis(length_m=length, mass_kg=float(mass.sum()), omega_rad_s=omega[keep], tip=tip[keep] * sign,
-                       weight=mass @ phi_k[1::3], shapes=centre_line(mesh, mass, phi_k[1::3], points),
+                       weight=mass @ phi_k[1::3], shapes=centre_line(mesh, mass, phi_k[1::3], points_m=points),
                        shape_weights=weights, drag_points_m=points, root_coupling=phi_k.T @ (m3 * psi),
                        root_inertia=float(psi @ (m3 * psi)), root_weight=float(mass @ psi[1::3]))

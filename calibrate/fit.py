@@ -85,7 +85,7 @@ class Fit:
         return len(self.values)
 
 
-def fit(model, effects, start=None, extra_starts=()):
+def fit(model, effects, *, start=None, extra_starts=()):
     """Fit the baseline plus ``effects`` to the training part of the record.
 
     Bounded least squares in the parameters' optimiser variables (log or scaled,

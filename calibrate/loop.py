@@ -350,7 +350,7 @@ def calibration_model(exp: Experiment):
     return FingerModel(exp)
 
 
-def calibrate(exp: Experiment, candidates=None, progress=None, fea_correction=False):
+def calibrate(exp: Experiment, *, candidates=None, progress=None, fea_correction=False):
     """Run the calibration loop on an experiment (module docstring).
 
     Parameters

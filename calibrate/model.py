@@ -145,7 +145,7 @@ class FingerModel:
     def __init__(self, exp: Experiment):
         f = exp.finger
         self.exp = exp
-        self.basis = finger_basis(f.length_m, tuple(f.semi_axes_m), f.nu, f.rho_kg_m3, f.E_Pa)
+        self.basis = finger_basis(f.length_m, tuple(f.semi_axes_m), nu=f.nu, rho_kg_m3=f.rho_kg_m3, E_Pa=f.E_Pa)
         full = self.basis.modes(1.0)
         self.n_modes = rung_modes(full.omega_rad_s, full.tip, exp.duration_s)
         modes = self.basis.modes(1.0, n_modes=self.n_modes)
@@ -307,7 +307,8 @@ class FingerModel:
         m = self.modes(fitted.values)
         v = fitted.values
         zeta = v["alpha_per_s"] / (2.0 * m.omega_rad_s) + v.get("beta_s", 0.0) * m.omega_rad_s / 2.0
-        return sparse_term(self.exp.time_s, self.exp.displacement_m - fitted.prediction, fitted.prediction, m, zeta)
+        return sparse_term(self.exp.time_s, self.exp.displacement_m - fitted.prediction, fitted.prediction,
+                           modes=m, zeta=zeta)
 
     def correct_at(self, v):
         """No correction: the base model is the FE model's own modes (the contact model's
@@ -380,15 +381,16 @@ class FingerModel:
         zeta = v["alpha_per_s"] / (2.0 * w) + v.get("beta_s", 0.0) * w / 2.0
         delay = v.get("delay_s", 0.0)
         if NONLINEAR.intersection(v):
-            u = integrate_tip(t, m, zeta, exp.force_N, exp.duration_s, exp.start_s,
+            u = integrate_tip(t, m, zeta, force_N=exp.force_N, duration_s=exp.duration_s, start_s=exp.start_s,
                               prony_g=v.get("prony_g", 0.0), prony_tau_s=v.get("prony_tau_s", 1.0),
                               drag_N_s2_m3=v.get("drag_N_s2_m3", 0.0), friction_N=v.get("friction_N", 0.0),
                               cubic_N_m3=v.get("cubic_N_m3", 0.0))
             if delay:
                 u = np.interp(t - delay, t, u, left=0.0)
         elif "prony_g" in v:
-            u = viscoelastic_pulse_response(t - exp.start_s - delay, m, zeta, exp.force_N, exp.duration_s,
-                                            v["prony_g"], v.get("prony_tau_s", 1.0))
+            u = viscoelastic_pulse_response(t - exp.start_s - delay, m, zeta, force_N=exp.force_N,
+                                            duration_s=exp.duration_s, prony_g=v["prony_g"],
+                                            prony_tau_s=v.get("prony_tau_s", 1.0))
         else:
             rom = ModalROM(omega_rad_s=w, gain=m.tip**2, zeta_fitted=zeta)
             u = rom.pulse_response(t - exp.start_s - delay, exp.force_N, exp.duration_s)

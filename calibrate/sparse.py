@@ -129,7 +129,7 @@ def _stlsq(A, r):
     return x / scale
 
 
-def sparse_term(time_s, residual_m, u_m, modes, zeta):
+def sparse_term(time_s, residual_m, u_m, *, modes, zeta):
     """The best sparse tip-force term explaining a residual (module docstring).
 
     Parameters

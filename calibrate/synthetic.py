@@ -155,7 +155,7 @@ def _solid(length_m):
 
 
 @lru_cache(maxsize=16)
-def solid_system(length_m, E_factor, tip_mass_kg=0.0, root_stiffness=None):
+def solid_system(length_m, E_factor, *, tip_mass_kg=0.0, root_stiffness=None):
     """Modes of the FE solid at E x ``E_factor`` with a tip mass and a compliant root built in.
 
     The tip mass is spread over the tip-face nodes by their area weights (all three
@@ -229,7 +229,7 @@ def solid_response(truth: Truth, length_m, t_end_s=RECORD_S):
     fx = truth.effects
     root = fx.get("root_compliance", {}).get("root_stiffness_N_m_rad")
     m_tip = fx.get("tip_mass", {}).get("tip_mass_kg", 0.0)
-    s = solid_system(length_m, truth.E_factor, m_tip, root)
+    s = solid_system(length_m, truth.E_factor, tip_mass_kg=m_tip, root_stiffness=root)
     w2, b = s.omega_rad_s**2, s.tip
     beta = fx.get("stiffness_damping", {}).get("beta_s", 0.0)
     c = truth.alpha_per_s + beta * w2

@@ -187,7 +187,7 @@ def reissue_warnings(recorded):
         warnings.warn_explicit(message, category, filename, lineno, registry=registry)
 
 
-def map_runs(function, items, scheduler=SERIAL, n_workers=LOCAL_WORKERS, label="runs"):
+def map_runs(function, items, *, scheduler=SERIAL, n_workers=LOCAL_WORKERS, label="runs"):
     """``[function(item) for item in items]``, computed according to ``scheduler``.
 
     Called from a task already running on a Dask worker (a study step), the runs go to

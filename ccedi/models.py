@@ -12,7 +12,7 @@ interface, so a study (the CCEDI search, the design surrogate, the FEA re-check,
   :func:`ccedi.fea.cases.steel_rod.steel_rod_impulse_model`). Reduced:
   :class:`ccedi.rom.modal.ModalImpulseModel` (from :func:`ccedi.rom.modal.reduce_impulse_model`).
 * a **contact model** (:class:`ContactModel`): the finger on the rotating drum sweeping
-  over the object (:class:`ccedi.fea.contact.drum.DrumSetup`); ``run(alpha, damping, t_end_s,
+  over the object (:class:`ccedi.fea.contact.drum.DrumSetup`); ``run(alpha, *, damping, t_end_s,
   n_outputs, progress)`` answers a :class:`ContactResponse`. Full:
   :class:`ccedi.fea.contact.drum.FullContactModel`; reduced:
   :class:`ccedi.rom.contact_rom.ReducedContactModel` ('stations' and 'face' contact).
@@ -160,7 +160,7 @@ ROM_CONTACT_EXTRA_SUMMARY = (
 """Extra summary keys of the reduced contact model."""
 
 
-def validate_run_args(alpha, t_end_s, n_outputs, damping="global"):
+def validate_run_args(alpha, t_end_s, n_outputs, *, damping="global"):
     """Check the arguments of a model run (every model calls this).
 
     Parameters
@@ -339,7 +339,7 @@ class ContactModel(Protocol):
     name: str
     setup: object
 
-    def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False) -> ContactResponse:
+    def run(self, alpha, *, damping="global", t_end_s=1.5, n_outputs=300, progress=False) -> ContactResponse:
         """Sweep over the object from t = 0.
 
         Parameters

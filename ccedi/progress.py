@@ -45,7 +45,7 @@ class _Lines:
         self.stream.flush()
 
 
-def progress_bar(iterable=None, total=None, desc="", unit="it"):
+def progress_bar(iterable=None, *, total=None, desc="", unit="it"):
     """A tqdm progress bar over ``iterable``, or for ``total`` items updated by hand: a bar on
     stderr when it is a terminal, else lines on stdout (module docstring).
 

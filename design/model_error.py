@@ -102,7 +102,7 @@ def model_errors(cases, *, damping, alpha_bounds_per_s, length_bounds_in, tolera
                 own = sorted((c["alpha_per_s"], gap(c, sign)) for c in rows if c["length_in"] == length)
                 table[:, j] = np.interp(np.log(alphas), np.log([a for a, _ in own]), [g for _, g in own])
             tables.append(table)
-        out[name] = ModelError(alphas, lengths * INCH, tables[0], tables[1], relative=relative)
+        out[name] = ModelError(alphas, lengths * INCH, under=tables[0], over=tables[1], relative=relative)
     return out
 
 

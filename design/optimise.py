@@ -68,7 +68,7 @@ class ModelError:
         The errors are fractions of the FEA's value.
     """
 
-    def __init__(self, alphas_per_s, lengths_m, under, over, relative=True):
+    def __init__(self, alphas_per_s, lengths_m, *, under, over, relative=True):
         self.alphas_per_s = np.atleast_1d(np.asarray(alphas_per_s, dtype=float))
         self.lengths_m = np.atleast_1d(np.asarray(lengths_m, dtype=float))
         shape = (len(self.alphas_per_s), len(self.lengths_m))
@@ -364,7 +364,7 @@ class DesignProblem:
         L = vl.grid(n * n)
         return np.column_stack([alpha_of_length(self.alpha_of_length, m_to_inch(L)), L])
 
-    def constraint_margins(self, outputs, alpha_per_s, x, alpha_bounds=False):
+    def constraint_margins(self, outputs, alpha_per_s, x, *, alpha_bounds=False):
         """{requirement: normalised margin}, >= 0 when met (numpy or casadi); with
         ``alpha_bounds``, also the alpha bounds (for the alpha-of-length designs).
 
@@ -529,7 +529,7 @@ def _starts(problem, n_starts, seed=6):
     return np.vstack([U, rand])
 
 
-def solve(problem: DesignProblem, n_starts=8, extra=None, starts=None):
+def solve(problem: DesignProblem, *, n_starts=8, extra=None, starts=None):
     """Minimise J with IPOPT from several starts and keep the best converged feasible one;
     the brute-force grid's best feasible point is a start too, and the answer when IPOPT
     converges nowhere better (the requirements' boundaries are kinked where an output is,
@@ -637,7 +637,7 @@ def binding(problem: DesignProblem, design: Design):
     return [name for name, m in margins.items() if m < BINDING_MARGIN]
 
 
-def sensitivities(problem: DesignProblem, design: Design, relax=0.1, n_starts=4):
+def sensitivities(problem: DesignProblem, design: Design, *, relax=0.1, n_starts=4):
     """What relaxing each requirement buys: the problem re-solved with that one bound
     moved by ``relax`` of its scale (an upper limit up, a lower one down).
 

@@ -243,7 +243,7 @@ def overshoot(x):
     return float(max(0.0, (-np.sign(x[0]) * x).max()))
 
 
-def settling_time_s(t, deviation, t_from, tolerance_m):
+def settling_time_s(t, deviation, *, t_from, tolerance_m):
     """Time [s] from ``t_from`` until |deviation| stays within ``tolerance_m`` to the
     end of the record; None when it is outside at the last output.
 
@@ -290,7 +290,7 @@ def sensor_force(history, transducer):
             transducer.measured(t, history.reaction_force_N.to_numpy()))
 
 
-def max_object_stress_Pa(object_stress: ObjectStress, history, fx, fy):
+def max_object_stress_Pa(object_stress: ObjectStress, history, *, fx, fy):
     """Largest object von Mises stress [Pa] under the filtered contact force (fx, fy) [N]
     at the force-weighted contact point (x, y, 0), over the outputs with contact where the
     force is at least half its peak: the peak-force output and up to
@@ -374,7 +374,7 @@ def design_outputs(setup: DrumSetup, history, object_stress: ObjectStress, *, tr
     force = history.reaction_force_N.to_numpy()
     radius = np.hypot(history.contact_point_x_m.to_numpy(), history.contact_point_y_m.to_numpy())
     out = {"sensor_peak_force_N": float(f[cycle].max()),
-           "max_object_stress_Pa": max_object_stress_Pa(object_stress, history[cycle], fx[cycle], fy[cycle]),
+           "max_object_stress_Pa": max_object_stress_Pa(object_stress, history[cycle], fx=fx[cycle], fy=fy[cycle]),
            "root_stress_before_contact_Pa": float(stress[t < start].max(initial=0.0)) if start is not None
            else float(stress[cycle].max()),
            "max_finger_stress_Pa": float(stress[cycle].max()),
@@ -390,7 +390,8 @@ def design_outputs(setup: DrumSetup, history, object_stress: ObjectStress, *, tr
            "cycle_time_s": setup.cycle_s,
            "contact_end_s": end,
            "next_arrival_s": arrival,
-           "settling_time_s": None if end is None else settling_time_s(t[cycle], dev[cycle], end, settle_tolerance_m)}
+           "settling_time_s": None if end is None else settling_time_s(t[cycle], dev[cycle], t_from=end,
+                                                                       tolerance_m=settle_tolerance_m)}
     for name, function in (extra or {}).items():
         if name in out:
             raise InputError(f"user-defined output {name!r} has the name of a built-in output")

@@ -25,7 +25,7 @@ DEFAULT_SECOND = "ringing_amplitude_m"
 """The default second output of the front."""
 
 
-def pareto_front(problem: DesignProblem, second=DEFAULT_SECOND, n_points=24, n_starts=4):
+def pareto_front(problem: DesignProblem, *, second=DEFAULT_SECOND, n_points=24, n_starts=4):
     """Designs along the (objective, ``second``) front, non-dominated and de-duplicated,
     sorted by ``second``.
 

@@ -150,7 +150,7 @@ def fea_check(setup: DrumSetup, designs, *, damping="relative", limits=(), model
         setup_at(setup, [v.name for v in variables], (d.alpha_per_s, d.x))
     check = partial(_check_one, setup=setup, damping=damping, limits=tuple(limits), model_factory=model_factory,
                     extra_outputs=extra_outputs, variables=variables, done=tuple(done))
-    rows = map_runs(check, designs, scheduler, label="FEA re-check")
+    rows = map_runs(check, designs, scheduler=scheduler, label="FEA re-check")
     for r in rows if progress else ():
         missed = [name for name, q in r["requirements"].items() if not q["met"]]
         progress(f"FEA check alpha = {r['alpha_per_s']:.4g} 1/s, {variables[1].label} = "

@@ -380,7 +380,7 @@ def rom_factory(setup: DrumSetup):
                                 n_segments=n if setup.finger is None else fitting_segments(setup.finger, n))
 
 
-def run_rom(setup: DrumSetup, points, damping="relative", progress=None, model_factory=rom_factory,
+def run_rom(setup: DrumSetup, points, *, damping="relative", progress=None, model_factory=rom_factory,
             extra_outputs=None, variables=None):
     """Design outputs of a contact model at design points (one model build per finger);
     each run lasts until the next object arrives (:func:`ccedi.design.outputs.run_time_s`).
@@ -476,7 +476,7 @@ def validation_points(variables, n, seed=6):
     return [tuple(float(v.from_unit(u[i, j])) for j, v in enumerate(variables)) for i in range(n)]
 
 
-def cached_rom_runs(setup: DrumSetup, points, path, damping="relative", progress=None, model_factory=rom_factory,
+def cached_rom_runs(setup: DrumSetup, points, path, *, damping="relative", progress=None, model_factory=rom_factory,
                     variables=None):
     """:func:`run_rom` results, cached in a CSV file.
 
@@ -520,7 +520,7 @@ def cached_rom_runs(setup: DrumSetup, points, path, damping="relative", progress
     sidecar = path.with_suffix(".json")
     if path.exists() and sidecar.exists() and json.loads(sidecar.read_text()) == meta:
         return pd.read_csv(path), True
-    frame = run_rom(setup, points, damping, progress, model_factory, variables=variables)
+    frame = run_rom(setup, points, damping=damping, progress=progress, model_factory=model_factory, variables=variables)
     write_csv(path, frame)
     write_json(sidecar, meta)
     return frame, False

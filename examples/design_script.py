@@ -57,7 +57,7 @@ def main(grid=(8, 6), fea=False):
     print(f"optimum: alpha = {optimum.alpha_per_s:.4g} 1/s, L = {m_to_inch(optimum.x):.3f} in, "
           f"object force {optimum.outputs['sensor_peak_force_N']:.3f} N ({len(steps)} ROM verification runs)")
     print("binding:", ", ".join(binding(problem, optimum)) or "none")
-    front = pareto_front(problem, "ringing_amplitude_m", n_points=8)
+    front = pareto_front(problem, second="ringing_amplitude_m", n_points=8)
     print(f"Pareto front, force against ringing: {len(front)} designs")
     factory = full_fea_factory if fea else rom_factory
     check = fea_check(setup, [optimum], damping="relative", limits=problem.limits, model_factory=factory,

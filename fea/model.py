@@ -214,7 +214,8 @@ class Model:
         except ValueError as err:
             raise InputError(f"mesh: {err}") from None
         mu, lam = (self.material.mu, self.material.lam) if self.material is not None else (0.0, 0.0)
-        self.kappa = hourglass_stiffness(self.mesh.nodes, self.mesh.hexes, mu, lam, self.hourglass_coefficient)
+        self.kappa = hourglass_stiffness(self.mesh.nodes, self.mesh.hexes, mu=mu, lam=lam,
+                                         q_hg=self.hourglass_coefficient)
         self.rods = tuple(self.rods)
         if not all(isinstance(r, Rod) for r in self.rods):
             raise InputError("rods must be fea.rod.Rod objects")
@@ -259,7 +260,8 @@ class Model:
     def hexahedra(self) -> HexGroup:
         """The hexahedra as the compiled kernel takes them (:func:`ccedi.fea.elements.hex8_kernels.hex_group`:
         reference arrays, element blocks, node-to-element slots)."""
-        return hex_group(self.mesh.nodes, self.mesh.hexes, self.geometry, self.kappa, self.hex_length_factor)
+        return hex_group(self.mesh.nodes, self.mesh.hexes, self.geometry, kappa=self.kappa,
+                         length_factor=self.hex_length_factor)
 
     @property
     def solid_constants(self):
@@ -346,7 +348,7 @@ def face_node_weights(mesh, node_set):
     return w[node_set] / w[node_set].sum()
 
 
-def tip_pulse(mesh, force_N, duration_s, t_start_s=0.0):
+def tip_pulse(mesh, force_N, duration_s, *, t_start_s=0.0):
     """The paper's impulse: a force pulse on the tip face, area-weighted over its nodes.
 
     Parameters
@@ -376,7 +378,7 @@ def tip_pulse(mesh, force_N, duration_s, t_start_s=0.0):
                       t_start_s=t_start_s, t_end_s=t_start_s + require_finite_positive("duration_s", duration_s))
 
 
-def cantilever_model(mesh, material, alpha=0.0, beta=0.0, pulses=(), hourglass_coefficient=1.0):
+def cantilever_model(mesh, material, *, alpha=0.0, beta=0.0, pulses=(), hourglass_coefficient=1.0):
     """A finger clamped at its root face (all ``"root"`` nodes fixed).
 
     Parameters

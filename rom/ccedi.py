@@ -98,7 +98,7 @@ class CriticalAlpha:
     runs: list = field(default_factory=list)
 
 
-def critical_alpha(model, alpha_guess, t_end_s, rtol=0.01, bracket=(0.8, 1.1), noise_band=1e-6, max_expand=6,
+def critical_alpha(model, alpha_guess, t_end_s, *, rtol=0.01, bracket=(0.8, 1.1), noise_band=1e-6, max_expand=6,
                    n_outputs=400):
     """Critical mass-proportional coefficient alpha_cr [1/s] by bisection on "the
     simulated tip response oscillates" (:func:`ccedi.rom.damping.oscillates`: after its
@@ -201,7 +201,7 @@ class AlphaMatch:
     evaluations: list = field(default_factory=list)
 
 
-def match_alpha(model, time_s, tip_displacement_m, bounds_per_s, xatol_rel=0.002, t_end_s=None, n_outputs=400):
+def match_alpha(model, time_s, tip_displacement_m, *, bounds_per_s, xatol_rel=0.002, t_end_s=None, n_outputs=400):
     """alpha [1/s] minimising the RMS difference between the simulated and the measured
     tip response on the measured times (bounded Brent search, scipy.optimize).
 
@@ -288,7 +288,7 @@ class Identification:
     detail: dict = field(default_factory=dict)
 
 
-def identify(time_s, tip_displacement_m, model, alpha_guess, bounds_per_s=None, noise_band=0.02,
+def identify(time_s, tip_displacement_m, model, *, alpha_guess, bounds_per_s=None, noise_band=0.02,
              critical=None, t_end_s=None, n_outputs=400):
     """The CCEDI procedure (paper Fig. 2) on a measured impulse response.
 
@@ -343,7 +343,7 @@ def identify(time_s, tip_displacement_m, model, alpha_guess, bounds_per_s=None, 
                                       "omega_d_rad_s": ld.omega_d_rad_s,
                                       "alpha_cr_bracket_per_s": crit.bracket_per_s})
     bounds = bounds_per_s or (0.2 * alpha_guess, 10.0 * alpha_guess)
-    match = match_alpha(model, t, y, bounds, t_end_s=t_end_s, n_outputs=n_outputs)
+    match = match_alpha(model, t, y, bounds_per_s=bounds, t_end_s=t_end_s, n_outputs=n_outputs)
     zeta = match.alpha_per_s / critical.alpha_cr_per_s if critical else float("nan")
     return Identification(regime="over-damped", alpha_per_s=match.alpha_per_s, zeta=zeta,
                           alpha_cr_per_s=critical.alpha_cr_per_s if critical else None, n_runs=match.n_runs,

@@ -580,7 +580,7 @@ def _chain_run(state, chain, drum, points, dt, outputs, work):
     return 0, steps
 
 
-def chain_run(state, chain, drum, points, dt, outputs, backend="numba"):
+def chain_run(state, chain, drum, *, points, dt, outputs, backend="numba"):
     """Integrate the chain on the rotating drum to every output time.
 
     Parameters
@@ -617,7 +617,7 @@ def chain_run(state, chain, drum, points, dt, outputs, backend="numba"):
     if backend == "numba":
         return _chain_run(state, chain, drum, points, float(dt), outputs, work)
     if backend == "numpy":
-        return chain_run_numpy(state, chain, drum, points, float(dt), outputs)
+        return chain_run_numpy(state, chain, drum, points=points, dt=float(dt), outputs=outputs)
     raise InputError(f"backend must be 'numba' or 'numpy', got {backend!r}")
 
 
@@ -648,7 +648,7 @@ def _internal_forces_numpy(P, TH, chain):
     return F, Mo
 
 
-def chain_run_numpy(state, chain, drum, points, dt, outputs):
+def chain_run_numpy(state, chain, drum, *, points, dt, outputs):
     """Reference of :func:`_chain_run`: the same algorithm in plain Python and numpy (no
     numba), for the tests. Same arguments and result as :func:`chain_run`.
 
@@ -800,7 +800,7 @@ def stable_step(omega_max):
     return TSSFAC * STEP_SHRINK * 2.0 / omega_max
 
 
-def contact_point_stiffness(mass, inertia, half_thickness_m, omega_max):
+def contact_point_stiffness(mass, inertia, half_thickness_m, *, omega_max):
     """Penalty stiffness per station contact point.
 
     :func:`ccedi.fea.contact.penalty.penalty_stiffness` with ``dt_cfl = 2 / omega_max`` for the
@@ -865,7 +865,7 @@ def face_points(station_z_m, plane_z_m, nonlinear=True):
     return seg.astype(np.int64), xi, trib
 
 
-def contact_omega(K, M, pt_seg, pt_xi, pt_k, pt_h, station_z_m, nonlinear=True):
+def contact_omega(K, M, *, pt_seg, pt_xi, pt_k, pt_h, station_z_m, nonlinear=True):
     """Highest frequency of the clamped chain with one face's contact springs engaged.
 
     Every contact spring of one face acts across the finger (normal along the

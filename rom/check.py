@@ -44,7 +44,7 @@ SMOOTHING_S = 0.025
 """Moving-average window [s] for ``smoothed_peak_force_error``."""
 
 
-def compare_contact(setup: DrumSetup, fea, rom, transducer=None):
+def compare_contact(setup: DrumSetup, fea, rom, *, transducer=None):
     """Metrics (module docstring) of a reduced contact response against the full one.
 
     Reads only the core columns and keys of :class:`ccedi.models.ContactResponse`, so any
@@ -103,7 +103,7 @@ def _key_figures(response, transducer):
     return {k: response.summary[k] for k in keep} | {"sensor_peak_reaction_force_N": float(measured.max())}
 
 
-def contact_cases(setup: DrumSetup, alphas=(7.5, 180.0, 600.0), damping="global", t_end_s=1.5, n_outputs=3000,
+def contact_cases(setup: DrumSetup, *, alphas=(7.5, 180.0, 600.0), damping="global", t_end_s=1.5, n_outputs=3000,
                   progress=False, contact=None, full=None, reduced=None, transducer=None, forces=False):
     """Full contact model against reduced ones for every alpha.
 
@@ -155,16 +155,16 @@ def contact_cases(setup: DrumSetup, alphas=(7.5, 180.0, 600.0), damping="global"
                    for c in contacts for nl in (True, False)]
         build = (time.perf_counter() - t0) / len(reduced)
     for r in reduced:
-        r.run(alphas[0], damping, t_end_s=1e-3, n_outputs=1)          # compile outside the timing
+        r.run(alphas[0], damping=damping, t_end_s=1e-3, n_outputs=1)  # compile outside the timing
     cases = []
     for alpha in alphas:
-        ref = full.run(alpha, damping, t_end_s, n_outputs, progress=progress)
+        ref = full.run(alpha, damping=damping, t_end_s=t_end_s, n_outputs=n_outputs, progress=progress)
         for r in reduced:
-            res = r.run(alpha, damping, t_end_s, n_outputs)
+            res = r.run(alpha, damping=damping, t_end_s=t_end_s, n_outputs=n_outputs)
             case = {"case": f"contact, {m_to_inch(setup.finger_length_m):.3g}-in finger, alpha {alpha:g} 1/s, "
                             f"{damping} damping",
                     "kind": "contact", "model": r.name, "contact": getattr(r, "contact", None),
-                    "alpha_per_s": float(alpha), **compare_contact(setup, ref, res, transducer),
+                    "alpha_per_s": float(alpha), **compare_contact(setup, ref, res, transducer=transducer),
                     "rom_build_time_s": build, "fea": _key_figures(ref, transducer),
                     "rom": _key_figures(res, transducer)}
             if forces:
@@ -175,7 +175,7 @@ def contact_cases(setup: DrumSetup, alphas=(7.5, 180.0, 600.0), damping="global"
     return cases
 
 
-def impulse_cases(alphas=(20.0, 180.0), n_modes=6, force_N=0.1, duration_s=0.01, t_end_s=0.2, n_outputs=400,
+def impulse_cases(alphas=(20.0, 180.0), *, n_modes=6, force_N=0.1, duration_s=0.01, t_end_s=0.2, n_outputs=400,
                   material=RUBBER, semi_axes_m=SEMI_AXES, full=None):
     """Full FE impulse model against its modal ROM (before and after the fit), per alpha.
 
@@ -218,7 +218,7 @@ def impulse_cases(alphas=(20.0, 180.0), n_modes=6, force_N=0.1, duration_s=0.01,
         fe = full.run(alpha, t_end_s, n_outputs)
         t, y = fe.tip_signal()
         rom = reduce_impulse_model(full, n_modes=n_modes, alpha=alpha).rom
-        fit = fit_to_response(rom, t, y, full.force_N, full.duration_s)
+        fit = fit_to_response(rom, t, y, force_N=full.force_N, duration_s=full.duration_s)
         repeats = 200
         t0 = time.perf_counter()
         for _ in range(repeats):

@@ -5,8 +5,8 @@
 stiffness, and runs the chain's explicit dynamics in the drum's rotating frame
 (:mod:`ccedi.rom.chain_dynamics`). It answers the same question as
 :class:`ccedi.fea.contact.drum.FullContactModel`, through the same interface
-(:class:`ccedi.models.ContactModel`: ``run(alpha, damping, t_end_s, n_outputs, progress)
--> ContactResponse``, with the same core history columns and summary keys), so a study
+(:class:`ccedi.models.ContactModel`: ``run(alpha, *, damping, t_end_s, n_outputs,
+progress) -> ContactResponse``, with the same core history columns and summary keys), so a study
 swaps one for the other with one argument.
 
 ``nonlinear=True`` is the co-rotational chain (large rotations exact, the nonlinear
@@ -240,7 +240,7 @@ class ReducedContactModel:
     ``validation/calibrate_contact_face.json``).
     """
 
-    def __init__(self, setup: DrumSetup, n_segments=DEFAULT_SEGMENTS, nonlinear=True, fit=True, contact=None,
+    def __init__(self, setup: DrumSetup, *, n_segments=DEFAULT_SEGMENTS, nonlinear=True, fit=True, contact=None,
                  k_per_length=None):
         contact = DEFAULT_CONTACT if contact is None else contact
         if contact not in ("face", "stations"):
@@ -261,7 +261,7 @@ class ReducedContactModel:
         if contact == "stations":
             self.pt_seg, self.pt_xi, _ = face_points(chain.station_z_m, chain.station_z_m, nonlinear=False)
             self.pt_k = contact_point_stiffness(chain.mass_kg, chain.inertia_kg_m2, chain.face_offsets_m.max(axis=1),
-                                                self.omega_max_rad_s)[1:]
+                                                omega_max=self.omega_max_rad_s)[1:]
             self.dt_s = stable_step(self.omega_max_rad_s)
             self.k_per_length = None
         else:
@@ -269,13 +269,13 @@ class ReducedContactModel:
             self.pt_seg, self.pt_xi, trib = face_points(chain.station_z_m, np.unique(mesh.nodes[:, 2]), self.nonlinear)
             self.pt_k = self.k_per_length * trib
             K, M = linear_matrices(chain)
-            self.omega_contact_rad_s = contact_omega(K, M, self.pt_seg, self.pt_xi, self.pt_k,
-                                                     point_offsets(chain, self.pt_seg, self.pt_xi)[:, 0],
-                                                     chain.station_z_m, self.nonlinear)
+            self.omega_contact_rad_s = contact_omega(K, M, pt_seg=self.pt_seg, pt_xi=self.pt_xi, pt_k=self.pt_k,
+                                                     pt_h=point_offsets(chain, self.pt_seg, self.pt_xi)[:, 0],
+                                                     station_z_m=chain.station_z_m, nonlinear=self.nonlinear)
             self.dt_s = TSSFAC * 2.0 / self.omega_contact_rad_s
         self.pt_h = point_offsets(chain, self.pt_seg, self.pt_xi)
 
-    def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
+    def run(self, alpha, *, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
         """Integrate the chain over the object.
 
         Parameters
@@ -309,7 +309,7 @@ class ReducedContactModel:
         SolverError
             The chain diverged, or the stress recovery inverted an element.
         """
-        alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs, damping)
+        alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs, damping=damping)
         s, ch = self.setup, self.chain
         t_out = np.linspace(0.0, t_end_s, int(n_outputs) + 1)[1:]
         wall0 = time.perf_counter()
@@ -370,7 +370,7 @@ class ReducedContactModel:
         other.setup = setup
         return other
 
-    def reaction_force(self, alpha, time_s, damping="global", E_factor=1.0):
+    def reaction_force(self, alpha, time_s, *, damping="global", E_factor=1.0):
         """Force of the finger on the object at given times: the chain alone, without the
         stress recovery of :meth:`run` (the calibration's fast path).
 
@@ -404,7 +404,7 @@ class ReducedContactModel:
         t_out = np.asarray(time_s, dtype=float)
         if t_out.ndim != 1 or len(t_out) == 0 or t_out[0] <= 0.0 or np.any(np.diff(t_out) <= 0.0):
             raise InputError("time_s must be increasing times > 0 s")
-        alpha, _, _ = validate_run_args(alpha, float(t_out[-1]), len(t_out), damping)
+        alpha, _, _ = validate_run_args(alpha, float(t_out[-1]), len(t_out), damping=damping)
         C_out = self._integrate(alpha, damping, t_out, require_finite_positive("E_factor", E_factor))[3]
         return C_out[:, [_FX, _FY]]
 
@@ -423,9 +423,9 @@ class ReducedContactModel:
         obj_params = np.array([c[0], c[1], obj.a_m, obj.b_m, np.cos(obj.angle_rad), np.sin(obj.angle_rad)])
         status, steps = chain_run(ChainState(P, TH, V, W), self._chain_group(E_factor),
                                   DrumFrame(s.omega_rad_s, s.theta0_rad, float(alpha), damping == "relative"),
-                                  ContactPoints(self.pt_seg, self.pt_xi, self.pt_h, E_factor * self.pt_k,
-                                                float(obj.damping_ratio), float(obj.mu), obj_params),
-                                  self.dt_s / np.sqrt(E_factor), ChainOutputs(t_out, P_out, TH_out, C_out))
+                                  points=ContactPoints(self.pt_seg, self.pt_xi, self.pt_h, E_factor * self.pt_k,
+                                                       float(obj.damping_ratio), float(obj.mu), obj_params),
+                                  dt=self.dt_s / np.sqrt(E_factor), outputs=ChainOutputs(t_out, P_out, TH_out, C_out))
         if status:
             raise SolverError(f"reduced model diverged (non-finite state) at step {steps + 1}")
         return P0, P_out, TH_out, C_out, steps
@@ -438,11 +438,11 @@ class ReducedContactModel:
 
     def _max_von_mises(self, P_out, TH_out):
         """Finger stress [Pa] per output from the station states, zone by zone."""
-        e = self.stress.deformations(P_out, TH_out, self.chain.station_z_m, self.nonlinear)
+        e = self.stress.deformations(P_out, TH_out, self.chain.station_z_m, nonlinear=self.nonlinear)
         return self.stress.max_von_mises(e, nonlinear=self.nonlinear)
 
 
-def reduce_contact_model(full: FullContactModel, n_segments=None, nonlinear=True, fit=True, contact=None):
+def reduce_contact_model(full: FullContactModel, *, n_segments=None, nonlinear=True, fit=True, contact=None):
     """The reductor of the contact model: the superelement chain of a full FE contact
     model's finger, with the same run signature and response type (pyMOR's way: a
     reductor takes the full model and returns the reduced one, so a study swaps one for

@@ -113,7 +113,7 @@ class CraigBampton:
         return self.T.T @ f_free
 
 
-def craig_bampton(K, M, dofs, boundary_dofs, n_modes):
+def craig_bampton(K, M, dofs, *, boundary_dofs, n_modes):
     """Craig-Bampton reduction of (K, M) keeping ``boundary_dofs`` and ``n_modes`` modes.
 
     Constraint modes Psi = -K_ii^-1 K_ib and the ``n_modes`` lowest fixed-interface modes

@@ -69,7 +69,7 @@ def _validate_signal(t, y):
     return t, y
 
 
-def log_decrement(t, y, y_final=None, noise_band=0.01, max_cycles=None):
+def log_decrement(t, y, *, y_final=None, noise_band=0.01, max_cycles=None):
     """Damping ratio of the dominant mode of a decaying oscillation by log-decrement.
 
     One peak per cycle on the side of the largest excursion, from it on; the peak
@@ -232,7 +232,7 @@ class HalfPower:
     resolution_rad_s: float
 
 
-def half_power(t, y, force=None, pad_factor=16):
+def half_power(t, y, *, force=None, pad_factor=16):
     """Damping ratio by the half-power bandwidth of the frequency response.
 
     ``y`` is an impulse response (e.g. tip displacement after a short force pulse), or,
@@ -330,7 +330,7 @@ class EnvelopeFit:
     rms_residual: float
 
 
-def envelope_fit(t, y, y_final=None, noise_band=0.02):
+def envelope_fit(t, y, *, y_final=None, noise_band=0.02):
     """Damping ratio from a least-squares fit of an exponentially decaying sinusoid.
 
     ::
@@ -399,7 +399,7 @@ def envelope_fit(t, y, y_final=None, noise_band=0.02):
                        rms_residual=float(np.sqrt(np.mean(fit.fun**2))))
 
 
-def oscillates(t, y, y_final=0.0, noise_band=1e-6):
+def oscillates(t, y, *, y_final=0.0, noise_band=1e-6):
     """Whether the response overshoots its final value after its largest excursion.
 
     True when, after its largest excursion from ``y_final``, the response crosses to the

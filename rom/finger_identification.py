@@ -50,7 +50,7 @@ def run_length_s(duration_s, omega1_rad_s):
     return duration_s + SETTLE_PERIODS / omega1_rad_s
 
 
-def finger_omega1(length_in=None, material=RUBBER, semi_axes_m=SEMI_AXES, mesh=None):
+def finger_omega1(length_in=None, *, material=RUBBER, semi_axes_m=SEMI_AXES, mesh=None):
     """First natural frequency of the clamped finger: SM-A of ``length_in``, or ``mesh``.
 
     Parameters
@@ -70,10 +70,10 @@ def finger_omega1(length_in=None, material=RUBBER, semi_axes_m=SEMI_AXES, mesh=N
         omega_1 [rad/s].
     """
     mesh = sm_a(length_in=length_in, semi_axes_m=semi_axes_m) if mesh is None else mesh
-    return float(natural_frequencies(cantilever_model(mesh, material), 1)[0])
+    return float(natural_frequencies(cantilever_model(mesh, material), n_modes=1)[0])
 
 
-def finger_alpha_cr(length_in=None, rtol=0.01, material=RUBBER, semi_axes_m=SEMI_AXES, model=None, n_outputs=400,
+def finger_alpha_cr(length_in=None, *, rtol=0.01, material=RUBBER, semi_axes_m=SEMI_AXES, model=None, n_outputs=400,
                     mesh=None):
     """alpha_cr of the finger (SM-A of ``length_in``, or ``mesh``) by bisection, starting
     from 2 omega_1.
@@ -109,7 +109,7 @@ def finger_alpha_cr(length_in=None, rtol=0.01, material=RUBBER, semi_axes_m=SEMI
     return critical_alpha(model, 2.0 * omega1, t_end_s, rtol=rtol, n_outputs=n_outputs), omega1
 
 
-def rod_alpha_cr(omega1_guess=16.33, rtol=0.01, model=None, n_outputs=800):
+def rod_alpha_cr(omega1_guess=16.33, *, rtol=0.01, model=None, n_outputs=800):
     """alpha_cr of the steel rod, starting from 2 omega_1.
 
     Parameters
@@ -135,14 +135,14 @@ def rod_alpha_cr(omega1_guess=16.33, rtol=0.01, model=None, n_outputs=800):
 
 
 def _alpha_cr_row(length_in, rtol, material, semi_axes_m):
-    crit, omega1 = finger_alpha_cr(length_in, rtol, material, semi_axes_m)
+    crit, omega1 = finger_alpha_cr(length_in, rtol=rtol, material=material, semi_axes_m=semi_axes_m)
     return {"length_in": float(length_in), "alpha_cr_per_s": crit.alpha_cr_per_s,
             "bracket_per_s": list(crit.bracket_per_s), "n_runs": crit.n_runs,
             "omega1_rad_s": omega1, "two_omega1_per_s": 2.0 * omega1,
             "paper_eq8_per_s": float(paper_alpha_cr(length_in))}
 
 
-def alpha_cr_table(lengths_in=(3.0, 4.5, 6.0, 8.0), rtol=0.01, scheduler="serial", material=RUBBER,
+def alpha_cr_table(lengths_in=(3.0, 4.5, 6.0, 8.0), *, rtol=0.01, scheduler="serial", material=RUBBER,
                    semi_axes_m=SEMI_AXES):
     """alpha_cr, 2 omega_1 and the paper's Eq. (8) for each finger length.
 
@@ -169,7 +169,7 @@ def alpha_cr_table(lengths_in=(3.0, 4.5, 6.0, 8.0), rtol=0.01, scheduler="serial
         ``omega1_rad_s``, ``two_omega1_per_s``, ``paper_eq8_per_s``.
     """
     return map_runs(partial(_alpha_cr_row, rtol=rtol, material=material, semi_axes_m=semi_axes_m), lengths_in,
-                    scheduler, label="alpha_cr")
+                    scheduler=scheduler, label="alpha_cr")
 
 
 PAPER_FIG6 = {"alpha_per_s": 180.0, "dm_matching_alpha_per_s": 260.0}
@@ -242,7 +242,7 @@ class DetailedModelComparison:
     omega1_rad_s: dict
 
 
-def detailed_model_comparison(dm_mesh, sm_a_mesh=None, alpha=PAPER_FIG6["alpha_per_s"], force_N=1.0,
+def detailed_model_comparison(dm_mesh, *, sm_a_mesh=None, alpha=PAPER_FIG6["alpha_per_s"], force_N=1.0,
                               duration_s=0.01, t_end_s=0.2, n_outputs=400, material=RUBBER, n_modes=6,
                               bounds_per_s=(100.0, 600.0), noise_band=1e-3):
     """Paper Fig. 6 with the detailed model: SM-A and the DM under the same tip pulse at
@@ -285,7 +285,7 @@ def detailed_model_comparison(dm_mesh, sm_a_mesh=None, alpha=PAPER_FIG6["alpha_p
     roms = {name: reduce_impulse_model(f, n_modes=n_modes, alpha=alpha) for name, f in full.items()}
     t, y_sm = roms["SM-A"].run(alpha, t_end_s, n_outputs).tip_signal()
     y_dm = roms["DM"].run(alpha, t_end_s, n_outputs).tip_signal()[1]
-    match = match_alpha(roms["DM"], t, y_sm, bounds_per_s, t_end_s=t_end_s, n_outputs=n_outputs)
+    match = match_alpha(roms["DM"], t, y_sm, bounds_per_s=bounds_per_s, t_end_s=t_end_s, n_outputs=n_outputs)
     y_match = roms["DM"].run(match.alpha_per_s, t_end_s, n_outputs).tip_signal()[1]
     dm_stress = quasi_static_peak_stress(full["DM"].fea_model(alpha), [y_dm.max(), y_match.max()])
     stress = {"SM-A": quasi_static_peak_stress(full["SM-A"].fea_model(alpha), [y_sm.max()])[0],

@@ -168,7 +168,7 @@ def _step(omega, zeta, t):
     return np.where(t[None, :] > 0.0, s, 0.0)
 
 
-def modal_rom(model: Model, n_modes, load_nodes, load_weights, direction=1, output_nodes=None,
+def modal_rom(model: Model, n_modes, *, load_nodes, load_weights, direction=1, output_nodes=None,
               output_weights=None, x=None):
     """Modal ROM of an FE model from a shared unit force to a weighted displacement.
 
@@ -200,7 +200,7 @@ def modal_rom(model: Model, n_modes, load_nodes, load_weights, direction=1, outp
         raise InputError(f"n_modes must be an integer >= 1, got {n_modes!r}")
     if direction not in (0, 1, 2):
         raise InputError(f"direction must be 0, 1 or 2, got {direction!r}")
-    omega, phi = natural_frequencies(model, n_modes, x=x, return_modes=True)
+    omega, phi = natural_frequencies(model, n_modes=n_modes, x=x, return_modes=True)
     output_nodes = load_nodes if output_nodes is None else output_nodes
     output_weights = load_weights if output_weights is None else output_weights
     b = np.asarray(load_weights) @ phi[3 * np.asarray(load_nodes) + direction]
@@ -231,7 +231,7 @@ def tip_modal_rom(model: Model, n_modes=6, direction=1):
     """
     tip = model.mesh.node_sets["tip"]
     w = face_node_weights(model.mesh, tip)
-    full = modal_rom(model, 3 * n_modes, tip, w, direction)
+    full = modal_rom(model, 3 * n_modes, load_nodes=tip, load_weights=w, direction=direction)
     keep = np.sort(np.argsort(-np.abs(full.gain / full.omega_rad_s**2))[:n_modes])
     return replace(full, omega_rad_s=full.omega_rad_s[keep], gain=full.gain[keep])
 
@@ -285,7 +285,7 @@ response's range, so parameters the data cannot resolve (a heavily damped high m
 stay at their FE values instead of drifting."""
 
 
-def fit_to_response(rom: ModalROM, time_s, y, force_N, duration_s):
+def fit_to_response(rom: ModalROM, time_s, y, *, force_N, duration_s):
     """Refine omega_i (within +-20 %), zeta_i (> 0) and g_i (within a factor 2) so that
     the pulse response matches ``y`` at ``time_s`` (e.g. a full FE impulse response) in
     the least-squares sense, with a weak prior towards the FE values (``PRIOR_WEIGHT``).
@@ -362,7 +362,7 @@ class ModalImpulseModel:
         A pulse length or structure length that is not finite and positive.
     """
 
-    def __init__(self, rom: ModalROM, force_N, duration_s, name=None, length_m=None):
+    def __init__(self, rom: ModalROM, force_N, duration_s, *, name=None, length_m=None):
         self.rom = rom
         self.force_N = float(force_N)
         self.duration_s = require_finite_positive("duration_s (pulse length, s)", duration_s)
@@ -406,7 +406,7 @@ class ModalImpulseModel:
         return ImpulseResponse(history=pd.DataFrame({"time_s": t, "tip_uy_m": y}), summary=summary)
 
 
-def reduce_impulse_model(full, n_modes=6, alpha=0.0, fit_t_end_s=None, fit_n_outputs=400):
+def reduce_impulse_model(full, *, n_modes=6, alpha=0.0, fit_t_end_s=None, fit_n_outputs=400):
     """Reductor: the modal ROM of a full FE impulse model, with the same interface.
 
     Parameters
@@ -444,5 +444,5 @@ def reduce_impulse_model(full, n_modes=6, alpha=0.0, fit_t_end_s=None, fit_n_out
     rom = tip_modal_rom(model, n_modes=n_modes)
     if fit_t_end_s is not None:
         t, y = full.run(alpha, fit_t_end_s, fit_n_outputs).tip_signal()
-        rom = fit_to_response(rom, t, y, full.force_N, full.duration_s).rom
+        rom = fit_to_response(rom, t, y, force_N=full.force_N, duration_s=full.duration_s).rom
     return ModalImpulseModel(rom, full.force_N, full.duration_s, length_m=cantilever_length_m(model.mesh))

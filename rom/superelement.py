@@ -359,7 +359,7 @@ def fitting_segments(mesh: Mesh, n_max):
     return 1
 
 
-def reduce_segment(mesh: Mesh, material: NeoHookean, cuts: Cuts, a, b):
+def reduce_segment(mesh: Mesh, material: NeoHookean, cuts: Cuts, *, a, b):
     """Craig-Bampton (Guyan) reduction of the elements of ``mesh`` between stations a and b.
 
     The interfaces at stations a and b move as rigid sections in the y-z plane (module
@@ -395,7 +395,7 @@ def reduce_segment(mesh: Mesh, material: NeoHookean, cuts: Cuts, a, b):
     T_c = _section_transform(nodes, faces, a == 0, cuts.symmetric)
     K = (T_c.T @ tangent_stiffness(model) @ T_c).tocsc()
     M = (T_c.T @ sp.diags(np.repeat(model.mass, 3)) @ T_c).tocsc()
-    cb = craig_bampton(K, M, np.arange(K.shape[0]), np.arange(6), 0)
+    cb = craig_bampton(K, M, np.arange(K.shape[0]), boundary_dofs=np.arange(6), n_modes=0)
     return Segment(K_e=cb.K_r, M_e=cb.M_r, field=T_c @ cb.T, mesh=sub)
 
 
@@ -499,7 +499,7 @@ class StressZone:
 
 
 def _stress_zone(mesh, material, cuts, a, b):
-    seg = reduce_segment(mesh, material, cuts, a, b)
+    seg = reduce_segment(mesh, material, cuts, a=a, b=b)
     l0 = cuts.z[b] - cuts.z[a]
     return seg, StressZone(a=a, b=b, gradients=_gradient_modes(seg), stiffness=natural_stiffness(seg.K_e, l0))
 
@@ -754,7 +754,7 @@ class StressRecovery:
     gradients: np.ndarray
     material: NeoHookean
 
-    def deformations(self, P, TH, station_z_m, nonlinear=True):
+    def deformations(self, P, TH, station_z_m, *, nonlinear=True):
         """Natural deformations of every zone's chord from station states.
 
         ``e = [l - l0, theta_a - psi, theta_b - psi]`` of the chord from station a to b

@@ -195,7 +195,7 @@ def _hint(section, key):
     return f" (did you mean {near[0]}? units are part of the key)" if near else ""
 
 
-def check_value(section, key, value, name=None):
+def check_value(section, key, value, *, name=None):
     """Check one value against :data:`SCHEMA` (the TOML file's rule, for any source).
 
     Parameters

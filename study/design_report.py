@@ -35,7 +35,7 @@ def _label(name):
     return LABELS.get(name, f"{name} [{UNITS.get(name, '-')}]")
 
 
-def feasible_region_figure(problem, optimum, front=(), checked=(), n=120):
+def feasible_region_figure(problem, optimum, *, front=(), checked=(), n=120):
     """The plane of the design variables (alpha [1/s] and L [in] or drum speed [rpm]):
     objective contours, each requirement's boundary.
 
@@ -92,7 +92,7 @@ def feasible_region_figure(problem, optimum, front=(), checked=(), n=120):
     return fig
 
 
-def pareto_figure(problem, front, second, optimum=None, limit=None):
+def pareto_figure(problem, front, second, *, optimum=None, limit=None):
     """The objective against ``second`` along the front, coloured by alpha.
 
     Parameters

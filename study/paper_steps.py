@@ -111,11 +111,11 @@ def _mesh_model(name, length_in, alpha, force_N, duration_s, t_end_s, material, 
     summary, :func:`_mesh_run`), or the detailed model's comparison ("DM", its summary,
     :func:`dm_comparison`, which writes its own files in ``out``)."""
     if name == "DM":
-        return dm_comparison(out, alpha, force_N, duration_s, material)
+        return dm_comparison(out, alpha=alpha, force_N=force_N, duration_s=duration_s, material=material)
     return _mesh_run(name, length_in, alpha, force_N, duration_s, t_end_s, material, semi_axes_m)
 
 
-def mesh_comparison(out, length_in, alpha, force_N, duration_s, t_end_s, scheduler, material, semi_axes_m,
+def mesh_comparison(out, *, length_in, alpha, force_N, duration_s, t_end_s, scheduler, material, semi_axes_m,
                     detailed_model=True):
     """Fig. 6 analogue: tip response and max von Mises stress of SM-A and SM-B (``material``,
     section semi-axes ``semi_axes_m`` [m]) under the same impulse at one alpha. Writes
@@ -130,7 +130,7 @@ def mesh_comparison(out, length_in, alpha, force_N, duration_s, t_end_s, schedul
                   t_end_s=t_end_s, material=material, semi_axes_m=semi_axes_m, out=out)
     detailed = detailed_model and is_paper_finger(length_in, material, semi_axes_m)
     names = (["DM"] if detailed else []) + ["SM-B", "SM-A"]     # longest first: a cluster starts them in order
-    results = dict(zip(names, map_runs(run, names, scheduler, label="/".join(names))))
+    results = dict(zip(names, map_runs(run, names, scheduler=scheduler, label="/".join(names))))
     runs = [results["SM-A"], results["SM-B"]]
     history = pd.concat([h for h, _ in runs], ignore_index=True)
     write_csv(out / "mesh_comparison.csv", history)
@@ -154,7 +154,7 @@ def mesh_comparison(out, length_in, alpha, force_N, duration_s, t_end_s, schedul
     return summary
 
 
-def dm_comparison(out, alpha, force_N, duration_s, material, t_end_s=0.2):
+def dm_comparison(out, *, alpha, force_N, duration_s, material, t_end_s=0.2):
     """Fig. 6 with the detailed model: SM-A and the DM (2.8 mm,
     :func:`ccedi.fea.mesh.gmsh_fingers.detailed_model`) on their modal ROMs at ``alpha`` [1/s],
     and the DM's alpha whose response is nearest SM-A's

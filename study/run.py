@@ -97,7 +97,7 @@ def steps(cfg, out, scheduler):
     return [
         ("finger", "the finger: stable step, stiffness, first frequency", lambda: write_finger(
             cfg, out / "finger.json", stiffness=s["table1_stiffness"])),
-        ("table1", "paper Table 1", lambda: write_table1(cfg, f["impulse_length_in"], out / "table1.json",
+        ("table1", "paper Table 1", lambda: write_table1(cfg, f["impulse_length_in"], json_path=out / "table1.json",
                                                          stiffness=s["table1_stiffness"], detailed=s["detailed_model"],
                                                          detailed_stiffness=False)),
         ("steel_rod", "steel rod alpha_cr (Figs. 3, 4)", lambda: paper_steps.steel_rod(out / "steel_rod")),
@@ -105,16 +105,16 @@ def steps(cfg, out, scheduler):
             cfg, s["impulse_alphas_per_s"], out / "impulse", t_end_s=s["impulse_t_end_s"], scheduler=scheduler,
             **impulse)),
         ("mesh", "SM-A vs SM-B and the DM (Fig. 6)", lambda: paper_steps.mesh_comparison(
-            out / "mesh", f["impulse_length_in"], s["mesh_comparison_alpha_per_s"], s["impulse_force_N"],
-            s["impulse_duration_s"], s["mesh_comparison_t_end_s"], scheduler, material, semi_axes,
-            detailed_model=s["detailed_model"])),
+            out / "mesh", length_in=f["impulse_length_in"], alpha=s["mesh_comparison_alpha_per_s"],
+            force_N=s["impulse_force_N"], duration_s=s["impulse_duration_s"], t_end_s=s["mesh_comparison_t_end_s"],
+            scheduler=scheduler, material=material, semi_axes_m=semi_axes, detailed_model=s["detailed_model"])),
         ("damping_fits", "alpha_cr over lengths (Fig. 8)", lambda: write_damping_fits(
             cfg, s["identification_lengths_in"], out / "damping_fits", scheduler=scheduler)),
         ("contact", "drum contact sweep (Figs. 10, 13, 14)", lambda: write_contact_sweep(
             contact_setup(cfg), s["contact_alphas_per_s"], out / "contact", damping=contact_damping,
             t_end_s=s["contact_t_end_s"], scheduler=scheduler)),
         ("design", "design optimisation and FEA re-check, with the declared and the calibrated inputs",
-         lambda: write_designs(cfg, design, s["design_calibration_record"], out / "design", scheduler)),
+         lambda: write_designs(cfg, design, s["design_calibration_record"], out=out / "design", scheduler=scheduler)),
         ("calibrate", "close the loop on measured records", lambda: calibrate_records(records, out / "calibrate")),
     ]
 
@@ -263,7 +263,7 @@ def _check_records(records, key="measured_records"):
             raise InputError(f"[study] {key}: {err}") from None
 
 
-def run_study(cfg, out, scheduler=None, quick=False, only=None):
+def run_study(cfg, out, *, scheduler=None, quick=False, only=None):
     """Run the study's steps (:func:`wanted_steps`) and write ``out/index.html``.
     Serial: one step after another in this process. Otherwise every step is a task on the
     Dask cluster, longest first, and its runs are mapped over the same cluster. Returns

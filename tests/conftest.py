@@ -32,7 +32,7 @@ def euler_bernoulli():
     """Analytic tip stiffness [N/m] and first frequency [rad/s] of the 4.5-in finger."""
     area, inertia = ellipse_section_properties()
     return {"k_tip": tip_stiffness_eb(RUBBER.E, LENGTH_M, inertia),
-            "omega1": cantilever_frequencies(RUBBER.E, RUBBER.rho, LENGTH_M, area, inertia)[0]}
+            "omega1": cantilever_frequencies(RUBBER.E, RUBBER.rho, LENGTH_M, area=area, second_moment=inertia)[0]}
 
 
 ROD_ELEMENTS = 25
@@ -58,7 +58,7 @@ def converged_box_hex():
     from ccedi.fea.model import cantilever_model
     from ccedi.fea.solvers.static import tip_deflection
 
-    model = cantilever_model(box_cantilever(*BOX, 12, 8, 60), NeoHookean(6.1e6, 0.499, 1000.0))
+    model = cantilever_model(box_cantilever(*BOX, nx=12, ny=8, nz=60), NeoHookean(6.1e6, 0.499, 1000.0))
     return 0.01 / tip_deflection(model, 0.01, linear=True)
 
 
@@ -72,7 +72,8 @@ def hex_forces(model, x, v=None, kernel=internal_forces_numpy):
     f = np.zeros_like(x)
     v = np.zeros_like(x) if v is None else v
     if kernel is internal_forces_numpy:
-        out = kernel(x, v, model.mesh.hexes, g.b, g.volume, g.gamma, model.kappa, model.hex_length_factor, *mat, f)
+        out = kernel(x, v, model.mesh.hexes, b=g.b, volume=g.volume, gamma=g.gamma, kappa=model.kappa,
+                     length_factor=model.hex_length_factor, mu=mat.mu, lam=mat.lam, rho=mat.rho, c=mat.c, f=f)
     else:
         out = kernel(x, v, model.hexahedra, mat, f)
     return f, out

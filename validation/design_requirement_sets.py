@@ -41,7 +41,7 @@ def main():
         grid = "fast" if "drum" in inputs else "default"          # the same drum, the same ROM grid
         out = CACHE / grid
         result = write_design(contact_setup(cfg), replace(options_from(cfg), fea_check_designs=1),
-                              CACHE / f"{name}.json", out, scheduler="serial")
+                              json_path=CACHE / f"{name}.json", out=out, scheduler="serial")
         check = result["fea_check"][0]
         figures[name] = {"inputs": inputs, "alpha_per_s": result["optimum"]["alpha_per_s"],
                          "length_in": result["optimum"]["length_in"], "binding": result["binding"],

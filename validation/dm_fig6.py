@@ -65,7 +65,7 @@ def main():
     res = full.run(ALPHA, args.t_end_s, N_OUTPUTS)
     t, y_fe = res.tip_signal()
     y_rom = rom.run(ALPHA, args.t_end_s, N_OUTPUTS).tip_signal()[1]
-    fitted = fit_to_response(rom.rom, t, y_fe, full.force_N, full.duration_s)
+    fitted = fit_to_response(rom.rom, t, y_fe, force_N=full.force_N, duration_s=full.duration_s)
     fig.update({"fe_wall_s": round(res.summary["wall_time_s"], 1), "fe_steps": res.summary["steps"],
                 "fe_ns_per_element_cycle": round(res.summary["ns_per_element_cycle"], 1),
                 "fe_peak_tip_uy_m": float(y_fe.max()),
@@ -76,7 +76,7 @@ def main():
     sm = finger_impulse_model(mesh=sm_a(length_in=4.5)).run(ALPHA, 0.2, N_OUTPUTS)
     t_sm, y_sm = sm.tip_signal()
     fitted_model = ModalImpulseModel(fitted.rom, full.force_N, full.duration_s)
-    match = match_alpha(fitted_model, t_sm, y_sm, (100.0, 600.0), t_end_s=0.2, n_outputs=N_OUTPUTS)
+    match = match_alpha(fitted_model, t_sm, y_sm, bounds_per_s=(100.0, 600.0), t_end_s=0.2, n_outputs=N_OUTPUTS)
     cmp = detailed_model_comparison(mesh)
     fig.update({"sm_a_fe_peak_tip_uy_m": float(y_sm.max()),
                 "sm_a_fe_peak_von_mises_Pa": float(sm.history.max_von_mises_Pa.max()),

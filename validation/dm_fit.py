@@ -71,7 +71,8 @@ def main():
     ratio = args.nonlinear_ratio
     if ratio is None:
         t0 = time.perf_counter()
-        mesh = detailed_model(1e-3 * args.ratio_size_mm, r0, rib_thickness_for_volume(DM_TABLE1["volume_m3"], r0))
+        mesh = detailed_model(1e-3 * args.ratio_size_mm, cone_radius_m=r0,
+                              rib_thickness_m=rib_thickness_for_volume(DM_TABLE1["volume_m3"], r0))
         k_lin = linear_stiffness(mesh)
         k_nl = tip_stiffness(cantilever_model(mesh, RUBBER))
         ratio = k_nl / k_lin

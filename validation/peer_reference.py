@@ -48,7 +48,7 @@ def measure(label, mesh, hex_element=None, series=None, refinement=1.0):
     """One CalculiX run: linear tip stiffness and f1, with sizes and wall time; ``series``
     and ``refinement`` place it in a refinement sequence (:func:`richardson`)."""
     t0 = time.perf_counter()
-    r = run_calculix(mesh, RUBBER, 1.0, 1, N_MODES, hex_element or "C3D20R")
+    r = run_calculix(mesh, RUBBER, force_N=1.0, direction=1, n_modes=N_MODES, hex_element=hex_element or "C3D20R")
     row = {"model": label, "element": r.element_type, "series": f"{series or label} {r.element_type}",
            "refinement": round(refinement, 4), "nodes": r.n_nodes, "elements": r.n_elements,
            "dofs": 3 * r.n_nodes, "stiffness_N_per_m": round(r.stiffness_N_per_m, 4),

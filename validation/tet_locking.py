@@ -37,7 +37,7 @@ FORCE_N = 0.01
 
 def _mesh(kind, divisions):
     """The BOX mesh with ``divisions`` x (3, 2, 15) hexahedra (4 mm / divisions), as kind."""
-    hexes = box_cantilever(*BOX, 3 * divisions, 2 * divisions, 15 * divisions)
+    hexes = box_cantilever(*BOX, nx=3 * divisions, ny=2 * divisions, nz=15 * divisions)
     if kind == "hex8":
         return hexes
     tets = split_hexes(hexes)

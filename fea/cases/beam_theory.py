@@ -69,7 +69,7 @@ def tip_stiffness_eb(E, length_m, second_moment):
     return 3.0 * E * second_moment / length_m**3
 
 
-def cantilever_frequencies(E, rho, length_m, area, second_moment, n_modes=1):
+def cantilever_frequencies(E, rho, length_m, *, area, second_moment, n_modes=1):
     """The first ``n_modes`` clamped-free Euler-Bernoulli bending frequencies.
 
     ::
@@ -107,7 +107,7 @@ def cantilever_frequencies(E, rho, length_m, area, second_moment, n_modes=1):
     return np.array(CANTILEVER_BETA_L[:n_modes])**2 * root
 
 
-def drum_drag_tip_deflection(alpha, rho, area, omega, drum_radius_m, length_m, E, second_moment):
+def drum_drag_tip_deflection(alpha, rho, area, *, omega, drum_radius_m, length_m, E, second_moment):
     """Steady tip deflection of a cantilever standing radially on a turning drum.
 
     Under global mass damping alpha the drag per unit length is

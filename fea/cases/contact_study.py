@@ -39,7 +39,7 @@ def _contact_case(alpha, setup, damping, t_end_s, n_outputs, progress):
     return s, h, shape
 
 
-def sweep(setup: DrumSetup, alphas=PAPER_ALPHAS, damping="global", t_end_s=1.5, n_outputs=300, progress=False,
+def sweep(setup: DrumSetup, *, alphas=PAPER_ALPHAS, damping="global", t_end_s=1.5, n_outputs=300, progress=False,
           scheduler="serial"):
     """Run every alpha, mapped through :func:`ccedi.distributed.map_runs` (``scheduler``).
     Returns (long history DataFrame with an alpha_per_s column, summaries DataFrame,
@@ -71,7 +71,7 @@ def sweep(setup: DrumSetup, alphas=PAPER_ALPHAS, damping="global", t_end_s=1.5, 
     """
     case = partial(_contact_case, setup=setup, damping=damping, t_end_s=t_end_s, n_outputs=n_outputs,
                    progress=progress and scheduler == "serial")
-    runs = map_runs(case, alphas, scheduler, label="contact runs")
+    runs = map_runs(case, alphas, scheduler=scheduler, label="contact runs")
     shapes = {float(a): shape for a, (_, _, shape) in zip(alphas, runs) if shape is not None}
     table = pd.DataFrame([{k: (WARNING_SEPARATOR.join(v) if k == "warnings" else str(v) if isinstance(v, list) else v)
                            for k, v in r.items()} for r, _, _ in runs])
@@ -236,7 +236,7 @@ def _summary_lines(table, paper):
     return lines
 
 
-def contact_report(setup: DrumSetup, global_table, global_history, relative_table=None, relative_history=None):
+def contact_report(setup: DrumSetup, global_table, global_history, *, relative_table=None, relative_history=None):
     """Markdown of a contact sweep: the global-damping sweep against the paper (section
     3.4) and against relative damping, or the relative-damping sweep alone. Tables are the
     summaries of :func:`sweep`; histories the long frames.

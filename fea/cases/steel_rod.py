@@ -23,7 +23,7 @@ PAPER_ROD = {"omega1_rad_s": 16.33, "zeta": 0.0055, "alpha_cr_per_s": 30.0, "alp
 """The paper's published values for the steel rod."""
 
 
-def steel_rod_model(alpha=0.0, n_elements=STEEL_ROD["n_elements"], tip_mass_kg=STEEL_ROD["tip_mass_kg"],
+def steel_rod_model(alpha=0.0, *, n_elements=STEEL_ROD["n_elements"], tip_mass_kg=STEEL_ROD["tip_mass_kg"],
                     force_N=STEEL_ROD["force_N"], duration_s=STEEL_ROD["duration_s"]):
     """Clamped steel rod with tip mass and tip impulse (force along +y), as a fea Model.
 
@@ -58,7 +58,7 @@ def steel_rod_model(alpha=0.0, n_elements=STEEL_ROD["n_elements"], tip_mass_kg=S
                  rods=(rod,), point_masses=point_masses)
 
 
-def steel_rod_impulse_model(n_elements=STEEL_ROD["n_elements"], tip_mass_kg=STEEL_ROD["tip_mass_kg"],
+def steel_rod_impulse_model(n_elements=STEEL_ROD["n_elements"], *, tip_mass_kg=STEEL_ROD["tip_mass_kg"],
                             force_N=STEEL_ROD["force_N"], duration_s=STEEL_ROD["duration_s"]):
     """The steel rod's impulse test as a :class:`ccedi.models.ImpulseModel`.
 

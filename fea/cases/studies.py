@@ -52,7 +52,7 @@ def is_paper_finger(length_in, material, semi_axes_m):
     return length_in == 4.5 and material == RUBBER and tuple(semi_axes_m) == SEMI_AXES
 
 
-def table1_row(mesh, material, stiffness=True, omega1=False):
+def table1_row(mesh, material, *, stiffness=True, omega1=False):
     """One row of Table 1 for a clamped finger mesh (node sets ``root`` and ``tip``).
 
     Parameters
@@ -84,11 +84,11 @@ def table1_row(mesh, material, stiffness=True, omega1=False):
     if stiffness:
         row["stiffness_N_per_m"] = tip_stiffness(model, (1.0, 2.0))
     if omega1:
-        row["omega1_rad_s"] = float(natural_frequencies(model, 1)[0])
+        row["omega1_rad_s"] = float(natural_frequencies(model, n_modes=1)[0])
     return row
 
 
-def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES, finger=None, detailed=False,
+def table1(length_in=4.5, *, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES, finger=None, detailed=False,
            detailed_stiffness=None, detailed_omega1=True, progress=None):
     """Table 1 of the paper for SM-A, SM-B (hexahedra) and SM-C (10-node tetrahedra,
     :func:`ccedi.fea.mesh.gmsh_fingers.sm_c`) with section semi-axes ``semi_axes_m`` [m] (the
@@ -138,7 +138,7 @@ def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES
                                             ("first frequency (modal solve)", omega1)) if wanted]
         say(f"{name}: {mesh.n_nodes} nodes, {mesh.n_elements} {mesh.element_type} elements"
             + (f"; {' and '.join(solves)}" if solves else ""))
-        return table1_row(mesh, material, solve_stiffness, omega1=omega1)
+        return table1_row(mesh, material, stiffness=solve_stiffness, omega1=omega1)
 
     out = {name: row(name, mesh, stiffness) for name, mesh in meshes.items()}
     if detailed:
@@ -152,7 +152,7 @@ def table1(length_in=4.5, material=RUBBER, stiffness=True, semi_axes_m=SEMI_AXES
     return out
 
 
-def impulse_model(length_in=4.5, alpha=180.0, force_N=1.0, duration_s=0.01, material=RUBBER, beta=0.0,
+def impulse_model(length_in=4.5, *, alpha=180.0, force_N=1.0, duration_s=0.01, material=RUBBER, beta=0.0,
                   mesh=None, semi_axes_m=SEMI_AXES):
     """A clamped SM-A finger (section semi-axes ``semi_axes_m`` [m]; or ``mesh``) loaded by a
     tip force ``force_N`` [N] in the soft direction (+y) held for ``duration_s`` [s]: the
@@ -233,7 +233,7 @@ class FullImpulseModel:
     name : str, optional
         The ``model`` summary key.
     """
-    def __init__(self, model_factory, force_N=None, duration_s=None, name="fea"):
+    def __init__(self, model_factory, *, force_N=None, duration_s=None, name="fea"):
         self.model_factory = model_factory
         self.force_N = force_N
         self.duration_s = duration_s
@@ -287,7 +287,7 @@ class FullImpulseModel:
                                summary={"model": self.name, "alpha_per_s": alpha, **res.summary})
 
 
-def finger_impulse_model(length_in=4.5, force_N=1.0, duration_s=0.01, material=RUBBER, beta=0.0, mesh=None,
+def finger_impulse_model(length_in=4.5, *, force_N=1.0, duration_s=0.01, material=RUBBER, beta=0.0, mesh=None,
                          semi_axes_m=SEMI_AXES):
     """The paper's impulse test of the clamped SM-A finger as a :class:`FullImpulseModel`.
 
@@ -334,7 +334,7 @@ def _impulse_run(alpha, finger, t_end_s, n_outputs):
     return h, res.summary
 
 
-def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), scheduler="serial", t_end_s=0.2, n_outputs=400,
+def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), *, scheduler="serial", t_end_s=0.2, n_outputs=400,
                   **finger):
     """Fig. 7 analogue: tip responses for several alpha [1/s], one run of
     :func:`finger_impulse_model` per alpha mapped through
@@ -361,6 +361,6 @@ def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), scheduler="serial",
     tuple
         (history DataFrame, list of summaries).
     """
-    runs = map_runs(partial(_impulse_run, finger=finger, t_end_s=t_end_s, n_outputs=n_outputs), alphas, scheduler,
+    runs = map_runs(partial(_impulse_run, finger=finger, t_end_s=t_end_s, n_outputs=n_outputs), alphas, scheduler=scheduler,
                     label="impulse runs")
     return pd.concat([h for h, _ in runs], ignore_index=True), [s for _, s in runs]

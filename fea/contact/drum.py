@@ -324,7 +324,8 @@ def finger_mesh(setup: DrumSetup):
         return setup.finger
     L = setup.finger_length_m
     n_along = setup.finger_elements_along or sm_a_elements_along(L)
-    return elliptical_cantilever(L, setup.finger_section_elements, n_along, *setup.finger_semi_axes_m,
+    a, b = setup.finger_semi_axes_m
+    return elliptical_cantilever(L, setup.finger_section_elements, n_along, a=a, b=b,
                                  root_refinement=SM_A_ROOT_REFINEMENT)
 
 
@@ -435,7 +436,7 @@ class ObjectStress:
         return max_von_mises_of(F, mat.mu, mat.lam)
 
 
-def contact_run(setup: DrumSetup, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False,
+def contact_run(setup: DrumSetup, alpha, *, damping="global", t_end_s=1.5, n_outputs=300, progress=False,
                 snapshot_every=0, object_stress=True, threads=None):
     """Run the finger over the object (the solver-level form of :class:`FullContactModel`).
 
@@ -595,7 +596,7 @@ class FullContactModel:
         self.setup = setup
         self.object_stress = object_stress
 
-    def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
+    def run(self, alpha, *, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
         """Run the finger over the object (:func:`contact_run`).
 
         Parameters
@@ -624,7 +625,7 @@ class FullContactModel:
         SolverError
             The explicit solver cannot continue.
         """
-        alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs, damping)
+        alpha, t_end_s, n_outputs = validate_run_args(alpha, t_end_s, n_outputs, damping=damping)
         result, model = contact_run(self.setup, alpha, damping=damping, t_end_s=t_end_s, n_outputs=n_outputs,
                                     progress=progress, object_stress=self.object_stress)
         summary = {"model": self.name, **contact_summary(self.setup, result, model)}
@@ -665,7 +666,7 @@ def first_contact_angle(setup: DrumSetup, samples=4000):
     raise InputError("the finger never reaches the object: check the drum radius, finger length and object")
 
 
-def calibrate_initial_angle(setup: DrumSetup, alpha=7.5, target_s=0.32, iterations=3, tol_s=0.004):
+def calibrate_initial_angle(setup: DrumSetup, *, alpha=7.5, target_s=0.32, iterations=3, tol_s=0.004):
     """theta0 [rad] such that the finger with ``alpha`` first touches the object at
     ``target_s``: start from the rigid-finger geometry, then correct by FE runs
     (theta0 += omega (t_contact - target)).

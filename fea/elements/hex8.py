@@ -234,7 +234,7 @@ def incompatible_modes_stiffness(X, mu, lam):
     return K[:, :24, :24] - K[:, :24, 24:] @ np.linalg.solve(K[:, 24:, 24:], K[:, 24:, :24])
 
 
-def hourglass_stiffness(nodes, hexes, mu, lam, q_hg=1.0, chunk=4096):
+def hourglass_stiffness(nodes, hexes, *, mu, lam, q_hg=1.0, chunk=4096):
     """Physical hourglass stiffness of every element, ``Q_hg H^T K_IM H / 64``.
 
     ``K_IM`` is the incompatible-modes stiffness (:func:`incompatible_modes_stiffness`)
@@ -321,7 +321,7 @@ def characteristic_length(x_e, volume):
     return volume / area.max(axis=1)
 
 
-def element_time_step(Le, wave_speed, strain_rate_vol, viscous_length=None):
+def element_time_step(Le, wave_speed, strain_rate_vol, *, viscous_length=None):
     """Critical time step of each element, paper Eq. (6).
 
     ::
@@ -357,7 +357,7 @@ def element_time_step(Le, wave_speed, strain_rate_vol, viscous_length=None):
     return Le / (Q + np.sqrt(Q * Q + wave_speed**2))
 
 
-def hourglass_displacements(x_e, gamma, kappa, Finv):
+def hourglass_displacements(x_e, gamma, kappa, *, Finv):
     """Pulled-back hourglass displacements and their generalised forces.
 
     ``qt_a = F^-1 sum_k gamma_ak x_k`` and ``Qt = K_hg qt`` (12-vectors, index
@@ -386,7 +386,7 @@ def hourglass_displacements(x_e, gamma, kappa, Finv):
     return qt, Qt
 
 
-def internal_forces_numpy(x, v, hexes, b, volume, gamma, kappa, length_factor, mu, lam, rho, c, f):
+def internal_forces_numpy(x, v, hexes, *, b, volume, gamma, kappa, length_factor, mu, lam, rho, c, f):
     """Internal forces of all elements, pure numpy; the reference for the numba kernel.
 
     Nodal force ``f_k = (P(F) - F^-T S / V0) b_k + sum_a gamma_ak F^-T Qt_a`` with the
@@ -448,7 +448,7 @@ def internal_forces_numpy(x, v, hexes, b, volume, gamma, kappa, length_factor, m
     e_v = np.einsum("eij,eji->e", Fdot, Finv)              # J'/J
     Le = length_factor * characteristic_length(x_e, J * volume)
     q_bv = np.where(e_v < 0.0, rho * Le * (BULK_VISCOSITY_C0 * Le * e_v**2 - BULK_VISCOSITY_C1 * c * e_v), 0.0)
-    qt, Qt = hourglass_displacements(x_e, gamma, kappa, Finv)
+    qt, Qt = hourglass_displacements(x_e, gamma, kappa, Finv=Finv)
     S = np.einsum("eai,eaj->eij", Qt, qt)
     FinvT = Finv.swapaxes(1, 2)
     P = (first_piola(F, mu, lam) - (q_bv * J)[:, None, None] * FinvT
@@ -504,7 +504,7 @@ def tangent_stiffness(x, hexes, geometry, *, kappa, material):
          + c1 * np.einsum("eli,ejm->eijml", Fi, Fi)
          + mat.lam * np.einsum("eji,elm->eijml", Fi, Fi))
     Ke = np.einsum("ekj,eijml,ebl->ekibm", g.b, A, g.b) / g.volume[:, None, None, None, None]
-    Ke += hourglass_tangent(x[hexes], g, kappa, Fi)
+    Ke += hourglass_tangent(x[hexes], g, kappa, Finv=Fi)
     dofs = (3 * hexes[:, :, None] + np.arange(3)[None, None, :]).reshape(len(hexes), 24)
     rows = np.repeat(dofs, 24, axis=1).ravel()
     cols = np.tile(dofs, (1, 24)).ravel()
@@ -512,7 +512,7 @@ def tangent_stiffness(x, hexes, geometry, *, kappa, material):
     return sp.csr_matrix((Ke.reshape(len(hexes), -1).ravel(), (rows, cols)), shape=(n, n))
 
 
-def hourglass_tangent(x_e, geometry, kappa, Finv):
+def hourglass_tangent(x_e, geometry, kappa, *, Finv):
     """Exact derivative of the hourglass nodal forces of :mod:`ccedi.fea.elements.hex8`.
 
     With ``qt_a = F^-1 q_a``, ``Qt = K_hg qt``, ``A_a = F^-T Qt_a``, ``T = F^-T S``,
@@ -541,7 +541,7 @@ def hourglass_tangent(x_e, geometry, kappa, Finv):
     """
     b, V, gamma = geometry.b, geometry.volume[:, None, None], geometry.gamma
     e = len(x_e)
-    qt, Qt = hourglass_displacements(x_e, gamma, kappa, Finv)
+    qt, Qt = hourglass_displacements(x_e, gamma, kappa, Finv=Finv)
     A = np.einsum("eji,eaj->eai", Finv, Qt)
     T = np.einsum("eji,ejn->ein", Finv, np.einsum("eai,eaj->eij", Qt, qt))
     Fb = np.einsum("eji,elj->eli", Finv, b) / V                          # F^-T b_l / V0

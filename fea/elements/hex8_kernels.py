@@ -111,7 +111,7 @@ element_out : (n_blocks, 29, BLOCK) ndarray
 """
 
 
-def hex_group(nodes, hexes, geometry, kappa, length_factor):
+def hex_group(nodes, hexes, geometry, *, kappa, length_factor):
     """Blocked hexahedron data for :func:`internal_forces_numba`.
 
     Parameters

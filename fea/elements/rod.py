@@ -424,7 +424,7 @@ def rod_max_stress(x, arrays: RodArrays):
     return float(sigma.max())
 
 
-def straight_rod(length_m, n_elements, section, direction=(0.0, 0.0, 1.0), ghost=True):
+def straight_rod(length_m, n_elements, section, *, direction=(0.0, 0.0, 1.0), ghost=True):
     """Nodes and the :class:`Rod` of a straight rod from the origin along ``direction``.
 
     Parameters

@@ -198,8 +198,9 @@ def tet10_group(nodes, tets, material):
     weight = det / 24.0
     volume = weight.sum(axis=1)
     element_mass = material.rho * volume[:, None] * hrz_fractions(X)
-    kappa = time_step_length_factors(nodes, tets, grad, weight, averaging_matrix(tets, len(nodes), nodal=False),
-                                     element_mass, material.mu, material.lam, material.wave_speed)
+    kappa = time_step_length_factors(nodes, tets, grad, weight=weight,
+                                     average=averaging_matrix(tets, len(nodes), nodal=False),
+                                     element_mass=element_mass, mu=material.mu, lam=material.lam, c=material.wave_speed)
     return Tet10Group(tets, grad, weight, volume, kappa, np.zeros((len(nodes), 3)))
 
 
@@ -287,8 +288,8 @@ def tangent_stiffness(x, group, material):
     scipy.sparse.csr_matrix
         K, shape (3 n, 3 n) [N/m].
     """
-    return averaged_tangent(x, group.tets, group.grad, group.weight,
-                            averaging_matrix(group.tets, len(x), nodal=False), material.mu, material.lam)
+    return averaged_tangent(x, group.tets, group.grad, weight=group.weight,
+                            average=averaging_matrix(group.tets, len(x), nodal=False), mu=material.mu, lam=material.lam)
 
 
 def internal_forces_numpy(x, v, group, material, f):
@@ -316,9 +317,10 @@ def internal_forces_numpy(x, v, group, material, f):
     """
     if len(group.tets) == 0:
         return np.inf, 0.0, 0.0, -1
-    return averaged_forces_numpy(x, v, group.tets, group.grad, group.weight,
-                                 averaging_matrix(group.tets, len(x), nodal=False), characteristic_length(x, group),
-                                 material.mu, material.lam, material.rho, material.c, f, group.bulk_force)
+    return averaged_forces_numpy(x, v, group.tets, grad=group.grad, weight=group.weight,
+                                 average=averaging_matrix(group.tets, len(x), nodal=False),
+                                 Le=characteristic_length(x, group), mu=material.mu, lam=material.lam,
+                                 rho=material.rho, c=material.c, f=f, bulk_force=group.bulk_force)
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)

@@ -110,7 +110,7 @@ bulk_force : (n_nodes, 3) ndarray
 """
 
 
-def tet4_group(nodes, tets, material, nodal_shear=NODAL_SHEAR_FRACTION):
+def tet4_group(nodes, tets, material, *, nodal_shear=NODAL_SHEAR_FRACTION):
     """Reference geometry and time-step length factors of 4-node tetrahedra.
 
     Parameters
@@ -156,8 +156,8 @@ def tet4_group(nodes, tets, material, nodal_shear=NODAL_SHEAR_FRACTION):
     if len(tets):
         element_mass = np.repeat((material.rho * volume / 4.0)[:, None], 4, axis=1)
         group.length_factor[:] = time_step_length_factors(
-            nodes, tets, grad[:, None], volume[:, None], average, element_mass, material.mu, material.lam,
-            material.wave_speed, tangent=tangent_stiffness(nodes, group, material))
+            nodes, tets, grad[:, None], weight=volume[:, None], average=average, element_mass=element_mass,
+            mu=material.mu, lam=material.lam, c=material.wave_speed, tangent=tangent_stiffness(nodes, group, material))
     return group
 
 
@@ -268,8 +268,9 @@ def tangent_stiffness(x, group, material):
         Naming the first element with J <= 0, or at a node with det Fbar <= 0.
     """
     n, alpha = len(x), group.nodal_shear
-    K = averaged_tangent(x, group.tets, group.grad[:, None], group.volume[:, None],
-                         averaging_matrix(group.tets, n, nodal=True), (1.0 - alpha) * material.mu, material.lam)
+    K = averaged_tangent(x, group.tets, group.grad[:, None], weight=group.volume[:, None],
+                         average=averaging_matrix(group.tets, n, nodal=True), mu=(1.0 - alpha) * material.mu,
+                         lam=material.lam)
     if alpha == 0.0 or len(group.tets) == 0:
         return K
     B = smoothing_operator(group, n)
@@ -322,9 +323,10 @@ def internal_forces_numpy(x, v, group, material, f):
         return 0.0, 0.0, 0.0, _first_element_at(tets, Jb <= 0.0)
     h = min_altitude(x[tets])
     dt, energy, power, status = averaged_forces_numpy(
-        x, v, tets, group.grad[:, None], group.volume[:, None], averaging_matrix(tets, len(x), nodal=True),
-        group.length_factor * h, (1.0 - alpha) * material.mu, material.lam, material.rho, material.c, f,
-        group.bulk_force, viscous_length=h)
+        x, v, tets, grad=group.grad[:, None], weight=group.volume[:, None],
+        average=averaging_matrix(tets, len(x), nodal=True), Le=group.length_factor * h,
+        mu=(1.0 - alpha) * material.mu, lam=material.lam, rho=material.rho, c=material.c, f=f,
+        bulk_force=group.bulk_force, viscous_length=h)
     P = alpha * material.mu * (Fb - np.linalg.inv(Fb).swapaxes(1, 2))
     np.add.at(f, tets, np.einsum("e,eij,ekj->eki", group.volume, P[tets].mean(axis=1), group.grad))
     energy += alpha * float(group.node_volume @ strain_energy_density(Fb, material.mu, 0.0))

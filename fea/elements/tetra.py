@@ -177,7 +177,7 @@ def averaging_matrix(conn, n_nodes, nodal):
                          shape=(n_nodes, e))
 
 
-def averaged_forces_numpy(x, v, conn, grad, weight, average, Le, mu, lam, rho, c, f, bulk_force,
+def averaged_forces_numpy(x, v, conn, *, grad, weight, average, Le, mu, lam, rho, c, f, bulk_force,
                           viscous_length=None):
     """Internal forces of averaged-volume tetrahedra, pure numpy; the reference of the
     compiled tetrahedron kernels.
@@ -252,7 +252,7 @@ def averaged_forces_numpy(x, v, conn, grad, weight, average, Le, mu, lam, rho, c
     np.add.at(bulk_force, conn, np.einsum("eg,egij,egkj->eki", weight, (-q[:, None] * J)[..., None, None] * FinvT, grad))
     w_dev = np.sum(weight * strain_energy_density(F, mu, 0.0))
     strain_energy = float(w_dev + np.sum(ref * 0.5 * lam * np.log(Jbar) ** 2))
-    dt_min = float(element_time_step(Le, c, e_v, h).min())
+    dt_min = float(element_time_step(Le, c, e_v, viscous_length=h).min())
     return dt_min, strain_energy, float(np.sum(-q * e_v * vol)), -1
 
 
@@ -439,7 +439,7 @@ def add_point_forces(f, conn, grad_eg, e, w, F, G, J, mu, p):
     return w * (0.5 * mu * (I1 - 3.0) - mu * np.log(J))
 
 
-def averaged_tangent(x, conn, grad, weight, average, mu, lam):
+def averaged_tangent(x, conn, grad, *, weight, average, mu, lam):
     """Consistent tangent stiffness d f / d x of averaged-volume tetrahedra (no bulk viscosity).
 
     With the point part's elasticity tensor ``A_ijmL = mu d_im d_jL + mu Finv_Li Finv_jm``
@@ -514,7 +514,7 @@ def averaged_tangent(x, conn, grad, weight, average, mu, lam):
     return (K + G.T @ sp.diags(lam * (1.0 - lnJ) / (Jbar**2 * ref)) @ G).tocsr()
 
 
-def reference_element_stiffness(grad, weight, mu, lam):
+def reference_element_stiffness(grad, weight, *, mu, lam):
     """Stiffness of each element alone at the reference state (F = I), with the element's
     own, un-averaged volumetric term.
 
@@ -583,7 +583,7 @@ def largest_frequency(K, m):
     return float(np.sqrt(theta[0] + np.linalg.norm(A @ y[:, 0] - theta[0] * y[:, 0])))
 
 
-def time_step_length_factors(nodes, conn, grad, weight, average, element_mass, mu, lam, c, tangent=None):
+def time_step_length_factors(nodes, conn, grad, *, weight, average, element_mass, mu, lam, c, tangent=None):
     """Per-element factors kappa_e of the characteristic length ``Le = kappa_e h_e``
     (h the current minimum altitude of the corner tetrahedron) of paper Eq. (6).
 
@@ -634,12 +634,12 @@ def time_step_length_factors(nodes, conn, grad, weight, average, element_mass, m
     if len(conn) == 0:
         return np.zeros(0)
     s = 1.0 / np.sqrt(np.repeat(element_mass, 3, axis=1))
-    Ke = reference_element_stiffness(grad, weight, mu, lam)
+    Ke = reference_element_stiffness(grad, weight, mu=mu, lam=lam)
     omega_e = np.sqrt(np.linalg.eigvalsh(s[:, :, None] * Ke * s[:, None, :])[:, -1])
     m = np.zeros(len(nodes))
     np.add.at(m, conn, element_mass)
     if tangent is None:
-        tangent = averaged_tangent(nodes, conn, grad, weight, average, mu, lam)
+        tangent = averaged_tangent(nodes, conn, grad, weight=weight, average=average, mu=mu, lam=lam)
     omega_max = largest_frequency(tangent, m)
     scale = max(1.0, omega_e.max() / omega_max) if omega_max > 0.0 else 1.0
     return scale * c * (2.0 / omega_e) / min_altitude(nodes[conn[:, :4]])

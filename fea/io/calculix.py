@@ -395,7 +395,7 @@ def _element_lines(first_id, cells):
     return lines
 
 
-def calculix_deck(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_element="C3D20R",
+def calculix_deck(mesh, material, *, force_N=1.0, direction=1, n_modes=0, hex_element="C3D20R",
                   weights=None, clamp="root", tip="tip", store_matrices=False):
     """A CalculiX input deck of a clamped finger: a linear tip-load step and/or a frequency step.
 
@@ -491,7 +491,7 @@ def _model_lines(blocks, material, clamp, tip):
                     "*BOUNDARY", "ROOT, 1, 3"]
 
 
-def calculix_impulse_deck(mesh, material, alpha, force_N=1.0, duration_s=0.01, t_end_s=0.2, output_every=100,
+def calculix_impulse_deck(mesh, material, alpha, *, force_N=1.0, duration_s=0.01, t_end_s=0.2, output_every=100,
                           hex_element="C3D8R", direction=1):
     """A CalculiX explicit dynamic deck of the paper's impulse test on a clamped finger.
 
@@ -560,7 +560,7 @@ def calculix_impulse_deck(mesh, material, alpha, force_N=1.0, duration_s=0.01, t
     return CalculixDeck("\n".join(lines) + "\n", ids, weights, len(blocks.nodes), tuple(blocks.cells))
 
 
-def parse_tip_history(dat_text, ids, weights, direction=1):
+def parse_tip_history(dat_text, ids, weights, *, direction=1):
     """Every *NODE PRINT block of U in a CalculiX ``.dat`` file, as the weighted tip
     displacement ``sum_i w_i u_i`` along ``direction`` over time.
 
@@ -712,7 +712,7 @@ def ccx_version(executable="ccx"):
     return match.group(1)
 
 
-def run_ccx(deck, executable="ccx", threads=1, keep_dir=None, read=("dat",)):
+def run_ccx(deck, *, executable="ccx", threads=1, keep_dir=None, read=("dat",)):
     """Run CalculiX on a deck in a temporary directory and return its ``.dat`` output.
 
     Parameters
@@ -764,7 +764,7 @@ def run_ccx(deck, executable="ccx", threads=1, keep_dir=None, read=("dat",)):
         return {ext: (work / f"job.{ext}").read_text() for ext in read}, wall
 
 
-def run_calculix(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_element="C3D20R",
+def run_calculix(mesh, material, *, force_N=1.0, direction=1, n_modes=0, hex_element="C3D20R",
                  weights=None, executable="ccx", threads=1, keep_dir=None):
     """Linear tip stiffness and natural frequencies of a clamped finger by CalculiX.
 
@@ -808,8 +808,9 @@ def run_calculix(mesh, material, force_N=1.0, direction=1, n_modes=0, hex_elemen
     SolverError
         If ``ccx`` is missing or fails.
     """
-    deck = calculix_deck(mesh, material, force_N, direction, n_modes, hex_element, weights)
-    outputs, wall = run_ccx(deck.text, executable, threads, keep_dir)
+    deck = calculix_deck(mesh, material, force_N=force_N, direction=direction, n_modes=n_modes,
+                         hex_element=hex_element, weights=weights)
+    outputs, wall = run_ccx(deck.text, executable=executable, threads=threads, keep_dir=keep_dir)
     dat = outputs["dat"]
     delta = stiffness = float("nan")
     if force_N is not None:
@@ -856,7 +857,7 @@ def _symmetric_from_upper(text, size):
                          shape=(size, size)).tocsr()
 
 
-def calculix_matrices(mesh, material, hex_element="C3D20R", executable="ccx", threads=1):
+def calculix_matrices(mesh, material, *, hex_element="C3D20R", executable="ccx", threads=1):
     """The stiffness and consistent mass matrices CalculiX assembles for the clamped mesh.
 
     Runs a ``*FREQUENCY, SOLVER=MATRIXSTORAGE`` step (:func:`calculix_deck` with
@@ -888,8 +889,9 @@ def calculix_matrices(mesh, material, hex_element="C3D20R", executable="ccx", th
     SolverError
         If ``ccx`` is missing or fails.
     """
-    deck = calculix_deck(mesh, material, None, 1, 1, hex_element, store_matrices=True)
-    outputs, _ = run_ccx(deck.text, executable, threads, read=("sti", "mas", "dof"))
+    deck = calculix_deck(mesh, material, force_N=None, direction=1, n_modes=1, hex_element=hex_element,
+                         store_matrices=True)
+    outputs, _ = run_ccx(deck.text, executable=executable, threads=threads, read=("sti", "mas", "dof"))
     node_dir = np.array([line.split(".") for line in outputs["dof"].split()], dtype=np.int64) - 1
     m = len(node_dir)
     return CalculixMatrices(stiffness=_symmetric_from_upper(outputs["sti"], m),

@@ -363,7 +363,7 @@ def _drum(model, lcid, first_node, first_element, t_end_s):
     return lines
 
 
-def keyword_lines(model, t_end_s, title="ccedi model", output_dt_s=None, plot_dt_s=None):
+def keyword_lines(model, t_end_s, *, title="ccedi model", output_dt_s=None, plot_dt_s=None):
     """The LS-DYNA keyword deck of ``model`` as a list of lines (cards in the module docstring).
 
     Every value is checked before a line is built, so a refused model writes nothing.
@@ -446,7 +446,7 @@ def keyword_lines(model, t_end_s, title="ccedi model", output_dt_s=None, plot_dt
     return lines
 
 
-def write_keyword(model, path, t_end_s, title="ccedi model", output_dt_s=None, plot_dt_s=None):
+def write_keyword(model, path, t_end_s, *, title="ccedi model", output_dt_s=None, plot_dt_s=None):
     """Write the LS-DYNA deck of ``model`` to ``path``, atomically; nothing is written when
     the model or a value is refused.
 
@@ -475,7 +475,8 @@ def write_keyword(model, path, t_end_s, title="ccedi model", output_dt_s=None, p
     InputError
         If the model or a value cannot be exported (see :func:`keyword_lines`).
     """
-    return write_text(path, "\n".join(keyword_lines(model, t_end_s, title, output_dt_s, plot_dt_s)) + "\n")
+    lines = keyword_lines(model, t_end_s, title=title, output_dt_s=output_dt_s, plot_dt_s=plot_dt_s)
+    return write_text(path, "\n".join(lines) + "\n")
 
 
 @dataclass

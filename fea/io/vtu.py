@@ -82,7 +82,7 @@ def write_vtu(path, model: Model, x=None):
     return atomic_write(path, lambda tmp: meshio.write(tmp, out, file_format="vtu"))
 
 
-def write_series(directory, model: Model, result: RunResult, stem="frame"):
+def write_series(directory, model: Model, result: RunResult, *, stem="frame"):
     """Write every snapshot of ``result`` as VTU plus a ``<stem>.pvd`` collection.
 
     ParaView opens the ``.pvd`` file as one animation, each VTU file tagged with its time.

@@ -201,7 +201,7 @@ def along_lengths(length_m, n_along, root_refinement=0.0):
     return length_m * w / w.sum()
 
 
-def elliptical_cantilever(length_m, n_section, n_along, a=SEMI_AXIS_MAJOR, b=SEMI_AXIS_MINOR, root_refinement=0.0):
+def elliptical_cantilever(length_m, n_section, n_along, *, a=SEMI_AXIS_MAJOR, b=SEMI_AXIS_MINOR, root_refinement=0.0):
     """Hex mesh of a straight elliptical cantilever along +z, root face at z = 0.
 
     Node sets: ``root`` (z = 0, clamped) and ``tip`` (z = L).
@@ -345,8 +345,8 @@ def sm_a(length_in=None, length_m=None, semi_axes_m=SEMI_AXES):
         (1e-4..0.1 m) is outside :data:`ccedi.quantities.QUANTITIES`.
     """
     L = _finger_length_m(length_in, length_m)
-    return elliptical_cantilever(L, 5, sm_a_elements_along(L), *finger_section(semi_axes_m, L),
-                                 root_refinement=SM_A_ROOT_REFINEMENT)
+    a, b = finger_section(semi_axes_m, L)
+    return elliptical_cantilever(L, 5, sm_a_elements_along(L), a=a, b=b, root_refinement=SM_A_ROOT_REFINEMENT)
 
 
 def sm_b(length_in=None, length_m=None, semi_axes_m=SEMI_AXES):
@@ -376,7 +376,8 @@ def sm_b(length_in=None, length_m=None, semi_axes_m=SEMI_AXES):
         (1e-4..0.1 m) is outside :data:`ccedi.quantities.QUANTITIES`.
     """
     L = _finger_length_m(length_in, length_m)
-    return elliptical_cantilever(L, 9, 2 * sm_a_elements_along(L), *finger_section(semi_axes_m, L))
+    a, b = finger_section(semi_axes_m, L)
+    return elliptical_cantilever(L, 9, 2 * sm_a_elements_along(L), a=a, b=b)
 
 
 def refine_hexes(mesh, n):

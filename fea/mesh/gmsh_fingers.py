@@ -130,7 +130,7 @@ def _elliptical_prism(a, b, length_m):
     return build
 
 
-def sm_c(length_in=4.5, element_size_m=SM_C_ELEMENT_LENGTH, semi_axes_m=SEMI_AXES, order=2):
+def sm_c(length_in=4.5, *, element_size_m=SM_C_ELEMENT_LENGTH, semi_axes_m=SEMI_AXES, order=2):
     """The paper's simplified model C: tetrahedra of the straight elliptical finger.
 
     Parameters
@@ -214,7 +214,7 @@ def _tapered_inputs(length_in, root_semi_axes_m, tip_semi_axes_m, hole_radius_m)
     return length_m, root, tip, hole
 
 
-def tapered_finger(element_size_m, length_in=4.5, root_semi_axes_m=TAPERED_ROOT_SEMI_AXES,
+def tapered_finger(element_size_m, *, length_in=4.5, root_semi_axes_m=TAPERED_ROOT_SEMI_AXES,
                    tip_semi_axes_m=TAPERED_TIP_SEMI_AXES, hole_radius_m=TAPERED_HOLE_RADIUS, order=2):
     """A finger that is not a prism: an elliptical section tapering linearly from root to
     tip, with a transverse hole along y (the bending direction) at mid-length.
@@ -249,7 +249,7 @@ def tapered_finger(element_size_m, length_in=4.5, root_semi_axes_m=TAPERED_ROOT_
                       _element_order(order), "tapered_finger")
 
 
-def write_tapered_finger(path, element_size_m, length_in=4.5, root_semi_axes_m=TAPERED_ROOT_SEMI_AXES,
+def write_tapered_finger(path, element_size_m, *, length_in=4.5, root_semi_axes_m=TAPERED_ROOT_SEMI_AXES,
                          tip_semi_axes_m=TAPERED_TIP_SEMI_AXES, hole_radius_m=TAPERED_HOLE_RADIUS, order=2,
                          msh_version=4, binary=False):
     """Write :func:`tapered_finger` as a Gmsh file with physical groups ``clamp`` (the root
@@ -425,7 +425,7 @@ DM_TABLE1 = {"volume_m3": 30.0e-6, "stiffness_N_per_m": 81.2}
 """The DM's Table 1 figures the free dimensions are fitted to."""
 
 
-def detailed_model(element_size_m=DM_ELEMENT_LENGTH, cone_radius_m=DM_CONE_RADIUS,
+def detailed_model(element_size_m=DM_ELEMENT_LENGTH, *, cone_radius_m=DM_CONE_RADIUS,
                    rib_thickness_m=DM_RIB_THICKNESS, order=2):
     """The paper's detailed model DM (Fig. 5(a), Table 1): a reconstruction of the real
     4.5-in finger (WK52H), meshed with tetrahedra.
@@ -570,7 +570,7 @@ class DetailedModelFit(NamedTuple):
     evaluations: list
 
 
-def fit_detailed_model(stiffness_of, volume_m3=DM_TABLE1["volume_m3"],
+def fit_detailed_model(stiffness_of, *, volume_m3=DM_TABLE1["volume_m3"],
                        stiffness_N_per_m=DM_TABLE1["stiffness_N_per_m"], element_size_m=DM_ELEMENT_LENGTH,
                        cone_radius_m=DM_CONE_RADIUS, rtol=0.005, max_evaluations=6):
     """Fit the DM's two free dimensions to Table 1: the rib thickness to the volume
@@ -611,7 +611,7 @@ def fit_detailed_model(stiffness_of, volume_m3=DM_TABLE1["volume_m3"],
     r = cone_radius_m
     for _ in range(max_evaluations):
         thickness = rib_thickness_for_volume(volume_m3, r)
-        k = float(stiffness_of(detailed_model(element_size_m, r, thickness)))
+        k = float(stiffness_of(detailed_model(element_size_m, cone_radius_m=r, rib_thickness_m=thickness)))
         evaluations.append((r, thickness, k))
         if abs(k / stiffness_N_per_m - 1.0) <= rtol:
             return DetailedModelFit(r, thickness, detailed_model_volume(r, thickness), k, evaluations)

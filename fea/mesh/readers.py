@@ -108,7 +108,8 @@ class FingerMeshSpec:
         InputError
             As :func:`read_finger_mesh`.
         """
-        return read_finger_mesh(self.path, self.mesh_unit, self.clamp, self.tip, self.bending_direction)
+        return read_finger_mesh(self.path, mesh_unit=self.mesh_unit, clamp=self.clamp, tip=self.tip,
+                                bending_direction=self.bending_direction)
 
 
 @dataclass
@@ -128,7 +129,7 @@ def _choice(name, value, allowed):
     return value
 
 
-def read_finger_mesh(path, mesh_unit="m", clamp="z_min", tip="z_max", bending_direction="y"):
+def read_finger_mesh(path, *, mesh_unit="m", clamp="z_min", tip="z_max", bending_direction="y"):
     """Read and check a solid finger mesh; name its clamped root and loaded tip.
 
     Parameters

@@ -65,7 +65,7 @@ def quadratic_tets(mesh):
     return Mesh(nodes=nodes, node_sets=node_sets, tets10=tets10)
 
 
-def box_cantilever(length_m, width_m, height_m, nx, ny, nz):
+def box_cantilever(length_m, width_m, height_m, *, nx, ny, nz):
     """Hexahedral mesh of a rectangular prism along +z, root face at z = 0.
 
     The section spans x in [-width/2, width/2] and y in [-height/2, height/2]; node sets

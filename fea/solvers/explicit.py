@@ -491,8 +491,9 @@ def _hex_forces_numpy(x, v, group, material, f):
     kernel (a :class:`ccedi.fea.elements.hex8_kernels.HexGroup` and a :data:`SolidMaterial`), also for no
     hexahedra (then f = 0 and (inf, 0, 0, 0, -1), as the compiled kernel returns)."""
     if len(group.hexes):
-        return internal_forces_numpy(x, v, group.hexes, group.b, group.volume, group.gamma, group.kappa,
-                                     group.length_factor, *material, f)
+        return internal_forces_numpy(x, v, group.hexes, b=group.b, volume=group.volume, gamma=group.gamma,
+                                     kappa=group.kappa, length_factor=group.length_factor, mu=material.mu,
+                                     lam=material.lam, rho=material.rho, c=material.c, f=f)
     f[:] = 0.0
     return np.inf, 0.0, 0.0, 0.0, -1
 
@@ -874,7 +875,7 @@ def thread_count(threads=None):
     return int(threads)
 
 
-def run(model: Model, t_end_s, n_outputs=400, dt_s=None, backend="numba", tip_set="tip",
+def run(model: Model, t_end_s, *, n_outputs=400, dt_s=None, backend="numba", tip_set="tip",
         reaction_set="root", snapshot_every=0, x0=None, v0=None, progress=False, output_hook=None, threads=None,
         max_steps=None):
     """Integrate ``model`` with central differences from rest (or x0, v0) to ``t_end_s``.

@@ -18,7 +18,7 @@ from ccedi.fea.model import Model
 from ccedi.fea.solvers.static import free_dofs, tangent_stiffness
 
 
-def natural_frequencies(model: Model, n_modes=3, x=None, return_modes=False):
+def natural_frequencies(model: Model, *, n_modes=3, x=None, return_modes=False):
     """Lowest natural frequencies (and mode shapes) of the linearised model.
 
     Solves K phi = omega^2 M phi on the free DOFs, K the tangent stiffness at ``x`` and

@@ -97,8 +97,9 @@ def internal_force(model: Model, x):
     g, mat = model.geometry, model.material
     f = np.zeros_like(x)
     if len(model.mesh.hexes):
-        *_, bad = internal_forces_numpy(x, np.zeros_like(x), model.mesh.hexes, g.b, g.volume, g.gamma,
-                                        model.kappa, 1.0, mat.mu, mat.lam, mat.rho, mat.wave_speed, f)
+        *_, bad = internal_forces_numpy(x, np.zeros_like(x), model.mesh.hexes, b=g.b, volume=g.volume, gamma=g.gamma,
+                                        kappa=model.kappa, length_factor=1.0, mu=mat.mu, lam=mat.lam, rho=mat.rho,
+                                        c=mat.wave_speed, f=f)
         if bad >= 0:
             raise SolverError(f"element {bad} inverted (J <= 0)")
     material = SolidMaterial(*model.solid_constants)
@@ -132,7 +133,7 @@ MIN_LOAD_STEP = 1.0 / 64.0
 """Smallest load increment (fraction of the load) :func:`static_solve` cuts down to."""
 
 
-def static_solve(model: Model, f_ext, n_increments=2, tol=1e-7, max_iter=30, linear=False):
+def static_solve(model: Model, f_ext, *, n_increments=2, tol=1e-7, max_iter=30, linear=False):
     """Nonlinear static equilibrium f_int(x) = f_ext by incremental Newton-Raphson.
 
     The load is applied in ``n_increments`` equal steps. Convergence of a step:
@@ -183,7 +184,7 @@ def static_solve(model: Model, f_ext, n_increments=2, tol=1e-7, max_iter=30, lin
     return static_path(model, f_ext, np.arange(1, n_increments + 1) / n_increments, tol=tol, max_iter=max_iter)[-1]
 
 
-def static_path(model: Model, f_ext, load_factors, tol=1e-7, max_iter=30):
+def static_path(model: Model, f_ext, load_factors, *, tol=1e-7, max_iter=30):
     """Nonlinear static equilibria along a load path: f_int(x) = lambda f_ext at each
     ``lambda`` of ``load_factors``, each reached from the one before by Newton-Raphson
     (one increment, halved on failure as in :func:`static_solve`).
@@ -251,7 +252,7 @@ def _newton(model, x, f, free, atol, tol, max_iter):
     raise SolverError(f"Newton did not converge in {max_iter} iterations")
 
 
-def tip_deflection(model: Model, force_N, direction=1, linear=False):
+def tip_deflection(model: Model, force_N, *, direction=1, linear=False):
     """Static tip deflection under a tip force spread uniformly over the tip face.
 
     Parameters

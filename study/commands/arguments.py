@@ -287,7 +287,7 @@ def check_output_paths(args):
         check_scheduler(args.scheduler)
 
 
-def check_flag(flag, value, section, key):
+def check_flag(flag, value, *, section, key):
     """Check a command-line value against the inputs schema's range for ``[section] key``
     (one rule whichever way the value comes).
 

@@ -52,7 +52,7 @@ def cmd_calibrate(args):
                       config_path=args.write_config, fea_correction=args.fea_correction)
 
 
-def write_calibration(csv, json_path, report_dir=None, meta=None, effects=None, config_path=None,
+def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=None, config_path=None,
                       fea_correction=False):
     """Calibrate the declared finger on one measured impulse or contact record and write the result.
 

@@ -228,7 +228,7 @@ def cmd_design(args):
         validation_runs=args.validation_runs, pareto_points=args.pareto_points, pareto_output=args.pareto_output,
         starts=args.starts, model_error=not args.no_model_error, fea_check=not args.no_fea_check,
         fea_check_designs=args.fea_check_designs)
-    write_design(contact_setup(cfg), options, args.json, args.out, scheduler=args.scheduler,
+    write_design(contact_setup(cfg), options, json_path=args.json, out=args.out, scheduler=args.scheduler,
                  measured_alpha=cfg["material"]["alpha_per_s"], mesh_path=cfg["finger"]["mesh"] or None)
 
 
@@ -325,7 +325,7 @@ def _without_runs(steps):
     return [{k: v for k, v in s.items() if k != "run"} for s in steps]
 
 
-def write_design(setup, options, json_path, out, scheduler="local", measured_alpha=None, mesh_path=None):
+def write_design(setup, options, *, json_path, out, scheduler="local", measured_alpha=None, mesh_path=None):
     """Build the ROM surrogate, find the design that meets the requirements at the best
     objective, draw the feasible region and the Pareto front, measure what relaxing each
     requirement buys, re-check the optimum and two front points with the full FEA, and
@@ -412,10 +412,10 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
             print(f"ROM runs {k}/{n} ({o.damping} damping)", flush=True)
 
     t0 = time.perf_counter()
-    grid, cached = cached_rom_runs(setup, grid_points(space, o.grid), out / "rom_grid.csv", o.damping, tick,
-                                   variables=space)
+    grid, cached = cached_rom_runs(setup, grid_points(space, o.grid), out / "rom_grid.csv", damping=o.damping,
+                                   progress=tick, variables=space)
     check_runs, _ = cached_rom_runs(setup, validation_points(space, o.validation_runs), out / "rom_validation.csv",
-                                    o.damping, tick, variables=space)
+                                    damping=o.damping, progress=tick, variables=space)
     surrogate = Surrogate.fit(space, grid)
     build_s = time.perf_counter() - t0
     problem = DesignProblem(surrogate, requirements=req, objective=o.objective, weights=o.weights,
@@ -467,15 +467,15 @@ def write_design(setup, options, json_path, out, scheduler="local", measured_alp
         print(f"no design meets the requirements; wrote {json_path}, {out}/design_report.md", flush=True)
         raise err from None
     t1 = time.perf_counter()
-    front = pareto_front(problem, o.pareto_output, n_points=o.pareto_points)
+    front = pareto_front(problem, second=o.pareto_output, n_points=o.pareto_points)
     pareto_s = time.perf_counter() - t1
     picks = recommended(front, optimum, o.pareto_output)[:o.fea_check_designs]
     checks = [] if not o.fea_check else recheck(setup, picks, damping=o.damping, limits=problem.limits,
                                                  scheduler=scheduler, variables=space,
                                                  done=[s["run"] for s in verification] if fea_verifies else ())
-    write_figure(out / "feasible_region.png", feasible_region_figure(problem, optimum, front, picks))
+    write_figure(out / "feasible_region.png", feasible_region_figure(problem, optimum, front=front, checked=picks))
     limit = next((lim.bound for lim in problem.limits if lim.output == o.pareto_output and lim.upper), None)
-    write_figure(out / "pareto.png", pareto_figure(problem, front, o.pareto_output, optimum, limit))
+    write_figure(out / "pareto.png", pareto_figure(problem, front, o.pareto_output, optimum=optimum, limit=limit))
     write_csv(out / "pareto.csv", pd.DataFrame([{k: v for k, v in d.as_dict(problem).items() if k != "margins"}
                                                 for d in front]))
     measured = None
@@ -516,7 +516,7 @@ CALIBRATED = "calibrated"
 """Sub-directory of the design output holding the design with the calibrated inputs."""
 
 
-def write_designs(cfg, options, record, out, scheduler="local"):
+def write_designs(cfg, options, record, *, out, scheduler="local"):
     """The study's design step: :func:`write_design` with the declared inputs in ``out``,
     then, when ``record`` is given, :func:`write_calibrated_design` in ``out/calibrated``.
 
@@ -535,13 +535,13 @@ def write_designs(cfg, options, record, out, scheduler="local"):
     """
     from ccedi.study.commands.fea import contact_setup
 
-    write_design(contact_setup(cfg), options, out / "design.json", out, scheduler=scheduler,
+    write_design(contact_setup(cfg), options, json_path=out / "design.json", out=out, scheduler=scheduler,
                  mesh_path=cfg["finger"]["mesh"] or None)
     if record:
-        write_calibrated_design(cfg, record, options, out / CALIBRATED, scheduler=scheduler)
+        write_calibrated_design(cfg, record, options, out=out / CALIBRATED, scheduler=scheduler)
 
 
-def write_calibrated_design(cfg, record, options, out, scheduler="local"):
+def write_calibrated_design(cfg, record, options, *, out, scheduler="local"):
     """Close the loop on the design: calibrate ``record``, take its calibrated inputs
     (:func:`ccedi.study.config.calibrated_config`: [material] E and alpha, [drum]
     corrections) over ``cfg`` and run :func:`write_design` with them, so that the design
@@ -585,5 +585,5 @@ def write_calibrated_design(cfg, record, options, out, scheduler="local"):
         return None
     fragment = tomllib.loads(toml_path.read_text())
     calibrated = {section: {**keys, **fragment.get(section, {})} for section, keys in cfg.items()}
-    return write_design(contact_setup(calibrated), replace(options, fea_check_designs=1), out / "design.json", out,
-                        scheduler=scheduler, measured_alpha=calibrated["material"]["alpha_per_s"])
+    return write_design(contact_setup(calibrated), replace(options, fea_check_designs=1), json_path=out / "design.json",
+                        out=out, scheduler=scheduler, measured_alpha=calibrated["material"]["alpha_per_s"])

@@ -29,7 +29,7 @@ def _fmt(value):
     return value if isinstance(value, str) else (f"{value:d}" if isinstance(value, int) else f"{value:.4g}")
 
 
-def write_table1(cfg, length_in, json_path=None, stiffness=True, detailed=True, detailed_stiffness=None,
+def write_table1(cfg, length_in, *, json_path=None, stiffness=True, detailed=True, detailed_stiffness=None,
                  detailed_omega1=True):
     """Print Table 1 of the configured finger (for the paper's finger, with the detailed
     model DM's row and the paper's values) and write it as JSON.
@@ -130,7 +130,7 @@ def write_finger(cfg, json_path, stiffness=True):
     return result
 
 
-def write_impulse(cfg, alphas, out, length_in=None, force_N=1.0, duration_s=0.01, t_end_s=0.2, scheduler="serial"):
+def write_impulse(cfg, alphas, out, *, length_in=None, force_N=1.0, duration_s=0.01, t_end_s=0.2, scheduler="serial"):
     """Impulse responses of the configured finger (the ``[finger] mesh`` of ``cfg``, or the
     SM-A finger of ``length_in``) for several alpha: writes
     ``impulse_response.csv``, ``.png`` and ``impulse_summary.json`` in ``out`` (each run's
@@ -224,9 +224,9 @@ def contact_setup(cfg, theta0_rad=None, calibrate=False):
 
 
 def _setup_of(args):
-    check_flag("--t-end-s", args.t_end_s, "study", "contact_t_end_s")
+    check_flag("--t-end-s", args.t_end_s, section="study", key="contact_t_end_s")
     check_outputs(args.n_outputs, "--n-outputs")
-    check_flag("--theta0-rad", args.theta0_rad, "drum", "theta0_rad")
+    check_flag("--theta0-rad", args.theta0_rad, section="drum", key="theta0_rad")
     return contact_setup(load_config(args), args.theta0_rad, args.calibrate)
 
 
@@ -278,7 +278,7 @@ def finger_of(cfg, length_in=None):
 def _cmd_table1(args):
     from ccedi.study.config import check_section_fits
 
-    check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
+    check_flag("--length-in", args.length_in, section="finger", key="impulse_length_in")
     cfg = load_config(args)
     if args.length_in is not None:
         check_section_fits(cfg, args.length_in, "--length-in")
@@ -289,18 +289,19 @@ def _cmd_table1(args):
           + ("" if not detailed else ", and the DM " + ("with its stiffness and first frequency (about "
                                                         "30 CPU-minutes more)" if args.detailed_model_solves
                                                         else "(its mesh and time step)")), flush=True)
-    write_table1(cfg, cfg["finger"]["impulse_length_in"] if args.length_in is None else args.length_in, args.json,
-                 stiffness=stiffness, detailed=detailed,
+    write_table1(cfg, cfg["finger"]["impulse_length_in"] if args.length_in is None else args.length_in,
+                 json_path=args.json, stiffness=stiffness, detailed=detailed,
                  detailed_stiffness=args.detailed_model_solves, detailed_omega1=args.detailed_model_solves)
 
 
 def _cmd_impulse(args):
     if args.alpha is not None:
-        check_flag("--alpha", list(args.alpha), "study", "impulse_alphas_per_s")  # every alpha before the first run
-    check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
-    check_flag("--force-N", args.force_N, "study", "impulse_force_N")
-    check_flag("--duration-s", args.duration_s, "study", "impulse_duration_s")
-    check_flag("--t-end-s", args.t_end_s, "study", "impulse_t_end_s")
+        # every alpha before the first run
+        check_flag("--alpha", list(args.alpha), section="study", key="impulse_alphas_per_s")
+    check_flag("--length-in", args.length_in, section="finger", key="impulse_length_in")
+    check_flag("--force-N", args.force_N, section="study", key="impulse_force_N")
+    check_flag("--duration-s", args.duration_s, section="study", key="impulse_duration_s")
+    check_flag("--t-end-s", args.t_end_s, section="study", key="impulse_t_end_s")
     cfg = load_config(args)
     s = cfg["study"]
     write_impulse(cfg, s["impulse_alphas_per_s"] if args.alpha is None else args.alpha, args.out,
@@ -315,7 +316,7 @@ def _cmd_contact(args):
     from ccedi.fea.io.vtu import write_series
     from ccedi.outputs import write_csv, write_json
 
-    check_flag("--alpha", [args.alpha], "study", "contact_alphas_per_s")
+    check_flag("--alpha", [args.alpha], section="study", key="contact_alphas_per_s")
     setup = _setup_of(args)
     out = Path(args.out)
     print(f"contact: alpha = {args.alpha:g} 1/s, {args.damping} damping, {args.t_end_s:g} s simulated", flush=True)
@@ -333,7 +334,7 @@ def _cmd_contact(args):
     print(f"wrote {out / stem}.csv and the JSON summary")
 
 
-def write_contact_sweep(setup, alphas, out, damping="global", t_end_s=1.5, n_outputs=300, scheduler="local"):
+def write_contact_sweep(setup, alphas, out, *, damping="global", t_end_s=1.5, n_outputs=300, scheduler="local"):
     """The contact run for several alpha: histories and summary CSVs, the Fig. 10, 13, 14
     analogues and ``contact_report.md`` in ``out``.
 
@@ -359,7 +360,7 @@ def write_contact_sweep(setup, alphas, out, damping="global", t_end_s=1.5, n_out
     from ccedi.study.figures import plot_contact_shapes, plot_reaction_force, plot_stresses
 
     out = Path(out)
-    history, table, shapes = sweep(setup, alphas, damping=damping, t_end_s=t_end_s,
+    history, table, shapes = sweep(setup, alphas=alphas, damping=damping, t_end_s=t_end_s,
                                    n_outputs=n_outputs, progress=True, scheduler=scheduler)
     write_csv(out / f"contact_histories_{damping}.csv", history)
     write_csv(out / f"contact_summary_{damping}.csv", table)
@@ -373,7 +374,7 @@ def write_contact_sweep(setup, alphas, out, damping="global", t_end_s=1.5, n_out
 
 
 def _cmd_contact_sweep(args):
-    check_flag("--alphas", list(args.alphas), "study", "contact_alphas_per_s")
+    check_flag("--alphas", list(args.alphas), section="study", key="contact_alphas_per_s")
     write_contact_sweep(_setup_of(args), args.alphas, args.out, damping=args.damping, t_end_s=args.t_end_s,
                         n_outputs=args.n_outputs, scheduler=args.scheduler)
 
@@ -404,7 +405,8 @@ def write_contact_report(setup, out):
     r_table, r_hist = load("relative")
     if g_table is None and r_table is None:
         return
-    write_text(out / "contact_report.md", contact_report(setup, g_table, g_hist, r_table, r_hist))
+    write_text(out / "contact_report.md", contact_report(setup, g_table, g_hist, relative_table=r_table,
+                                                                 relative_history=r_hist))
 
 
 def _contact_arguments(p):

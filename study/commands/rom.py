@@ -199,12 +199,12 @@ def _impulse_run(args, t_end_s):
     if args.length_in is None and cfg["finger"]["mesh"] is None:
         raise InputError("--length-in (finger length, in) is required for --model finger without a [finger] mesh")
     if args.length_in is not None:
-        check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
+        check_flag("--length-in", args.length_in, section="finger", key="impulse_length_in")
     force = 1.0 if args.force_N is None else args.force_N
     duration = DEFAULT_PULSE_S if args.duration_s is None else args.duration_s
     material, semi_axes = finger_inputs(cfg)
     mesh, length_in, finger = finger_of(cfg, args.length_in)
-    omega1 = finger_omega1(length_in, material, semi_axes, mesh=mesh)
+    omega1 = finger_omega1(length_in, material=material, semi_axes_m=semi_axes, mesh=mesh)
     t_end = max(t_end_s or 0.0, run_length_s(duration, omega1))
     model = finger_impulse_model(length_in, force_N=force, duration_s=duration, material=material,
                                  semi_axes_m=semi_axes, mesh=mesh)
@@ -316,7 +316,7 @@ def cmd_identify(args):
         print(f"identify: CCEDI on {data.source}: FE runs of {t_end:.3g} s each, alpha_cr bracketed from "
               f"2 omega_1 = {guess:.4g} 1/s", flush=True)
         crit = critical_alpha(model, guess, t_end, rtol=args.rtol, n_outputs=n_outputs)
-        ident = identify(data.time_s, data.tip_displacement_m, model, guess, noise_band=args.noise_band,
+        ident = identify(data.time_s, data.tip_displacement_m, model, alpha_guess=guess, noise_band=args.noise_band,
                          critical=crit, t_end_s=t_end, n_outputs=n_outputs)
         result = {"model": args.model, "finger": finger, "source": data.source, **adequacy,
                   "regime": ident.regime, "alpha_per_s": ident.alpha_per_s, "zeta": ident.zeta,
@@ -344,7 +344,7 @@ def cmd_damping_fits(args):
     write_damping_fits(cfg, args.lengths_in, args.out, scheduler=args.scheduler)
 
 
-def write_damping_fits(cfg, lengths_in, out, scheduler="local"):
+def write_damping_fits(cfg, lengths_in, out, *, scheduler="local"):
     """alpha_cr of the configured SM-A finger at several lengths, the paper's Eq. (8) power
     law refitted (and Eq. (7) at the paper's four lengths): ``alpha_cr_fit.json`` and
     ``.png`` in ``out``.
@@ -460,7 +460,7 @@ def cmd_rom_check(args):
     cases = impulse_cases(args.impulse_alphas, n_modes=args.modes, material=material,
                           semi_axes_m=semi_axes) if args.impulse_alphas else []
     if args.alphas:
-        cases += contact_cases(drum_setup(cfg), args.alphas, args.damping, t_end_s=args.t_end_s,
+        cases += contact_cases(drum_setup(cfg), alphas=args.alphas, damping=args.damping, t_end_s=args.t_end_s,
                                n_outputs=args.n_outputs, progress=True, contact=args.contact, transducer=sensor,
                                forces=args.forces_dir is not None)
     for c in cases:

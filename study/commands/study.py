@@ -124,11 +124,11 @@ def cmd_export(args):
         output_dir(args.out, "--out")
     else:
         output_file(args.out if args.format == "lsdyna" else Path(args.out).with_suffix(f".{args.format}"), "--out")
-    check_flag("--alpha", [args.alpha], "study", "contact_alphas_per_s")
+    check_flag("--alpha", [args.alpha], section="study", key="contact_alphas_per_s")
     if args.length_in is not None:
-        check_flag("--length-in", args.length_in, "finger", "impulse_length_in")
+        check_flag("--length-in", args.length_in, section="finger", key="impulse_length_in")
     t_end_s = args.t_end_s if args.t_end_s is not None else {"impulse": 0.2, "contact": 1.5}[args.case]
-    check_flag("--t-end-s", t_end_s, "study", f"{args.case}_t_end_s")
+    check_flag("--t-end-s", t_end_s, section="study", key=f"{args.case}_t_end_s")
     model, simulate = _case(args, t_end_s)
     if args.format != "lsdyna":
         print(f"export: running the {args.case} case, alpha = {args.alpha:g} 1/s, {t_end_s:g} s simulated", flush=True)

@@ -48,7 +48,7 @@ def test_table1_row_of_an_imported_finger(finger, tmp_path):
     assert (row["element_type"], row["nodes"], row["elements"]) == ("tet10", mesh.n_nodes, mesh.n_elements)
     assert row["volume_cm3"] == pytest.approx(1e6 * volume, rel=1e-3)        # the CAD volume, hole included
     assert row["steps_to_0_2_s"] == pytest.approx(0.2 / (1e-6 * row["dt_us"]), abs=1)
-    omega1 = natural_frequencies(cantilever_model(mesh, RUBBER), 1)[0]
+    omega1 = natural_frequencies(cantilever_model(mesh, RUBBER), n_modes=1)[0]
     assert row["omega1_rad_s"] == pytest.approx(omega1, rel=1e-9)
 
 
@@ -68,7 +68,8 @@ def test_alpha_cr_on_the_modal_rom_of_an_imported_finger(finger, tmp_path):
                  "--json", str(path)]) == 0
     out = json.loads(path.read_text())
     assert out["finger"]["mesh_file"] == str(msh.resolve()) and out["finger"]["element_type"] == "tet10"
-    omega1 = natural_frequencies(cantilever_model(read_finger_mesh(msh, clamp="clamp", tip="tip"), RUBBER), 1)[0]
+    model = cantilever_model(read_finger_mesh(msh, clamp="clamp", tip="tip"), RUBBER)
+    omega1 = natural_frequencies(model, n_modes=1)[0]
     assert out["omega1_rad_s"] == pytest.approx(omega1, rel=1e-9)
     # a nearly critically damped first mode: alpha_cr = 2 zeta_cr omega_1, zeta_cr just below 1
     assert 0.9 * 2.0 * omega1 < out["alpha_cr_per_s"] < 2.0 * omega1

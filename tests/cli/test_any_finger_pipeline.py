@@ -131,7 +131,7 @@ class _Replay:
         self.history, self.summary = history, summary
         _Replay.built.append(setup)
 
-    def run(self, alpha, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
+    def run(self, alpha, *, damping="global", t_end_s=1.5, n_outputs=300, progress=False):
         return ContactResponse(history=self.history, summary={"model": "fea", **self.summary})
 
 
@@ -212,7 +212,7 @@ def test_a_study_of_a_mesh_reports_that_finger_first_and_only_the_inputs_it_used
     assert main(["study", "--quick", "--config", str(toml), "--scheduler", "serial", "--out", str(out),
                  "--only", "finger"]) == 0
     row = json.loads((out / "finger.json").read_text())
-    omega1 = natural_frequencies(cantilever_model(mesh, RUBBER), 1)[0]
+    omega1 = natural_frequencies(cantilever_model(mesh, RUBBER), n_modes=1)[0]
     assert (row["element_type"], row["nodes"], row["mesh_file"]) == ("tet10", mesh.n_nodes, str(toml.parent / "finger.msh"))
     assert row["length_m"] == pytest.approx(inch_to_m(4.5), rel=1e-6)           # as Gmsh placed the tip
     assert row["f1_hz"] == pytest.approx(omega1 / (2 * np.pi), rel=1e-9)

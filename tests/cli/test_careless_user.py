@@ -215,7 +215,7 @@ def test_a_sliver_that_sets_the_step_is_named_with_where_it_is():
     elements there become slivers and set the step; the run's warnings name the element,
     its place (at the pushed node) and its size against the median, and suggest a
     remesh. The unpushed box has no such warning."""
-    box = split_hexes(box_cantilever(0.06, 0.012, 0.012, 2, 2, 10))
+    box = split_hexes(box_cantilever(0.06, 0.012, 0.012, nx=2, ny=2, nz=10))
     assert sliver_warnings(cantilever_model(box, RUBBER)) == []
     top = np.flatnonzero((box.nodes[:, 1] == box.nodes[:, 1].max()) & np.isclose(box.nodes[:, 2], 0.03)
                          & np.isclose(box.nodes[:, 0], 0.0))[0]

@@ -23,7 +23,7 @@ def _write(tmp_path, text, name="inputs.toml"):
 
 def _omega1(cfg):
     material, semi_axes = finger_inputs(cfg)
-    return finger_omega1(4.5, material, semi_axes)
+    return finger_omega1(4.5, material=material, semi_axes_m=semi_axes)
 
 
 def test_first_frequency_follows_the_material_and_section_of_the_inputs():
@@ -74,7 +74,7 @@ def test_every_finger_step_of_the_study_gets_the_resolved_inputs(tmp_path, monke
     for module, name in ((fea, "write_table1"), (fea, "write_impulse"), (rom, "write_damping_fits"),
                          (fea, "write_contact_sweep"), (design, "write_design")):
         monkeypatch.setattr(module, name, lambda *a, _name=name, **k: calls.setdefault(_name, (a, k)))
-    monkeypatch.setattr(study_run.paper_steps, "mesh_comparison", lambda *a, **k: mesh_args.append(a))
+    monkeypatch.setattr(study_run.paper_steps, "mesh_comparison", lambda *a, **k: mesh_args.append(k))
     out = tmp_path / "out"
     for name in ("table1", "impulse", "mesh", "damping_fits", "contact", "design"):
         study_run._run_step(name, cfg, out, "serial")
@@ -88,7 +88,7 @@ def test_every_finger_step_of_the_study_gets_the_resolved_inputs(tmp_path, monke
     assert calls["write_table1"][0][1] == 3.0
     assert calls["write_design"][0][1].damping == cfg["damping"]["kind"] == "relative"
     assert calls["write_design"][0][1].requirements.max_object_force_N == cfg["requirements"]["max_object_force_N"]
-    material, semi_axes = mesh_args[0][-2:]
+    material, semi_axes = mesh_args[0]["material"], mesh_args[0]["semi_axes_m"]
     assert material.E == 5.0e6 and semi_axes == tuple(cfg["finger"]["section_semi_axes_m"])
     # the study records its resolved inputs
     monkeypatch.setattr(study_run, "steps", lambda cfg, out, scheduler: [])

@@ -41,7 +41,7 @@ def test_vtu_of_every_element_type_under_a_homogeneous_stretch(tmp_path, kind):
     """A box of each element type stretched homogeneously: the VTU holds the mesh's own cells
     (type and connectivity), the displacement, and in every cell the von Mises stress of
     that deformation gradient (a wrong node order or gradient breaks the homogeneity)."""
-    box = box_cantilever(0.03, 0.02, 0.01, 3, 2, 4)
+    box = box_cantilever(0.03, 0.02, 0.01, nx=3, ny=2, nz=4)
     mesh = {"hex8": box, "tet4": split_hexes(box), "tet10": quadratic_tets(split_hexes(box))}[kind]
     model = cantilever_model(mesh, RUBBER)
     F = np.array([[1.02, 0.01, 0.0], [0.0, 0.99, 0.0], [0.0, 0.03, 1.01]])
@@ -86,7 +86,7 @@ def test_cli_table1_writes_every_key(tmp_path):
               for name, make in (("SM-A", sm_a), ("SM-B", sm_b), ("SM-C", sm_c_mesh))}
     assert models["SM-C"].mesh.n_nodes == sm_c["nodes"]
     k = {name: 1.0 / tip_deflection(model, 1.0, linear=True) for name, model in models.items()}
-    omega1 = {name: natural_frequencies(model, 1)[0] for name, model in models.items()}
+    omega1 = {name: natural_frequencies(model, n_modes=1)[0] for name, model in models.items()}
     for ref in ("SM-A", "SM-B"):
         assert k["SM-C"] == pytest.approx(k[ref], rel=0.02)
         assert omega1["SM-C"] == pytest.approx(omega1[ref], rel=0.02)

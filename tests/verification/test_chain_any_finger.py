@@ -50,7 +50,7 @@ def test_chain_on_tetrahedra_has_the_fe_first_bending_frequency(tapered):
     bending mode: +2.1 % on this 12 mm mesh (+0.5 % at 8 mm), from the mass and
     stiffness distributions, which the fit does not touch (it scales one number)."""
     mesh, chain = tapered
-    omega_fe, modes = natural_frequencies(cantilever_model(mesh, RUBBER), 2, return_modes=True)
+    omega_fe, modes = natural_frequencies(cantilever_model(mesh, RUBBER), n_modes=2, return_modes=True)
     tip = mesh.node_sets["tip"]
     shapes = modes.T.reshape(2, -1, 3)[:, tip]
     soft = [k for k in range(2) if np.abs(shapes[k, :, 1]).mean() > np.abs(shapes[k, :, 0]).mean()]

@@ -43,7 +43,7 @@ def test_free_vibration_frequency_matches_euler_bernoulli(mesh_a, released, eule
     ld, res = free_vibration(mesh_a, released, alpha=0.0)
     assert ld.omega_d_rad_s == pytest.approx(euler_bernoulli["omega1"], rel=0.05)
     assert ld.zeta < 0.005                                 # undamped: no artificial dissipation
-    assert ld.omega_d_rad_s == pytest.approx(natural_frequencies(res_model(mesh_a), 1)[0], rel=0.01)
+    assert ld.omega_d_rad_s == pytest.approx(natural_frequencies(res_model(mesh_a), n_modes=1)[0], rel=0.01)
 
 
 def res_model(mesh):
@@ -55,7 +55,7 @@ def test_mass_proportional_damping_ratio(mesh_a, released):
     """Paper Eq. (3b) with beta = 0: zeta_1 = alpha / (2 omega_1)."""
     alpha = 20.0
     ld, res = free_vibration(mesh_a, released, alpha=alpha)
-    omega1 = natural_frequencies(res_model(mesh_a), 1)[0]
+    omega1 = natural_frequencies(res_model(mesh_a), n_modes=1)[0]
     assert ld.zeta == pytest.approx(alpha / (2.0 * omega1), rel=0.05)
     assert ld.n_cycles >= 3
 
@@ -105,7 +105,7 @@ def _model_without_hexahedra(kind):
 
     if kind == "rod":
         return steel_rod_model(alpha=30.0, n_elements=10, force_N=0.03, duration_s=2e-3)
-    mesh = split_hexes(box_cantilever(0.04, 0.01, 0.01, 2, 2, 6))
+    mesh = split_hexes(box_cantilever(0.04, 0.01, 0.01, nx=2, ny=2, nz=6))
     mesh = quadratic_tets(mesh) if kind == "tet10" else mesh
     return cantilever_model(mesh, RUBBER, alpha=50.0, pulses=[tip_pulse(mesh, [0.3, 2.0, -0.5], 2e-3)])
 

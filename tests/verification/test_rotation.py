@@ -28,8 +28,8 @@ def trailing_tip_deflection(damping):
 
 def drag_deflection():
     area, inertia = ellipse_section_properties()
-    return drum_drag_tip_deflection(ALPHA, RUBBER.rho, area, SETUP.omega_rad_s, SETUP.drum_radius_m,
-                                    SETUP.finger_length_m, RUBBER.E, inertia)
+    return drum_drag_tip_deflection(ALPHA, RUBBER.rho, area, omega=SETUP.omega_rad_s, drum_radius_m=SETUP.drum_radius_m,
+                                    length_m=SETUP.finger_length_m, E=RUBBER.E, second_moment=inertia)
 
 
 def test_global_damping_drags_the_finger_back():

@@ -43,14 +43,14 @@ def _write(csv, meta, frame=None):
 @pytest.fixture(scope="module")
 def basis():
     """The FE basis of the bundled records' declared finger (8 in, SM-A section)."""
-    return finger_basis(LENGTH, (0.012, 0.00845), 0.49, 1000.0, 6.1e6)
+    return finger_basis(LENGTH, (0.012, 0.00845), nu=0.49, rho_kg_m3=1000.0, E_Pa=6.1e6)
 
 
 def test_fe_modes_match_euler_bernoulli_and_scale_as_sqrt_E(basis):
     """The solid's first mode and static tip flexibility are the slender beam's within the
     shear and mesh error (2 %); the FE mass is the prism's; E scales omega exactly."""
     modes = basis.modes()
-    beam = cantilever_frequencies(6.1e6, 1000.0, LENGTH, AREA, INERTIA, 3)
+    beam = cantilever_frequencies(6.1e6, 1000.0, LENGTH, area=AREA, second_moment=INERTIA, n_modes=3)
     assert modes.omega_rad_s[0] == pytest.approx(beam[0], rel=0.02)
     assert modes.omega_rad_s[1] == pytest.approx(beam[1], rel=0.03)
     assert modes.static_flexibility_m_N == pytest.approx(LENGTH**3 / (3 * 6.1e6 * INERTIA), rel=0.02)
@@ -75,7 +75,8 @@ def test_ritz_additions_lower_the_modes_and_a_stiff_root_is_a_clamp(basis):
 def test_ritz_additions_match_the_generators_modified_solid(basis, kwargs):
     """The calibration's Ritz tip mass and root rotation against the generator's FE solid with
     the mass spread on the tip face / the root face free to rotate (independent paths)."""
-    gen = solid_system(LENGTH, 1.0, kwargs.get("tip_mass_kg", 0.0), kwargs.get("root_stiffness"))
+    gen = solid_system(LENGTH, 1.0, tip_mass_kg=kwargs.get("tip_mass_kg", 0.0),
+                       root_stiffness=kwargs.get("root_stiffness"))
     bending = gen.omega_rad_s[np.abs(gen.tip) > 1e-3 * np.abs(gen.tip).max()]
     assert basis.modes(**kwargs).omega_rad_s[:3] == pytest.approx(bending[:3], rel=0.01)
 
@@ -88,12 +89,12 @@ def test_rk4_matches_the_exact_pulse_response(basis, n_modes, pulse_s, monkeypat
     t = np.arange(2001) * 1e-3
     zeta = 4.0 / (2.0 * modes.omega_rad_s)
     exact = ModalROM(modes.omega_rad_s, modes.tip**2, zeta_fitted=zeta).pulse_response(t, 1.0, pulse_s)
-    coarse = nrmse(integrate_tip(t, modes, zeta, 1.0, pulse_s), exact)
+    coarse = nrmse(integrate_tip(t, modes, zeta, force_N=1.0, duration_s=pulse_s), exact)
     assert coarse < 1e-3
     monkeypatch.setattr(dynamics, "H_OMEGA", dynamics.H_OMEGA / 4.0)
-    fine = nrmse(integrate_tip(t, modes, zeta, 1.0, pulse_s), exact)
+    fine = nrmse(integrate_tip(t, modes, zeta, force_N=1.0, duration_s=pulse_s), exact)
     monkeypatch.setattr(dynamics, "H_OMEGA", dynamics.H_OMEGA / 2.0)
-    finer = nrmse(integrate_tip(t, modes, zeta, 1.0, pulse_s), exact)
+    finer = nrmse(integrate_tip(t, modes, zeta, force_N=1.0, duration_s=pulse_s), exact)
     assert finer < fine / 8.0 < coarse / 8.0
 
 
@@ -104,12 +105,14 @@ def test_viscoelastic_response_is_the_integrators_and_the_elastic_one_at_g_0(bas
     modes = basis.modes(n_modes=4)
     t = np.arange(1001) * 1e-3
     zeta = 4.0 / (2.0 * modes.omega_rad_s)
-    exact = viscoelastic_pulse_response(t - 0.02, modes, zeta, 1.0, 0.01, 0.25, 0.05)
-    assert nrmse(exact, integrate_tip(t, modes, zeta, 1.0, 0.01, 0.02, prony_g=0.25, prony_tau_s=0.05)) < 1e-4
+    pulse = {"force_N": 1.0, "duration_s": 0.01}
+    relaxing = {"prony_g": 0.25, "prony_tau_s": 0.05}
+    exact = viscoelastic_pulse_response(t - 0.02, modes, zeta, **pulse, **relaxing)
+    assert nrmse(exact, integrate_tip(t, modes, zeta, **pulse, start_s=0.02, **relaxing)) < 1e-4
     elastic = ModalROM(modes.omega_rad_s, modes.tip**2, zeta_fitted=zeta).pulse_response(t, 1.0, 0.01)
-    assert nrmse(viscoelastic_pulse_response(t, modes, zeta, 1.0, 0.01, 0.0, 0.05), elastic) < 1e-12
+    assert nrmse(viscoelastic_pulse_response(t, modes, zeta, **pulse, prony_g=0.0, prony_tau_s=0.05), elastic) < 1e-12
     # relaxation softens the finger: the late sag under a long pulse is 1 / (1 - g) times the elastic one
-    long = viscoelastic_pulse_response(np.array([3.0]), modes, zeta, 1.0, 10.0, 0.25, 0.05)
+    long = viscoelastic_pulse_response(np.array([3.0]), modes, zeta, force_N=1.0, duration_s=10.0, **relaxing)
     assert long[0] == pytest.approx(modes.static_flexibility_m_N / 0.75, rel=0.02)
 
 

@@ -21,7 +21,7 @@ DATA = ROOT / "data" / "measured"
 
 @pytest.fixture(scope="module")
 def modes():
-    return finger_basis(inch_to_m(8.0), (0.012, 0.00845), 0.49, 1000.0, 6.1e6).modes(n_modes=5)
+    return finger_basis(inch_to_m(8.0), (0.012, 0.00845), nu=0.49, rho_kg_m3=1000.0, E_Pa=6.1e6).modes(n_modes=5)
 
 
 def test_impulse_response_is_the_pulse_response_of_a_short_pulse(modes):
@@ -44,11 +44,11 @@ def test_sparse_term_recovers_a_known_missing_force(modes, term, coef):
     v = np.gradient(u, t)
     r = fftconvolve(coef * LIBRARY[term][0](u, v), impulse_response(modes, zeta, t))[:len(t)] * 1e-3
     noisy = r + 0.02 * np.ptp(r) * np.random.default_rng(1).standard_normal(len(t))
-    found = sparse_term(t, noisy, u, modes, zeta)
+    found = sparse_term(t, noisy, u, modes=modes, zeta=zeta)
     assert list(found.terms) == [term]
     assert found.terms[term] == pytest.approx(coef, rel=0.05)
     assert found.error_reduction > 0.8
-    noise_only = sparse_term(t, noisy - r, u, modes, zeta)
+    noise_only = sparse_term(t, noisy - r, u, modes=modes, zeta=zeta)
     assert noise_only.error_reduction < 0.05
 
 
@@ -120,7 +120,7 @@ def test_the_study_design_is_rerun_with_the_calibrated_inputs(tmp_path):
     cfg = validate({"study": {"calibration_fea_correction": False}})
     options = DesignOptions(grid=(4, 4), validation_runs=1, pareto_points=4, starts=1, fea_check=False)
     out = tmp_path / "design"
-    write_designs(cfg, options, str(record), out, scheduler="serial")
+    write_designs(cfg, options, str(record), out=out, scheduler="serial")
     declared = json.loads((out / "design.json").read_text())
     calibrated = json.loads((out / CALIBRATED / "design.json").read_text())
     cal = json.loads((out / CALIBRATED / "calibration.json").read_text())["calibrated"]

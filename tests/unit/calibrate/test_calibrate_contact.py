@@ -183,7 +183,7 @@ def test_a_contact_record_tells_which_damping_kind_it_supports():
 
     exp = _experiment(np.full_like(T, 5.0))
     rom = ReducedContactModel(declared_setup(exp))
-    force = Transducer().measured(T, np.hypot(*rom.reaction_force(180.0, T, "relative").T))
+    force = Transducer().measured(T, np.hypot(*rom.reaction_force(180.0, T, damping="relative").T))
     noisy = force + np.random.default_rng(3).normal(0.0, 0.3, len(T))
     for declared in ("global", "relative"):
         sidecar = declared_sidecar(0.3) | {"damping": declared}

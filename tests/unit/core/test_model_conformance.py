@@ -54,7 +54,7 @@ def _names(columns):
 def impulse_models():
     """{label: model}: two full impulse models and the finger's reduced model (the modal
     reductor needs solid elements: the steel rod, a structure of rods, is refused)."""
-    finger = finger_impulse_model(mesh=elliptical_cantilever(inch_to_m(3.0), 3, 10, *SEMI_AXES))
+    finger = finger_impulse_model(mesh=elliptical_cantilever(inch_to_m(3.0), 3, 10, a=SEMI_AXES[0], b=SEMI_AXES[1]))
     rod = steel_rod_impulse_model(n_elements=10)
     with pytest.raises(InputError, match="solid elements"):
         reduce_impulse_model(rod)
@@ -73,7 +73,7 @@ def contact_models():
 @pytest.fixture(scope="module")
 def contact_responses(contact_models):
     """{label: (response at alpha 180, the same run again)}: two runs each, for determinism."""
-    return {k: [m.run(180.0, "global", **CONTACT_RUN) for _ in range(2)] for k, m in contact_models.items()}
+    return {k: [m.run(180.0, damping="global", **CONTACT_RUN) for _ in range(2)] for k, m in contact_models.items()}
 
 
 def _same_signature(method, protocol_method):

@@ -26,9 +26,9 @@ COARSE = DrumSetup(finger_section_elements=3, finger_elements_along=26)
 @pytest.fixture(scope="module")
 def finger_3in():
     """A coarse 3-in finger (3 x 3 x 10) as a full FE impulse model and its modal ROM."""
-    mesh = elliptical_cantilever(inch_to_m(3.0), 3, 10, *SEMI_AXES)
+    mesh = elliptical_cantilever(inch_to_m(3.0), 3, 10, a=SEMI_AXES[0], b=SEMI_AXES[1])
     full = finger_impulse_model(mesh=mesh)
-    omega1 = float(natural_frequencies(cantilever_model(mesh, RUBBER), 1)[0])
+    omega1 = float(natural_frequencies(cantilever_model(mesh, RUBBER), n_modes=1)[0])
     return full, reduce_impulse_model(full, n_modes=6), omega1
 
 

@@ -93,8 +93,8 @@ def test_a_finger_that_creeps_back_does_not_ring():
     assert overshoot(np.array([-0.05, 0.0, 0.004, -0.001])) == pytest.approx(0.004)
     t = np.linspace(0.0, 1.0, 11)
     dev = np.column_stack([0 * t, np.where(t < 0.5, 0.01, 0.0)])
-    assert settling_time_s(t, dev, 0.2, 0.005) == pytest.approx(0.3)
-    assert settling_time_s(t, dev + 0.01, 0.2, 0.005) is None
+    assert settling_time_s(t, dev, t_from=0.2, tolerance_m=0.005) == pytest.approx(0.3)
+    assert settling_time_s(t, dev + 0.01, t_from=0.2, tolerance_m=0.005) is None
 
 
 def test_the_run_must_reach_the_next_arrival():
@@ -197,8 +197,8 @@ def test_model_error_tightens_where_the_rom_strays(surrogate):
     tightened there, and the design that meets it on the surrogate meets it once the
     error is added back."""
     sur = surrogate[0]
-    err = ModelError([7.5, 600.0], [inch_to_m(3.0), inch_to_m(8.0)], [[0.0, 0.2], [0.0, 0.2]],
-                     np.zeros((2, 2)))
+    err = ModelError([7.5, 600.0], [inch_to_m(3.0), inch_to_m(8.0)], under=[[0.0, 0.2], [0.0, 0.2]],
+                     over=np.zeros((2, 2)))
     under, _ = err.at(np.array([100.0, 100.0]), np.array([inch_to_m(3.0), inch_to_m(5.5)]))
     np.testing.assert_allclose(under, [0.0, 0.1], atol=1e-12)
     req = Requirements(max_object_force_N=18.0)
@@ -228,7 +228,7 @@ def test_model_errors_from_check_cases():
 
 def test_pareto_front_is_non_dominated(surrogate):
     problem = DesignProblem(surrogate[0])
-    front = pareto_front(problem, "ringing_amplitude_m", n_points=12)
+    front = pareto_front(problem, second="ringing_amplitude_m", n_points=12)
     assert len(front) >= 4
     pts = np.array([[problem.J(d.outputs), d.outputs["ringing_amplitude_m"]] for d in front])
     for p in pts:
@@ -317,7 +317,7 @@ def test_fea_check_count_out_of_range_is_refused_before_any_run(tmp_path):
     from ccedi.study.commands.design import DesignOptions, write_design
 
     with pytest.raises(InputError, match="fea_check_designs must be 1, 2 or 3, got 4"):
-        write_design(DrumSetup(), DesignOptions(fea_check_designs=4), tmp_path / "d.json", tmp_path)
+        write_design(DrumSetup(), DesignOptions(fea_check_designs=4), json_path=tmp_path / "d.json", out=tmp_path)
     assert not list(tmp_path.iterdir())
 
 

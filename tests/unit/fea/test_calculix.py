@@ -109,7 +109,8 @@ def hex20_volumes(nodes, hexes20):
 @pytest.mark.parametrize("hex_element, meshio_type", [("C3D8I", "hexahedron"), ("C3D20R", "hexahedron20")])
 def test_deck_reads_back_with_meshio(tmp_path, hex_element, meshio_type):
     mesh = block(0.01, 0.006, 0.03, 2, 2, 3, jitter=0.2)
-    deck, ids, w, n_nodes, types = calculix_deck(mesh, STEEL_LIKE, 1.0, 1, 2, hex_element)
+    deck, ids, w, n_nodes, types = calculix_deck(mesh, STEEL_LIKE, force_N=1.0, direction=1, n_modes=2,
+                                                 hex_element=hex_element)
     assert types == (hex_element,)
     (tmp_path / "job.inp").write_text(deck)
     back = meshio.read(tmp_path / "job.inp", file_format="abaqus")
@@ -133,7 +134,7 @@ def test_tet_deck_reads_back_with_meshio(tmp_path):
     hexes = block(0.01, 0.006, 0.02, 1, 1, 2)
     quad = tet10_block(hexes)
     mesh = Mesh(nodes=quad.nodes, tets4=kuhn_tets(hexes), tets10=quad.tets10, node_sets=quad.node_sets)
-    deck = calculix_deck(mesh, STEEL_LIKE, 1.0, n_modes=0).text
+    deck = calculix_deck(mesh, STEEL_LIKE, force_N=1.0, n_modes=0).text
     (tmp_path / "job.inp").write_text(deck)
     back = meshio.read(tmp_path / "job.inp", file_format="abaqus")
     assert [c.type for c in back.cells] == ["tetra", "tetra10"]
@@ -227,7 +228,7 @@ def test_cantilever_matches_beam_theory(hex_element, tolerance):
     two lowest frequencies (bending across the 8 mm and the 12 mm side) within 2 % of
     Euler-Bernoulli's (the locking full-integration C3D8 is 114 % too stiff here)."""
     mesh = block(BAR["lx"], BAR["ly"], BAR["lz"], 2, 2, 12)
-    r = run_calculix(mesh, STEEL_LIKE, 1.0, 1, 2, hex_element)
+    r = run_calculix(mesh, STEEL_LIKE, force_N=1.0, direction=1, n_modes=2, hex_element=hex_element)
     E, nu, rho = STEEL_LIKE.E, STEEL_LIKE.nu, STEEL_LIKE.rho
     assert r.stiffness_N_per_m == pytest.approx(timoshenko_tip_stiffness(E, nu, BAR["lx"], BAR["ly"], BAR["lz"]),
                                                 rel=tolerance)
@@ -242,7 +243,7 @@ def test_tet10_cantilever_matches_beam_theory():
     """C3D10 (the straight-edged Kuhn tetrahedra of the block) with its consistent tip
     weights: tip stiffness within 3 % of Timoshenko's, f1 within 3 % of Euler-Bernoulli's."""
     mesh = tet10_block(block(BAR["lx"], BAR["ly"], BAR["lz"], 2, 2, 12))
-    r = run_calculix(mesh, STEEL_LIKE, 1.0, 1, 1)
+    r = run_calculix(mesh, STEEL_LIKE, force_N=1.0, direction=1, n_modes=1)
     E, nu, rho = STEEL_LIKE.E, STEEL_LIKE.nu, STEEL_LIKE.rho
     assert r.stiffness_N_per_m == pytest.approx(timoshenko_tip_stiffness(E, nu, BAR["lx"], BAR["ly"], BAR["lz"]),
                                                 rel=0.03)
@@ -256,13 +257,13 @@ def test_stored_matrices_give_ccx_frequencies():
     (every node but the clamped ones, 3 each), and their generalised eigenvalues are the
     frequencies CalculiX itself finds."""
     mesh = block(BAR["lx"], BAR["ly"], BAR["lz"], 2, 2, 6)
-    mats = calculix_matrices(mesh, STEEL_LIKE, "C3D20")
+    mats = calculix_matrices(mesh, STEEL_LIKE, hex_element="C3D20")
     K, M = mats.stiffness.toarray(), mats.mass.toarray()
     np.testing.assert_array_equal(K, K.T)
     free = np.setdiff1d(np.arange(mats.n_nodes), hex8_to_hex20(mesh).node_sets["root"])
     np.testing.assert_array_equal(mats.dofs, np.column_stack([np.repeat(free, 3), np.tile([0, 1, 2], len(free))]))
     omega2 = eigh(K, M, eigvals_only=True, subset_by_index=[0, 2])
-    r = run_calculix(mesh, STEEL_LIKE, None, 1, 3, "C3D20")
+    r = run_calculix(mesh, STEEL_LIKE, force_N=None, direction=1, n_modes=3, hex_element="C3D20")
     np.testing.assert_allclose(np.sqrt(omega2), r.omega_rad_s, rtol=1e-5)
 
 

@@ -174,7 +174,7 @@ def test_boundary_nodes_of_a_box_are_the_nodes_on_its_faces(kind):
     """Hexahedra, their 4-node split and its 10-node version: the surface nodes are exactly
     the nodes on the box's six planes (straight edges put every mid-edge node of a face on
     its plane, and every interior edge's strictly inside)."""
-    mesh = box_cantilever(0.03, 0.02, 0.01, 3, 2, 4)
+    mesh = box_cantilever(0.03, 0.02, 0.01, nx=3, ny=2, nz=4)
     mesh = {"hex8": mesh, "tet4": split_hexes(mesh), "tet10": quadratic_tets(split_hexes(mesh))}[kind]
     X = mesh.nodes
     lo, hi = X.min(axis=0), X.max(axis=0)

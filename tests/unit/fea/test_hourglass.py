@@ -123,7 +123,7 @@ def test_sm_a_matches_the_converged_solution_of_its_geometry():
     +0.8 % and +1.4 %; the cube-calibrated hourglass control was +1.8 % and +3.6 %)."""
     model = cantilever_model(sm_a(length_in=4.5), RUBBER)
     k = 1.0 / tip_deflection(model, 1.0, linear=True)
-    f1 = natural_frequencies(model, 1)[0] / (2.0 * np.pi)
+    f1 = natural_frequencies(model, n_modes=1)[0] / (2.0 * np.pi)
     assert f1 == pytest.approx(C3D20R_SM_A[1], rel=0.01)
     assert k == pytest.approx(C3D20R_SM_A[0], rel=0.02)
 
@@ -135,14 +135,14 @@ def test_sm_a_converges_from_above_under_refinement():
     the C3D20R peer values."""
     coarse, fine = (cantilever_model(refine_hexes(sm_a(length_in=4.5), n), RUBBER) for n in (1, 2))
     k = [1.0 / tip_deflection(m, 1.0, linear=True) for m in (coarse, fine)]
-    f1 = [natural_frequencies(m, 1)[0] / (2.0 * np.pi) for m in (coarse, fine)]
+    f1 = [natural_frequencies(m, n_modes=1)[0] / (2.0 * np.pi) for m in (coarse, fine)]
     assert k[0] > k[1] and f1[0] > f1[1]
     assert f1[0] == pytest.approx(f1[1], rel=0.01) and k[0] == pytest.approx(k[1], rel=0.02)
     assert (k[1], f1[1]) == pytest.approx(C3D20R_SM_A, rel=0.005)
 
 
 @pytest.mark.parametrize("mesh", [sm_a(length_in=4.5), __import__("ccedi.fea.mesh.tet_mesh", fromlist=["x"]).box_cantilever(
-    0.06, 0.012, 0.012, 3, 3, 15)], ids=["SM-A", "cube box"])
+    0.06, 0.012, 0.012, nx=3, ny=3, nz=15)], ids=["SM-A", "cube box"])
 def test_hexahedron_stable_step_is_near_the_real_limit(mesh):
     """Central differences are stable for dt < 2 / omega_max (largest eigenvalue of
     M^-1/2 K M^-1/2): the run at 0.9 of the computed step (TSSFAC) stays below it and a

@@ -65,7 +65,7 @@ def test_rod_tip_stiffness_matches_euler_bernoulli():
     L, F = 0.4, 1e-4
     nodes, rod, root, tip = straight_rod(L, 20, STEEL)
     mesh = Mesh(nodes=nodes, hexes=np.zeros((0, 8), np.int64), node_sets={"root": root, "tip": np.array([tip])})
-    omega1 = cantilever_frequencies(STEEL.E, STEEL.rho, L, STEEL.area, STEEL.second_moment)[0]
+    omega1 = cantilever_frequencies(STEEL.E, STEEL.rho, L, area=STEEL.area, second_moment=STEEL.second_moment)[0]
     pulse = ForcePulse(nodes=np.array([tip]), weights=np.ones(1), force_N=[0, F, 0], t_start_s=0.0, t_end_s=10.0)
     model = Model(mesh=mesh, material=None, alpha=2.0 * omega1, fixed_nodes=root, pulses=(pulse,), rods=(rod,))
     res = run(model, 1.5, n_outputs=10)

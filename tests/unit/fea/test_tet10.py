@@ -33,7 +33,7 @@ def test_hrz_mass_of_a_straight_element():
 def test_no_volumetric_locking(converged_box_hex):
     """nu = 0.499: the 4 mm tet-10 cantilever's tip deflection within 3 % of the converged
     hexahedra."""
-    model = cantilever_model(quadratic_tets(split_hexes(box_cantilever(*BOX, 3, 2, 15))), RUBBER_499)
+    model = cantilever_model(quadratic_tets(split_hexes(box_cantilever(*BOX, nx=3, ny=2, nz=15))), RUBBER_499)
     k = 0.01 / tip_deflection(model, 0.01, linear=True)
     assert k == pytest.approx(converged_box_hex, rel=0.03)
 
@@ -41,9 +41,9 @@ def test_no_volumetric_locking(converged_box_hex):
 def test_impulse_run_balances_energy_and_rings_at_the_modal_frequency():
     """fea.explicit.run on a tet-10 cantilever with a tip pulse: energy balance within 1 %,
     no warnings, and the tip rings at the first natural frequency of the modal analysis."""
-    mesh = quadratic_tets(split_hexes(box_cantilever(*BOX, 2, 2, 8)))
+    mesh = quadratic_tets(split_hexes(box_cantilever(*BOX, nx=2, ny=2, nz=8)))
     model = cantilever_model(mesh, NeoHookean(6.1e6, 0.49, 1000.0), pulses=[tip_pulse(mesh, [0.0, 0.5, 0.0], 1e-3)])
-    omega1 = natural_frequencies(model, 1)[0]
+    omega1 = natural_frequencies(model, n_modes=1)[0]
     res = run(model, 4 * 2 * np.pi / omega1, n_outputs=400)
     assert res.summary["energy_balance_error"] < 0.01
     assert [w for w in res.summary["warnings"] if "the step is set by" not in w] == []   # a sliver is named, no more

@@ -25,7 +25,7 @@ MODULES = {"tet4": tet4, "tet10": tet10}
 def tet_mesh(kind, nx=2, ny=2, nz=3, jitter=0.0, seed=0):
     """Box cantilever split into tetrahedra, interior nodes jittered by ``jitter`` of the
     element size (an irregular patch)."""
-    mesh = split_hexes(box_cantilever(0.01, 0.01, 0.01, nx, ny, nz))
+    mesh = split_hexes(box_cantilever(0.01, 0.01, 0.01, nx=nx, ny=ny, nz=nz))
     X = mesh.nodes.copy()
     lo, hi = X.min(axis=0), X.max(axis=0)
     interior = np.all((X > lo + 1e-9) & (X < hi - 1e-9), axis=1)
@@ -167,8 +167,8 @@ def test_no_volumetric_locking_tip_stiffness_matches_the_converged_hexahedra(con
     converged hexahedral value, approached from the stiff side (4 mm stiffer still); a
     locking element would be far stiffer (the element shear alone, alpha = 0, is +24 %
     here, from its bending error)."""
-    k = [0.01 / tip_deflection(cantilever_model(split_hexes(box_cantilever(*BOX, 3 * s, 2 * s, 15 * s)), RUBBER_499),
-                               0.01, linear=True) for s in (1, 2)]
+    meshes = [split_hexes(box_cantilever(*BOX, nx=3 * s, ny=2 * s, nz=15 * s)) for s in (1, 2)]
+    k = [0.01 / tip_deflection(cantilever_model(mesh, RUBBER_499), 0.01, linear=True) for mesh in meshes]
     assert k[0] > k[1] > converged_box_hex
     assert k[1] == pytest.approx(converged_box_hex, rel=0.03)
 
@@ -177,7 +177,7 @@ def test_nodal_shear_fraction_lies_between_the_element_and_the_node_smoothed_bou
     """The compatible element (alpha = 0) is stiffer than the exact solution and the
     node-smoothed one (NS-FEM, alpha = 1) softer (its upper-bound property); the alpha-FEM
     blend lies between them, and nearer the converged value than either (BOX, 4 mm)."""
-    mesh = split_hexes(box_cantilever(*BOX, 3, 2, 15))
+    mesh = split_hexes(box_cantilever(*BOX, nx=3, ny=2, nz=15))
     k = {}
     for alpha in (0.0, tet4.NODAL_SHEAR_FRACTION, 1.0):
         model = cantilever_model(mesh, RUBBER_499)
@@ -217,7 +217,7 @@ def test_stable_step_is_near_the_real_limit(kind):
     mesh, as hexahedra or split into tetrahedra; the computed step is 2/omega_max at rest,
     see test_stable_step_is_the_assembled_limit_above_the_element_bound and
     ccedi.fea.model.Model.hex_length_factor)."""
-    hexes = box_cantilever(*BOX, 2, 2, 8)
+    hexes = box_cantilever(*BOX, nx=2, ny=2, nz=8)
     mesh = {"hex8": hexes, "tet4": split_hexes(hexes), "tet10": quadratic_tets(split_hexes(hexes))}[kind]
     model = cantilever_model(mesh, RUBBER_49)
     assert _diverges(model, 1.3)
@@ -258,7 +258,7 @@ def test_stable_step_is_the_assembled_limit_above_the_element_bound(kind):
     g = group_of(model, kind)
     grad, weight = (g.grad[:, None], g.volume[:, None]) if kind == "tet4" else (g.grad, g.weight)
     mu, lam = RUBBER_49.mu, RUBBER_49.lam
-    Ke = reference_element_stiffness(grad, weight, mu, lam)
+    Ke = reference_element_stiffness(grad, weight, mu=mu, lam=lam)
     free = np.setdiff1d(np.arange(model.mesh.n_nodes), model.fixed_nodes)
     dofs = (3 * free[:, None] + np.arange(3)).ravel()
     s = 1 / np.sqrt(np.repeat(model.mass[free], 3))
@@ -301,7 +301,7 @@ def test_random_velocity_run_balances_energy(kind):
     closes within 1 % (the kinetic energy of central differences, m v^{n-1/2} v^{n+1/2} / 2,
     and the bulk-viscous work on the mid-step velocity; with m vb^2 / 2 and the element
     power at v^{n-1/2} it was off by 13 % (tet-4) and 21 % (tet-10))."""
-    hexes = box_cantilever(*BOX, 2, 2, 8)
+    hexes = box_cantilever(*BOX, nx=2, ny=2, nz=8)
     mesh = split_hexes(hexes) if kind == "tet4" else quadratic_tets(split_hexes(hexes))
     model = cantilever_model(mesh, RUBBER_49)
     v0 = 1e-3 * np.random.default_rng(0).standard_normal(mesh.nodes.shape)

@@ -66,7 +66,7 @@ def test_match_alpha_recovers_overdamped_sdof_with_noise():
     t, y = sdof.run(160.0, **RUN).tip_signal()
     noise = 0.02 * y.max()
     y = y + noise * np.random.default_rng(0).standard_normal(len(t))
-    m = match_alpha(sdof, t, y, (50.0, 500.0), **RUN)
+    m = match_alpha(sdof, t, y, bounds_per_s=(50.0, 500.0), **RUN)
     assert m.alpha_per_s == pytest.approx(160.0, rel=0.01)
     assert m.n_runs == len(m.evaluations) < 40
     assert m.rms_error_m == pytest.approx(noise, rel=0.1)          # what is left is the noise
@@ -104,7 +104,7 @@ def test_bad_bracket_and_tolerance_are_named():
     with pytest.raises(InputError, match="rtol"):
         critical_alpha(SDOF(), 100.0, rtol=2.0, **RUN)
     with pytest.raises(InputError, match="bounds"):
-        match_alpha(SDOF(), *SDOF().run(100.0, **RUN).tip_signal(), (300.0, 100.0))
+        match_alpha(SDOF(), *SDOF().run(100.0, **RUN).tip_signal(), bounds_per_s=(300.0, 100.0))
 
 
 def test_searches_take_impulse_models_only():
@@ -116,7 +116,7 @@ def test_searches_take_impulse_models_only():
     with pytest.raises(InputError, match="impulse model"):
         critical_alpha(simulate, 100.0, **RUN)
     with pytest.raises(InputError, match="impulse model"):
-        match_alpha(simulate, t, y, (50.0, 500.0))
+        match_alpha(simulate, t, y, bounds_per_s=(50.0, 500.0))
     with pytest.raises(InputError, match="impulse model"):
         identify(t, y, simulate, alpha_guess=100.0)
 
@@ -161,5 +161,5 @@ def test_overdamped_match_45_in_alpha_180_with_noise():
     model, run = finger_impulse_model(4.5), {"t_end_s": 0.12, "n_outputs": 240}
     t, y = model.run(180.0, **run).tip_signal()
     y_meas = y + 0.02 * np.abs(y).max() * np.random.default_rng(4).standard_normal(len(t))
-    m = match_alpha(model, t, y_meas, (60.0, 400.0), xatol_rel=0.005, **run)
+    m = match_alpha(model, t, y_meas, bounds_per_s=(60.0, 400.0), xatol_rel=0.005, **run)
     assert m.alpha_per_s == pytest.approx(180.0, rel=0.05)

@@ -28,7 +28,8 @@ def _run(model, alpha, damping, n_steps, n_outputs, backend):
     points = ContactPoints(model.pt_seg, model.pt_xi, model.pt_h, model.pt_k, float(obj.damping_ratio), float(obj.mu),
                            obj.params()[1][:6])
     drum = DrumFrame(s.omega_rad_s, s.theta0_rad, float(alpha), damping == "relative")
-    status, steps = chain_run(state, model._chain_group(), drum, points, model.dt_s, out, backend=backend)
+    status, steps = chain_run(state, model._chain_group(), drum, points=points, dt=model.dt_s, outputs=out,
+                              backend=backend)
     return status, steps, state, out
 
 

@@ -65,7 +65,7 @@ def test_natural_stiffness_needs_rigid_motion_invariance():
 
 def _zone_deformations(chain, P, TH, nonlinear):
     rec = stress_recovery(chain, RUBBER)
-    return rec, rec.deformations(P[None], TH[None], chain.station_z_m, nonlinear)
+    return rec, rec.deformations(P[None], TH[None], chain.station_z_m, nonlinear=nonlinear)
 
 
 def test_zone_deformations_are_the_chain_segments_natural_deformations(finger_8in):
@@ -81,7 +81,7 @@ def test_zone_deformations_are_the_chain_segments_natural_deformations(finger_8i
         _internal_forces(P, TH, np.diff(z), chain.natural_stiffness, nonlinear, np.zeros((len(z), 2)),
                          np.zeros(len(z)), E)
         segments = rec.zone_b - rec.zone_a == 1
-        e = rec.deformations(P[None], TH[None], z, nonlinear)[0]
+        e = rec.deformations(P[None], TH[None], z, nonlinear=nonlinear)[0]
         np.testing.assert_allclose(e[segments], E[rec.zone_a[segments]], rtol=1e-12, atol=1e-15)
 
 
@@ -134,9 +134,9 @@ def test_rotating_chain_drag_matches_beam_theory(damping):
     full FE model meets the same figure, tests/verification/test_rotation.py); relative damping does not."""
     setup = DrumSetup(finger_length_m=0.1143, object_center_m=(5.0, 5.0), theta0_rad=0.0)
     area, inertia = ellipse_section_properties()
-    drag = drum_drag_tip_deflection(20.0, RUBBER.rho, area, setup.omega_rad_s, setup.drum_radius_m,
-                                    setup.finger_length_m, RUBBER.E, inertia)
-    res = ReducedContactModel(setup, n_segments=10).run(20.0, damping, t_end_s=0.6, n_outputs=20)
+    drag = drum_drag_tip_deflection(20.0, RUBBER.rho, area, omega=setup.omega_rad_s, drum_radius_m=setup.drum_radius_m,
+                                    length_m=setup.finger_length_m, E=RUBBER.E, second_moment=inertia)
+    res = ReducedContactModel(setup, n_segments=10).run(20.0, damping=damping, t_end_s=0.6, n_outputs=20)
     lag = tip_lag_series_m(setup, res.history)[-1]
     if damping == "global":
         assert lag == pytest.approx(drag, rel=0.06)

@@ -21,7 +21,7 @@ def test_static_condensation_reproduces_tip_stiffness():
     K, M, dofs = fe_matrices(model)
     tip = model.mesh.node_sets["tip"]
     boundary = np.concatenate([3 * tip, 3 * tip + 1, 3 * tip + 2])
-    cb = craig_bampton(K, M, dofs, boundary, n_modes=0)
+    cb = craig_bampton(K, M, dofs, boundary_dofs=boundary, n_modes=0)
     f = np.zeros(len(dofs))
     f[np.searchsorted(dofs, tip_dofs(model))] = face_node_weights(model.mesh, tip)
     z = np.linalg.solve(cb.K_r, cb.reduce_force(f))
@@ -35,9 +35,9 @@ def test_all_interior_modes_reproduce_frequencies():
     K, M, dofs = fe_matrices(model)
     boundary = tip_dofs(model)
     n_interior = len(dofs) - len(boundary)
-    cb = craig_bampton(K, M, dofs, boundary, n_modes=n_interior)
+    cb = craig_bampton(K, M, dofs, boundary_dofs=boundary, n_modes=n_interior)
     w2 = eigh(cb.K_r, cb.M_r, eigvals_only=True)
-    assert np.allclose(np.sqrt(w2[:6]), natural_frequencies(model, 6), rtol=1e-8)
+    assert np.allclose(np.sqrt(w2[:6]), natural_frequencies(model, n_modes=6), rtol=1e-8)
 
 
 def test_few_modes_converge_from_above():
@@ -45,10 +45,10 @@ def test_few_modes_converge_from_above():
     interface modes bring them down towards the full values."""
     model = cantilever_model(sm_a(length_in=4.5), RUBBER)
     K, M, dofs = fe_matrices(model)
-    full = natural_frequencies(model, 3)
+    full = natural_frequencies(model, n_modes=3)
     errors = []
     for n in (2, 6, 12):
-        cb = craig_bampton(K, M, dofs, tip_dofs(model), n_modes=n)
+        cb = craig_bampton(K, M, dofs, boundary_dofs=tip_dofs(model), n_modes=n)
         w = np.sqrt(eigh(cb.K_r, cb.M_r, eigvals_only=True)[:3])
         assert np.all(w >= full * (1 - 1e-9))
         errors.append(w[0] / full[0] - 1)
@@ -60,4 +60,4 @@ def test_bad_boundary_is_named():
     model = cantilever_model(elliptical_cantilever(0.05, 2, 3), RUBBER)
     K, M, dofs = fe_matrices(model)
     with pytest.raises(InputError, match="boundary_dofs"):
-        craig_bampton(K, M, dofs, 3 * model.mesh.node_sets["root"], n_modes=2)   # clamped DOFs
+        craig_bampton(K, M, dofs, boundary_dofs=3 * model.mesh.node_sets["root"], n_modes=2)   # clamped DOFs

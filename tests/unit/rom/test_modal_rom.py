@@ -25,14 +25,14 @@ def test_all_modes_reproduce_static_flexibility_exactly(small_model):
     flexibility of the linear FE model."""
     n_free = 3 * (small_model.mesh.n_nodes - len(small_model.fixed_nodes))
     tip = small_model.mesh.node_sets["tip"]
-    rom = modal_rom(small_model, n_free, tip, face_node_weights(small_model.mesh, tip))
+    rom = modal_rom(small_model, n_free, load_nodes=tip, load_weights=face_node_weights(small_model.mesh, tip))
     assert rom.static_flexibility == pytest.approx(tip_deflection(small_model, 1.0, linear=True), rel=1e-9)
 
 
 def test_rom_frequencies_are_the_fe_frequencies(small_model):
     tip = small_model.mesh.node_sets["tip"]
-    rom = modal_rom(small_model, 5, tip, face_node_weights(small_model.mesh, tip))
-    assert np.allclose(rom.omega_rad_s, natural_frequencies(small_model, 5), rtol=1e-10)
+    rom = modal_rom(small_model, 5, load_nodes=tip, load_weights=face_node_weights(small_model.mesh, tip))
+    assert np.allclose(rom.omega_rad_s, natural_frequencies(small_model, n_modes=5), rtol=1e-10)
 
 
 @settings(max_examples=30, deadline=None)
@@ -69,7 +69,7 @@ def test_rom_matches_full_fea_impulse():
     h = finger_impulse_model(force_N=force, duration_s=duration).run(alpha, 0.2, 400).history
     rom = tip_modal_rom(impulse_model(alpha=alpha, force_N=force), n_modes=3)
     assert nrmse(rom.pulse_response(h.time_s, force, duration), h.tip_uy_m) < 0.02
-    fit = fit_to_response(rom, h.time_s.values, h.tip_uy_m.values, force, duration)
+    fit = fit_to_response(rom, h.time_s.values, h.tip_uy_m.values, force_N=force, duration_s=duration)
     assert fit.nrmse_after < 0.02 and fit.nrmse_after <= fit.nrmse_before
     share = (rom.gain / rom.omega_rad_s**2) / rom.static_flexibility
     seen = share >= 0.01
