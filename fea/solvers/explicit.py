@@ -298,6 +298,15 @@ def _extra_damping_power(state, nodes, damping, frame, beta_rate):
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
+def _zero(a):
+    """Set the (n, 3) array ``a`` to zero, in one loop over its flat memory (0.34 against
+    0.57 us for ``a[:] = 0.0`` on SM-A's 1100 nodes)."""
+    flat = a.reshape(-1)
+    for j in range(flat.shape[0]):
+        flat[j] = 0.0
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
 def _accumulate(total, part):
     """``total += part`` element by element (both (n, 3))."""
     for n in range(total.shape[0]):
@@ -351,9 +360,8 @@ def _advance(t, t_stop, dt_prev, control, state, nodes, internal, external, fram
     steps = 0
     dt_seen = np.inf
     while t < t_stop:
-        f_int[:] = 0.0
-        if f_bulk.shape[0] > 0:
-            f_bulk[:] = 0.0
+        _zero(f_int)
+        _zero(f_bulk)
         dte, w_int, w_hg, p_bulk = np.inf, 0.0, 0.0, 0.0
         for term in internal.terms:
             if term.size > 0:
@@ -374,7 +382,7 @@ def _advance(t, t_stop, dt_prev, control, state, nodes, internal, external, fram
         else:
             dt = control.tssfac * dt_stable
         dt_seen = min(dt_seen, dt)
-        f_ext[:] = 0.0
+        _zero(f_ext)
         for term in external:
             if term.size > 0:
                 term.kernel(t, x, v, term.data, f_ext)
