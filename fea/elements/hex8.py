@@ -421,7 +421,7 @@ def internal_forces_numpy(x, v, hexes, *, b, volume, gamma, kappa, length_factor
     c : float
         Dilatational wave speed [m/s].
     f : numpy.ndarray
-        Output, shape (n, 3): overwritten with the nodal internal forces [N].
+        Nodal forces, shape (n, 3) [N]; the internal forces are ADDED to it.
 
     Returns
     -------
@@ -454,7 +454,6 @@ def internal_forces_numpy(x, v, hexes, *, b, volume, gamma, kappa, length_factor
     P = (first_piola(F, mu, lam) - (q_bv * J)[:, None, None] * FinvT
          - np.matmul(FinvT, S) / volume[:, None, None])
     fe = np.einsum("eij,ekj->eki", P, b) + np.einsum("eak,eai->eki", gamma, np.einsum("eji,eaj->eai", Finv, Qt))
-    f[:] = 0.0
     np.add.at(f, hexes, fe)
     dt_min = float(element_time_step(Le, c, e_v).min())
     strain_energy = float(np.sum(volume * strain_energy_density(F, mu, lam)))

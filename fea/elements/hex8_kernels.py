@@ -18,8 +18,9 @@ last), every stage a loop over the block's elements that LLVM compiles to SIMD
 instructions (the stages write to arrays allocated in the block, which LLVM knows alias
 nothing else; the logarithm, which has no SIMD form without Intel's SVML, has its own
 loop). Each element's nodal forces go to a per-element array, and each node then sums the
-forces of its elements in ascending element order: the same sum, bit for bit, as a
-scatter element by element, and conflict-free. Blocks (dealt into :data:`CHUNKS` chunks,
+forces of its elements in ascending element order and adds the sum to its force: the
+same sum, bit for bit, as a scatter element by element into a zeroed force, and
+conflict-free. Blocks (dealt into :data:`CHUNKS` chunks,
 each with one set of work arrays) and nodes are spread over numba's threads (``prange``)
 and the element values are reduced in element order afterwards, so the results do not
 depend on the number of threads (``numba.set_num_threads``).
@@ -365,12 +366,14 @@ def internal_forces_numba(x, v, group, material, f):
         (mu [Pa], lam [Pa], rho [kg/m^3], c [m/s]): shear modulus, first Lame constant,
         density, dilatational wave speed (:class:`SolidMaterial`).
     f : (n_nodes, 3) ndarray
-        Output: overwritten with the internal nodal forces [N].
+        Nodal forces [N]; the internal forces are ADDED to it (the force-term contract of
+        :mod:`ccedi.fea.solvers.force_terms`).
 
     Returns
     -------
     dt_min : float
-        Smallest element critical time step [s] (``inf`` for no elements).
+        Smallest element critical time step [s] (``inf`` for no elements, which add
+        nothing).
     strain_energy : float
         Stored elastic energy sum_e V0 W(F) [J], summed in element order.
     hourglass_energy : float
@@ -381,6 +384,8 @@ def internal_forces_numba(x, v, group, material, f):
         -1 when every element has J > 0; else the index of the first inverted element
         (J <= 0), in which case the other values are 0 and ``f`` is untouched.
     """
+    if group.hexes.shape[0] == 0:
+        return np.inf, 0.0, 0.0, 0.0, -1
     mu, lam, rho, c = material[0], material[1], material[2], material[3]
     chunks = min(CHUNKS, group.block_nodes.shape[0])
     for ch in nb.prange(chunks):
@@ -403,5 +408,5 @@ def internal_forces_numba(x, v, group, material, f):
         for s in range(start[nd], start[nd + 1]):
             j = slots[s]
             s0 += flat[j]; s1 += flat[j + BLOCK]; s2 += flat[j + 2 * BLOCK]
-        f[nd, 0] = s0; f[nd, 1] = s1; f[nd, 2] = s2
+        f[nd, 0] += s0; f[nd, 1] += s1; f[nd, 2] += s2
     return dt_min, w_s, w_hg, p_b, -1

@@ -51,19 +51,21 @@ def pulse_loads(pulses):
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def pulse_forces(f_ext, loads, t):
-    """External nodal forces of the pulses active at time ``t``, into ``f_ext``.
+def pulse_forces(t, x, v, loads, f_ext):
+    """External nodal forces of the pulses active at time ``t``, added to ``f_ext`` (the
+    external force term of :mod:`ccedi.fea.solvers.force_terms`).
 
     Parameters
     ----------
-    f_ext : ndarray, shape (n, 3)
-        Overwritten with the pulse forces [N] (zero elsewhere).
-    loads : PulseLoads
-        The flattened pulses.
     t : float
         Time [s].
+    x, v : ndarray, shape (n, 3)
+        Nodal positions [m] and velocities [m/s] (not used: the pulses are given forces).
+    loads : PulseLoads
+        The flattened pulses.
+    f_ext : ndarray, shape (n, 3)
+        External nodal forces [N]; the pulse forces are ADDED to it.
     """
-    f_ext[:, :] = 0.0
     for p in range(loads.nodes.shape[0]):
         if loads.t_start[p] <= t and t < loads.t_end[p]:
             for i in range(3):

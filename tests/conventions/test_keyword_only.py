@@ -9,8 +9,8 @@ that a call such as ``run(model, t_end_s, n_outputs=..., dt_s=...)`` names what 
 
 Not checked: numba dispatchers (numba compiles keyword-only arguments poorly, so kernels
 stay positional) and the pure-numpy twin of such a kernel (``name_numpy`` beside
-``name_numba`` in the same module), which the solver passes where the compiled kernel goes
-and so calls the same way; the methods a dataclass or named tuple generates
+``name_numba`` or ``name`` in the same module), which the solver passes where the compiled
+kernel goes and so calls the same way; the methods a dataclass or named tuple generates
 (``__init__``, ``__new__``, ...); anything a decorator or library defines elsewhere.
 
 There is one test per module, listing *all* its offenders (``module:name: 4 positional
@@ -86,11 +86,13 @@ def class_offenders(label, cls, module):
 
 def is_kernel(name, obj, module):
     """A numba kernel, or the numpy twin that stands in for one (``x_numpy`` beside a
-    compiled ``x_numba``)."""
+    compiled ``x_numba`` or ``x``)."""
     if hasattr(obj, "py_func"):
         return True
-    twin = getattr(module, name[:-len("_numpy")] + "_numba", None) if name.endswith("_numpy") else None
-    return hasattr(twin, "py_func")
+    if not name.endswith("_numpy"):
+        return False
+    stem = name[:-len("_numpy")]
+    return any(hasattr(getattr(module, twin, None), "py_func") for twin in (stem + "_numba", stem))
 
 
 def module_offenders(module):

@@ -199,6 +199,7 @@ def _diverges(model, factor, steps=3000):
     x, f = X.copy(), np.zeros_like(X)
     material = SolidMaterial(*model.solid_constants)
     for _ in range(steps):
+        f[:] = 0.0                                  # the kernels add to f
         hex_forces(x, v, model.hexahedra, material, f)
         tet4.internal_forces_numba(x, v, model.tet4, material, f)
         tet10.internal_forces_numba(x, v, model.tet10, material, f)
