@@ -458,7 +458,7 @@ def contact_run(setup: DrumSetup, alpha, *, damping="global", t_end_s=1.5, n_out
     object_stress : bool, optional
         Solve the object's stress at every output.
     threads : int, optional
-        Threads of the run (:func:`ccedi.fea.solvers.explicit.thread_count`; default: the free
+        Threads of the run (:func:`ccedi.threads.thread_count`; default: the free
         cores).
 
     Returns

@@ -38,8 +38,6 @@ by term (``_advance_numba``), and run as plain Python with the numpy reference k
 (``backend="numpy"``), which the tests compare.
 """
 import functools
-import os
-import sys
 import time as _time
 from collections import namedtuple
 from dataclasses import dataclass, field
@@ -47,7 +45,6 @@ from dataclasses import dataclass, field
 import numba as nb
 import numpy as np
 import pandas as pd
-import psutil
 
 from ccedi.errors import InputError, SolverError, require_finite_positive
 from ccedi.fea.contact.penalty import (
@@ -101,6 +98,7 @@ from ccedi.fea.solvers.prescribed import prescribed_rotation
 from ccedi.fea.solvers.rotating_frame import RotatingFrame, frame_velocity
 from ccedi.fea.solvers.validity import issue, max_log_strain, run_checks, run_label
 from ccedi.progress import progress_bar
+from ccedi.threads import thread_count
 
 TSSFAC = 0.9
 """Time-step scale factor of paper Eq. (5)."""
@@ -862,91 +860,6 @@ def _duration(seconds):
     return f"{seconds:.2g} s"
 
 
-THREADS_ENV = "CCEDI_THREADS"
-"""Environment variable that sets the default thread count of :func:`run` (an integer in
-1 .. the cores), e.g. 1 in a test suite whose workers share the cores."""
-
-IDLE_CPU_PERCENT = 50.0
-"""A core counts as free for a run when it was busy less than this share [%] of a short
-sampling window (:func:`free_cores`)."""
-
-
-def free_cores(window_s=0.05):
-    """Cores nothing else is using (psutil's per-CPU times).
-
-    Parameters
-    ----------
-    window_s : float, optional
-        Sampling window [s]. Default 0.05.
-
-    Returns
-    -------
-    int
-        The cores busy less than :data:`IDLE_CPU_PERCENT` of the window, at least 1.
-    """
-    busy = psutil.cpu_percent(interval=window_s, percpu=True)
-    return max(1, sum(1 for p in busy if p < IDLE_CPU_PERCENT))
-
-
-def _shares_cores_with_dask():
-    """True in a Dask worker, and in a process with a Dask client: its workers run beside
-    it, so the cores that look free between their tasks are not."""
-    if "distributed" not in sys.modules:
-        return False
-    from distributed import get_worker  # only to ask whether this process is a Dask worker or client
-    from distributed.client import _get_global_client  # only to ask whether this process is a Dask worker or client
-
-    try:
-        get_worker()
-    except ValueError:
-        return _get_global_client() is not None
-    return True
-
-
-def thread_count(threads=None):
-    """Number of threads the compiled force kernels of a run use.
-
-    Parameters
-    ----------
-    threads : int, optional
-        Requested count, 1 .. ``numba.config.NUMBA_NUM_THREADS`` (the cores, unless the
-        environment variable NUMBA_NUM_THREADS sets fewer). Default None: the variable
-        :data:`THREADS_ENV` if set; 1 in a Dask worker (a sweep runs one model per
-        worker) and in a process with a Dask client (its workers share the cores); else
-        every free core (:func:`free_cores`). Every step waits at a barrier
-        for all its threads, so a thread on a core that another job also uses stalls it
-        (measured: 2 threads 18 x slower than 1 at load 20 on 2 cores): hence only the
-        free cores.
-
-    Returns
-    -------
-    int
-        The thread count. Results do not depend on it (bit for bit).
-
-    Raises
-    ------
-    InputError
-        If ``threads`` or :data:`THREADS_ENV` is not an integer in that range.
-    """
-    top = nb.config.NUMBA_NUM_THREADS
-    if threads is None:
-        env = os.environ.get(THREADS_ENV)
-        if env is not None:
-            try:
-                threads = int(env)
-            except ValueError:
-                raise InputError(f"{THREADS_ENV} = {env!r}: must be an integer in 1..{top}") from None
-            if not 1 <= threads <= top:
-                raise InputError(f"{THREADS_ENV} = {env!r}: must be an integer in 1..{top}")
-            return threads
-        if _shares_cores_with_dask():
-            return 1
-        return min(top, free_cores())
-    if isinstance(threads, bool) or int(threads) != threads or not 1 <= threads <= top:
-        raise InputError(f"threads = {threads!r}: must be an integer in 1..{top}")
-    return int(threads)
-
-
 def run(model: Model, t_end_s, *, n_outputs=400, dt_s=None, backend="numba", tip_set="tip",
         reaction_set="root", snapshot_every=0, x0=None, v0=None, progress=False, output_hook=None, threads=None,
         max_steps=None):
@@ -998,7 +911,7 @@ def run(model: Model, t_end_s, *, n_outputs=400, dt_s=None, backend="numba", tip
         interpolated positions [m] and the external nodal forces of the last step
         (pulses and contact) [N]; its dict values become extra history columns.
     threads : int, optional
-        Threads of the compiled hexahedron kernel (:func:`thread_count`; default: the
+        Threads of the compiled hexahedron kernel (:func:`ccedi.threads.thread_count`; default: the
         free cores). The results are the same bits for any count.
     max_steps : int, optional
         Step budget (:func:`ccedi.fea.solvers.budget.step_budget`; default ``CCEDI_MAX_STEPS`` or

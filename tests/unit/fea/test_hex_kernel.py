@@ -1,17 +1,15 @@
 """The blocked, threaded hexahedron kernel in a run: the same tip history as the numpy
 reference path, and the same bits for one and two threads."""
-import os
 
 import numba as nb
 import numpy as np
 import pytest
 
-from ccedi.errors import InputError
 from ccedi.fea.elements.hex8_kernels import BLOCK
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import elliptical_cantilever
 from ccedi.fea.model import cantilever_model, tip_pulse
-from ccedi.fea.solvers.explicit import run, thread_count
+from ccedi.fea.solvers.explicit import run
 
 
 def _model(n_section, n_along):
@@ -45,55 +43,6 @@ def test_two_threads_give_the_same_bits_as_one():
     assert one.history.equals(two.history)
     assert np.array_equal(one.x, two.x) and np.array_equal(one.v, two.v)
     assert np.abs(one.history["tip_uy_m"]).max() > 0.0
-
-
-@pytest.mark.parametrize("bad", [0, -1, 1.5, True, 10**6])
-def test_thread_count_out_of_range_is_refused(bad):
-    with pytest.raises(InputError, match="threads"):
-        thread_count(bad)
-
-
-def test_thread_count_default_takes_the_free_cores(monkeypatch):
-    """Without a request: the environment variable, else the free cores (never more than
-    numba has), and a bad variable is refused with its name."""
-    from ccedi.fea.solvers import explicit
-
-    top = nb.config.NUMBA_NUM_THREADS
-    monkeypatch.delenv(explicit.THREADS_ENV, raising=False)
-    for free in (1, top, top + 5):
-        monkeypatch.setattr(explicit, "free_cores", lambda free=free: free)
-        assert thread_count() == min(free, top)
-    monkeypatch.setenv(explicit.THREADS_ENV, "1")
-    assert thread_count() == 1
-    for bad in ("0", "two", str(top + 1)):
-        monkeypatch.setenv(explicit.THREADS_ENV, bad)
-        with pytest.raises(InputError, match=explicit.THREADS_ENV):
-            thread_count()
-    assert thread_count(top) == top
-
-
-def test_free_cores_counts_at_least_one_and_at_most_the_cpus():
-    from ccedi.fea.solvers.explicit import free_cores
-
-    assert 1 <= free_cores(0.01) <= os.cpu_count()
-
-
-def test_a_process_driving_dask_runs_on_one_thread(monkeypatch):
-    """With a Dask client its workers share the cores, which may look free between their
-    tasks: the default is then one thread, in the client's process and in the workers."""
-    from distributed import Client, LocalCluster
-
-    from ccedi.fea.solvers import explicit
-
-    monkeypatch.delenv(explicit.THREADS_ENV, raising=False)
-    monkeypatch.setattr(explicit, "free_cores", lambda: 2)
-    top = min(2, nb.config.NUMBA_NUM_THREADS)
-    assert thread_count() == top
-    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
-            Client(cluster) as client:
-        assert thread_count() == 1
-        assert client.submit(explicit._shares_cores_with_dask).result()
-    assert thread_count() == top
 
 
 def test_compiled_deformation_gradients_match_the_numpy_ones():
