@@ -3,10 +3,10 @@ mass and a compliant root added as Ritz terms.
 
 The declared finger (length, elliptical section, nu, rho) is meshed as SM-A
 (:func:`ccedi.fea.mesh.sm_a`), clamped at its root, and its lowest modes are solved once
-(:func:`ccedi.fea.solvers.modal.natural_frequencies`, tangent stiffness at the reference, lumped
-mass M) at the declared E. Of those, the modes that move the tip along the bending
-direction y are kept (tip value above ``MIN_TIP_FRACTION`` of the largest), up to
-``N_MAX_MODES``. Per kept mode i (mass-normalised phi_i):
+at the declared E by the modal reductor's basis (:func:`ccedi.rom.modal.modal_basis`:
+tangent stiffness at the reference, lumped mass M), the basis the impulse model's modal
+ROM is made from. Of those, the modes that move the tip along the bending direction y
+are kept (tip value above ``MIN_TIP_FRACTION`` of the largest), up to ``N_MAX_MODES``. Per kept mode i (mass-normalised phi_i):
 
     omega_i   angular frequency at the declared E [rad/s]; K is linear in E (neo-Hookean
               linearised at the reference: mu, lambda proportional to E), so at E x e the
@@ -40,7 +40,7 @@ from ccedi.errors import InputError
 from ccedi.fea.material import NeoHookean
 from ccedi.fea.mesh import sm_a
 from ccedi.fea.model import cantilever_model, face_node_weights
-from ccedi.fea.solvers.modal import natural_frequencies
+from ccedi.rom.modal import modal_basis
 
 N_SOLVED_MODES = 30
 """FE modes solved (every kind: both bending planes, torsion, axial); the y-bending ones are kept."""
@@ -252,12 +252,10 @@ def finger_basis(length_m, semi_axes_m, *, nu, rho_kg_m3, E_Pa):
     """
     mesh = sm_a(length_m=length_m, semi_axes_m=tuple(semi_axes_m))
     model = cantilever_model(mesh, NeoHookean(E=E_Pa, nu=nu, rho=rho_kg_m3))
-    omega, phi = natural_frequencies(model, n_modes=N_SOLVED_MODES, return_modes=True)
-    mass = model.mass
+    basis = modal_basis(model, N_SOLVED_MODES)
+    omega, phi, mass = basis.omega_rad_s, basis.phi, basis.mass_kg
     tip_nodes = mesh.node_sets["tip"]
-    w_tip = face_node_weights(mesh, tip_nodes)
-    phi_y = phi[1::3]
-    tip = w_tip @ phi_y[tip_nodes]
+    tip = basis.weighted(tip_nodes, face_node_weights(mesh, tip_nodes), direction=1)
     keep = np.flatnonzero(np.abs(tip) > MIN_TIP_FRACTION * np.max(np.abs(tip)))[:N_MAX_MODES]
     sign = np.where(tip[keep] < 0.0, -1.0, 1.0)
     phi_k = phi[:, keep] * sign

@@ -97,7 +97,7 @@ def fit(model, effects, *, start=None, extra_starts=()):
 
     Parameters
     ----------
-    model : ccedi.calibrate.model.FingerModel or ccedi.calibrate.contact_model.DrumContactModel
+    model : ccedi.calibrate.interface.CalibrationModel
         The calibration model of the experiment.
     effects : iterable of str
         Effect names from the model's catalogue, added to the baseline (E_factor, alpha).
@@ -199,7 +199,7 @@ def fit_baseline(model):
 
     Parameters
     ----------
-    model : ccedi.calibrate.model.FingerModel or ccedi.calibrate.contact_model.DrumContactModel
+    model : ccedi.calibrate.interface.CalibrationModel
         The calibration model of the experiment.
 
     Returns

@@ -64,6 +64,7 @@ from ccedi.errors import InputError
 from .adequacy import Adequacy
 from .experiment import Experiment
 from .fit import Fit, fit, fit_baseline
+from .interface import CalibrationModel
 from .model import FingerModel
 from .residual import noise_std
 
@@ -121,7 +122,7 @@ class Calibration:
     ----------
     experiment : Experiment
         The calibrated experiment.
-    model : FingerModel or ccedi.calibrate.contact_model.DrumContactModel
+    model : ccedi.calibrate.interface.CalibrationModel
         Its calibration model.
     baseline : Fit
         The declared model fitted (E_factor, alpha).
@@ -159,7 +160,7 @@ class Calibration:
     """
 
     experiment: Experiment
-    model: FingerModel
+    model: CalibrationModel
     baseline: Fit
     final: Fit
     rounds: list
@@ -228,13 +229,13 @@ def excess_explained(current: Fit, candidate: Fit, sigma):
     return 1.0 if excess <= 0.0 else (current.rms_m**2 - candidate.rms_m**2) / excess
 
 
-def separating_measurement(model: FingerModel, a: Fit, b: Fit):
+def separating_measurement(model: CalibrationModel, a: Fit, b: Fit):
     """The measurement that best tells two fitted models apart: the observable
     (:func:`observables`) whose predictions differ most, relatively.
 
     Parameters
     ----------
-    model : FingerModel or ccedi.calibrate.contact_model.DrumContactModel
+    model : ccedi.calibrate.interface.CalibrationModel
         The calibration model (its ``observables`` and ``measurements``).
     a, b : Fit
         The two fits.
@@ -339,7 +340,7 @@ def calibration_model(exp: Experiment):
 
     Returns
     -------
-    FingerModel or ccedi.calibrate.contact_model.DrumContactModel
+    CalibrationModel
         The model.
     """
     if exp.kind == "contact":

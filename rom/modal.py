@@ -168,6 +168,74 @@ def _step(omega, zeta, t):
     return np.where(t[None, :] > 0.0, s, 0.0)
 
 
+@dataclass(frozen=True)
+class ModalBasis:
+    """The lowest mass-normalised modes of a linearised FE model, with the nodal masses:
+    what every modal reduction starts from (:func:`modal_rom` here, the calibration's Ritz
+    basis in :mod:`ccedi.calibrate.finger_modes`).
+
+    Parameters
+    ----------
+    omega_rad_s : numpy.ndarray
+        Angular frequencies, ascending, (N,) [rad/s].
+    phi : numpy.ndarray
+        Mass-normalised modes, (3 n_nodes, N) [1/sqrt(kg)], nodal DOFs interleaved (x, y, z).
+    mass_kg : numpy.ndarray
+        Lumped nodal masses, (n_nodes,) [kg].
+    """
+
+    omega_rad_s: np.ndarray
+    phi: np.ndarray
+    mass_kg: np.ndarray
+
+    def weighted(self, nodes, weights, direction=1):
+        """Weighted mean displacement of ``nodes`` along ``direction`` in each mode.
+
+        Parameters
+        ----------
+        nodes : array_like of int
+            Node indices.
+        weights : array_like
+            Their weights (e.g. area weights of a face, sum 1).
+        direction : int, optional
+            0, 1 or 2 (x, y, z). Default 1.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N,) [1/sqrt(kg)].
+        """
+        return np.asarray(weights) @ self.phi[3 * np.asarray(nodes) + direction]
+
+
+def modal_basis(model: Model, n_modes, *, x=None):
+    """The ``n_modes`` lowest modes of ``model`` (:func:`ccedi.fea.solvers.modal.natural_frequencies`:
+    tangent stiffness at ``x``, lumped mass).
+
+    Parameters
+    ----------
+    model : ccedi.fea.model.Model
+        The FE model (its supports fixed).
+    n_modes : int
+        Modes solved, an integer >= 1.
+    x : numpy.ndarray, optional
+        Positions (n_nodes, 3) [m] to linearise at (default: the reference).
+
+    Returns
+    -------
+    ModalBasis
+
+    Raises
+    ------
+    InputError
+        ``n_modes`` not an integer >= 1.
+    """
+    if int(n_modes) != n_modes or n_modes < 1:
+        raise InputError(f"n_modes must be an integer >= 1, got {n_modes!r}")
+    omega, phi = natural_frequencies(model, n_modes=n_modes, x=x, return_modes=True)
+    return ModalBasis(omega_rad_s=omega, phi=phi, mass_kg=model.mass)
+
+
 def modal_rom(model: Model, n_modes, *, load_nodes, load_weights, direction=1, output_nodes=None,
               output_weights=None, x=None):
     """Modal ROM of an FE model from a shared unit force to a weighted displacement.
@@ -196,16 +264,14 @@ def modal_rom(model: Model, n_modes, *, load_nodes, load_weights, direction=1, o
     InputError
         ``n_modes`` not an integer >= 1 or ``direction`` not 0, 1 or 2.
     """
-    if int(n_modes) != n_modes or n_modes < 1:
-        raise InputError(f"n_modes must be an integer >= 1, got {n_modes!r}")
     if direction not in (0, 1, 2):
         raise InputError(f"direction must be 0, 1 or 2, got {direction!r}")
-    omega, phi = natural_frequencies(model, n_modes=n_modes, x=x, return_modes=True)
+    basis = modal_basis(model, n_modes, x=x)
     output_nodes = load_nodes if output_nodes is None else output_nodes
     output_weights = load_weights if output_weights is None else output_weights
-    b = np.asarray(load_weights) @ phi[3 * np.asarray(load_nodes) + direction]
-    c = np.asarray(output_weights) @ phi[3 * np.asarray(output_nodes) + direction]
-    return ModalROM(omega_rad_s=omega, gain=b * c, alpha=model.alpha, beta=model.beta)
+    b = basis.weighted(load_nodes, load_weights, direction)
+    c = basis.weighted(output_nodes, output_weights, direction)
+    return ModalROM(omega_rad_s=basis.omega_rad_s, gain=b * c, alpha=model.alpha, beta=model.beta)
 
 
 def tip_modal_rom(model: Model, n_modes=6, direction=1):
