@@ -48,37 +48,154 @@ class CalibrationModel(Protocol):
         """The measurements :meth:`observables` can name."""
 
     def parameters(self, effects):
-        """Parameters of the baseline plus ``effects``: list of (Parameter, start)."""
+        """Parameters of the baseline plus ``effects``.
+
+        Parameters
+        ----------
+        effects : tuple of str
+            Effect names in :attr:`catalogue`.
+
+        Returns
+        -------
+        list of (ccedi.calibrate.effects.Parameter, float)
+            Each parameter with its starting value, the baseline's first.
+        """
 
     def baseline_starts(self):
         """Starting points of the baseline fit: list of dict."""
 
     def candidate_starts(self, name, current, evidence):
-        """Starting values for a candidate effect: (start dict, tuple of further starts)."""
+        """Starting values for a candidate effect.
+
+        Parameters
+        ----------
+        name : str
+            The candidate effect.
+        current : ccedi.calibrate.fit.Fit
+            The model it is added to.
+        evidence : dict
+            Its residual signatures (:meth:`analyse`).
+
+        Returns
+        -------
+        tuple
+            (dict of starting values, tuple of further starting points).
+        """
 
     def predict(self, v):
-        """The record's signal predicted at parameter values ``v`` (ndarray, the record's unit)."""
+        """The record's signal predicted at parameter values ``v``.
+
+        Parameters
+        ----------
+        v : dict
+            Parameter values by name (SI units as named).
+
+        Returns
+        -------
+        numpy.ndarray
+            At the record's sample times, in the record's unit.
+        """
 
     def assess(self, baseline, sigma):
-        """Adequacy of the declaration (an object with ``adequate`` and ``message()``)."""
+        """Adequacy of the declaration against the record.
+
+        Parameters
+        ----------
+        baseline : ccedi.calibrate.fit.Fit
+            The baseline fit.
+        sigma : float
+            The residual std the loop expects (noise and model error), record's unit.
+
+        Returns
+        -------
+        object
+            With ``adequate`` (bool) and ``message()``.
+        """
 
     def analyse(self, fitted, sigma):
-        """Residual signatures of a fit (dict)."""
+        """Residual signatures of a fit.
+
+        Parameters
+        ----------
+        fitted : ccedi.calibrate.fit.Fit
+            The fit.
+        sigma : float
+            The residual std the loop expects, record's unit.
+
+        Returns
+        -------
+        dict
+            The signatures, by name.
+        """
 
     def suggest(self, evidence):
-        """Effects the signatures point to: list of (name, reason)."""
+        """Effects the signatures point to.
+
+        Parameters
+        ----------
+        evidence : dict
+            :meth:`analyse`'s signatures.
+
+        Returns
+        -------
+        list of (str, str)
+            (effect, reason).
+        """
 
     def observables(self, v):
-        """What a further measurement could show at ``v`` (dict, units in the keys)."""
+        """What a further measurement could show at ``v``.
+
+        Parameters
+        ----------
+        v : dict
+            Parameter values.
+
+        Returns
+        -------
+        dict
+            Values by measurement name, units in the names.
+        """
 
     def unexplained_term(self, fitted):
-        """The best sparse term on a fit's residual."""
+        """The best sparse term on a fit's residual.
+
+        Parameters
+        ----------
+        fitted : ccedi.calibrate.fit.Fit
+            The final fit.
+
+        Returns
+        -------
+        ccedi.calibrate.sparse.SparseTerm
+        """
 
     def correct_at(self, v):
-        """Correct the base model by its full FE model at ``v``; None when it has none."""
+        """Correct the base model by its full FE model at ``v``.
+
+        Parameters
+        ----------
+        v : dict
+            Parameter values.
+
+        Returns
+        -------
+        object or None
+            The correction, or None for a model without one.
+        """
 
     def calibrated(self, v):
-        """The calibrated study inputs at ``v`` (dict, SI units in the keys)."""
+        """The calibrated study inputs at ``v``.
+
+        Parameters
+        ----------
+        v : dict
+            Final parameter values.
+
+        Returns
+        -------
+        dict
+            Inputs by name, SI units in the names.
+        """
 
 
 @runtime_checkable
@@ -86,7 +203,30 @@ class FeaCorrected(Protocol):
     """A calibration model whose reduced base is corrected by its full FE model."""
 
     def corrected_near(self, v):
-        """Whether the last correction was made close enough to ``v`` (bool)."""
+        """Whether the last correction was made close enough to ``v``.
+
+        Parameters
+        ----------
+        v : dict
+            Parameter values.
+
+        Returns
+        -------
+        bool
+        """
 
     def fea_check(self, v, sigma):
-        """The full FEA against the record at the final values (dict)."""
+        """The full FEA against the record at the final values.
+
+        Parameters
+        ----------
+        v : dict
+            Final parameter values.
+        sigma : float
+            The calibration's residual std, record's unit.
+
+        Returns
+        -------
+        dict
+            Its errors against the record.
+        """
