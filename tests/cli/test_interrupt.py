@@ -14,6 +14,14 @@ import pytest
 from conftest import ROOT
 
 
+def _interruptible():
+    """In the child before it starts: SIGINT's default action, as a terminal gives it. A
+    command started in the background by a non-interactive shell (``cmd &``, how a CI
+    job or a session may start the suite) inherits SIGINT ignored, and Python then
+    installs no KeyboardInterrupt for it: the study would not see the interrupt at all."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 @pytest.mark.slow
 def test_sigint_on_a_running_study_prints_one_line(tmp_path):
     """Table 1 as --quick makes it, and a contact step of 2 s simulated beside it: the
@@ -27,7 +35,7 @@ def test_sigint_on_a_running_study_prints_one_line(tmp_path):
     command = [sys.executable, "-m", "ccedi", "study", "--config", str(config), "--scheduler", "local", "--only",
                "table1", "contact", "--out", str(out)]
     proc = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True)
+                            start_new_session=True, preexec_fn=_interruptible)
     try:
         deadline = time.monotonic() + 300
         for line in proc.stdout:
