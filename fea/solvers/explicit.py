@@ -34,10 +34,11 @@ is a kernel of the terms' contract, its data and one more term there. The loop t
 data in a few groups: the step control (size and damping), the nodal state, the nodes'
 constants, the internal and the external terms, the rotating frame and the energy record.
 It is compiled by numba with the numba kernels, its loops over the terms written out term
-by term (``_advance_numba``), and run as plain Python with the numpy reference kernels
+by term and cached on disk (``_advance_numba``), and run as plain Python with the numpy reference kernels
 (``backend="numpy"``), which the tests compare.
 """
 import functools
+import hashlib
 import time as _time
 from collections import namedtuple
 from dataclasses import dataclass, field
@@ -407,17 +408,31 @@ def _advance(t, t_stop, dt_prev, control, state, nodes, internal, external, fram
 
 
 @functools.cache
-def _advance_numba(n_internal, n_external):
-    """:func:`_advance` compiled by numba for ``n_internal`` internal and ``n_external``
-    external force terms, its loops over the terms written out
-    (:func:`ccedi.fea.solvers.force_terms.unroll_terms`): one dispatcher per pair of
-    lengths, and since every model has the same terms (a kind it lacks has size 0) and
-    the same types, one compilation per process (about 1.3 times that of the loop that
-    named each element kind, which took about 1 s). Not cached on disk: its terms hold
-    dispatcher objects, whose types make a new cache key in every process, so a cache
-    only grew by one entry per process (and could fail to save); the kernels it calls are
-    cached."""
-    return nb.njit(fastmath=FASTMATH)(unroll_terms(_advance, {"internal.terms": n_internal, "external": n_external}))
+def _advance_numba(internal_kernels, external_kernels):
+    """:func:`_advance` compiled by numba for internal terms with the kernels
+    ``internal_kernels`` and external terms with the (kernel, impulse) pairs
+    ``external_kernels``, in that order: its loops over the terms written out and each
+    term's functions called by name (:func:`ccedi.fea.solvers.force_terms.unroll_terms`),
+    so that the terms it is called with carry None in their place (:func:`_compiled_terms`)
+    and numba caches it on disk. One dispatcher per set of kernels; every model of a
+    backend has the same (a kind it lacks has size 0), so one per process, loaded from
+    the cache after the first run on a machine. The cache entry is named after the
+    kernels (a different set is a different entry)."""
+    internal = tuple({"kernel": kernel} for kernel in internal_kernels)
+    external = tuple({"kernel": kernel, "impulse": impulse} for kernel, impulse in external_kernels)
+    names = [f"{f.__module__}.{f.__qualname__}" for f in (*internal_kernels, *(f for pair in external_kernels
+                                                                               for f in pair))]
+    tag = hashlib.sha1("|".join(names).encode()).hexdigest()[:12]
+    written = unroll_terms(_advance, {"internal.terms": len(internal), "external": len(external)},
+                           functions={"internal.terms": internal, "external": external}, name=f"_advance_{tag}")
+    return nb.njit(cache=True, fastmath=FASTMATH)(written)
+
+
+def _compiled_terms(internal, external):
+    """The terms as the compiled step loop takes them: the kernels replaced by None (it
+    calls them by name, :func:`_advance_numba`)."""
+    return (internal._replace(terms=tuple(term._replace(kernel=None) for term in internal.terms)),
+            tuple(term._replace(kernel=None, impulse=None) for term in external))
 
 
 def compiled_entry(dispatcher, *args):
@@ -978,8 +993,11 @@ def run(model: Model, t_end_s, *, n_outputs=400, dt_s=None, backend="numba", tip
                                          f"~{_duration(expected_wall_time_s(mesh, n_expected))}", unit="output")
     advance = _advance
     if backend == "numba":
-        advance = compiled_entry(_advance_numba(len(internal.terms), len(external)), t, t_end_s, dt_prev, *groups,
-                                 energy)
+        dispatcher = _advance_numba(tuple(term.kernel for term in internal.terms),
+                                    tuple((term.kernel, term.impulse) for term in external))
+        control, _, nodes, _, _, frame = groups
+        groups = (control, state, nodes, *_compiled_terms(internal, external), frame)
+        advance = compiled_entry(dispatcher, t, t_end_s, dt_prev, *groups, energy)
     threads_before = nb.get_num_threads()
     nb.set_num_threads(n_threads)
     try:

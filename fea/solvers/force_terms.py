@@ -41,11 +41,13 @@ loop did before it knew terms, the run's results are unchanged to the bit.
 
 **Loops over terms.** The terms of a tuple have different types, which numba cannot
 iterate over: the step loop is compiled with its loops ``for term in <tuple>:`` written
-out, term by term (:func:`unroll_terms`), which compiles in about 1.3 times the time of
-the loop that named each element kind. numba's own ``literal_unroll`` took 1.7 times as
-long (its loop-versioning passes and the larger code they leave), and the loops moved
-into compiled functions of their own 2.3 times (each compiled function links and
-optimises again the kernels it calls).
+out, term by term (:func:`unroll_terms`), with each term's kernel (and impulse) called by
+name, so that the terms handed to it carry no function objects and numba can cache the
+compiled loop on disk (a dispatcher's type is new in every process). numba's own
+``literal_unroll`` compiled 1.7 times as long as the written-out loop (its
+loop-versioning passes and the larger code they leave), and the loops moved into
+compiled functions of their own 2.3 times (each compiled function links and optimises
+again the kernels it calls).
 """
 import ast
 import copy
@@ -415,7 +417,7 @@ def no_impulse(state, nodes, damping, Dt, data, energy):
 
 
 
-def unroll_terms(func, lengths):
+def unroll_terms(func, lengths, *, functions=None, name=None):
     """``func`` with its loops over tuples of terms written out, term by term, for numba.
 
     numba cannot iterate over a tuple whose items have different types. Every loop
@@ -425,6 +427,12 @@ def unroll_terms(func, lengths):
     returns from the function as it does from the loop. ``func`` itself stays as it is,
     for plain Python (the numpy reference).
 
+    With ``functions``, the i-th copy calls the term's functions by name instead of
+    reading them from the term (``term.kernel(...)`` becomes a call of a global bound to
+    ``functions[<tuple>][i]["kernel"]``): the terms then need not carry them (None in
+    their place), and a function whose arguments hold no function objects can be cached
+    on disk by numba (a dispatcher's type is new in every process).
+
     Parameters
     ----------
     func : callable
@@ -432,40 +440,71 @@ def unroll_terms(func, lengths):
     lengths : dict
         Number of terms of each tuple, by the tuple's expression as written in the loop
         (``{"internal.terms": 4, "external": 2}``).
+    functions : dict, optional
+        For each tuple, one ``{field: function}`` per term: the term attributes to bind.
+    name : str, optional
+        Name of the written-out function (default ``func``'s); a distinct name gives each
+        binding its own numba cache entry.
 
     Returns
     -------
     callable
-        The written-out function, with ``func``'s name and module globals.
+        The written-out function, with ``func``'s module globals (and the bound functions).
 
     Raises
     ------
     ValueError
         If a ``for term in`` loop runs over a tuple ``lengths`` does not name, has an
-        ``else`` clause, or breaks or continues.
+        ``else`` clause, or breaks or continues, or ``functions`` does not give one
+        binding per term.
     """
+    functions = functions or {}
+    bound = {}
+
+    class BindFields(ast.NodeTransformer):
+        def __init__(self, names):
+            self.names = names
+
+        def visit_Attribute(self, node):
+            node = self.generic_visit(node)
+            if isinstance(node.value, ast.Name) and node.value.id == "term" and node.attr in self.names:
+                return ast.copy_location(ast.Name(self.names[node.attr], ast.Load()), node)
+            return node
 
     class WriteOut(ast.NodeTransformer):
         def visit_For(self, node):
             node = self.generic_visit(node)
             if not (isinstance(node.target, ast.Name) and node.target.id == "term"):
                 return node
-            name = ast.unparse(node.iter)
-            if name not in lengths or node.orelse or any(isinstance(n, (ast.Break, ast.Continue))
-                                                         for n in ast.walk(node)):
-                raise ValueError(f"{func.__name__}: 'for term in {name}:' cannot be written out (its length is "
-                                 "not given, or it has an else clause, a break or a continue)")
+            tuple_name = ast.unparse(node.iter)
+            if tuple_name not in lengths or node.orelse or any(isinstance(n, (ast.Break, ast.Continue))
+                                                               for n in ast.walk(node)):
+                raise ValueError(f"{func.__name__}: 'for term in {tuple_name}:' cannot be written out (its length "
+                                 "is not given, or it has an else clause, a break or a continue)")
+            per_term = functions.get(tuple_name)
+            if per_term is not None and len(per_term) != lengths[tuple_name]:
+                raise ValueError(f"{func.__name__}: {len(per_term)} function bindings for the "
+                                 f"{lengths[tuple_name]} terms of {tuple_name}")
             block = []
-            for i in range(lengths[name]):
+            for i in range(lengths[tuple_name]):
                 block.append(ast.Assign(targets=[ast.Name("term", ast.Store())],
                                         value=ast.Subscript(copy.deepcopy(node.iter), ast.Constant(i), ast.Load())))
-                block.extend(copy.deepcopy(node.body))
+                body = copy.deepcopy(node.body)
+                if per_term is not None:
+                    names = {}
+                    for field, function in per_term[i].items():
+                        names[field] = f"_{tuple_name.replace('.', '_')}_{i}_{field}"
+                        bound[names[field]] = function
+                    body = [BindFields(names).visit(statement) for statement in body]
+                block.extend(body)
             return block or [ast.Pass()]
 
     definition = ast.parse(textwrap.dedent(inspect.getsource(func))).body[0]
     definition.decorator_list = []
+    definition.name = name or func.__name__
     definition = WriteOut().visit(definition)
     module = ast.fix_missing_locations(ast.Module([definition], []))
     namespace = dict(func.__globals__)
+    namespace.update(bound)
     exec(compile(module, inspect.getsourcefile(func), "exec"), namespace)
-    return namespace[func.__name__]
+    return namespace[definition.name]

@@ -1,10 +1,13 @@
 """The step's force terms: loops over terms written out for numba, an element kind added
 without touching the step loop, and failures numbered across the terms."""
+import subprocess
+import sys
 from collections import namedtuple
 
 import numba as nb
 import numpy as np
 import pytest
+from conftest import ROOT
 
 from ccedi.errors import SolverError
 from ccedi.fea.material import RUBBER
@@ -93,7 +96,11 @@ def _tip_run(model, backend, spring_k=None):
         spring = ForceTerm(kernel, Spring(tip, mesh.nodes, spring_k), len(tip), 0, explicit._INVERTED,
                            np.zeros((0, 3)))
         internal = internal._replace(terms=internal.terms + (spring,))
-    advance = explicit._advance_numba(len(internal.terms), len(external)) if backend == "numba" else explicit._advance
+    advance = explicit._advance
+    if backend == "numba":
+        advance = explicit._advance_numba(tuple(term.kernel for term in internal.terms),
+                                          tuple((term.kernel, term.impulse) for term in external))
+        internal, external = explicit._compiled_terms(internal, external)
     energy = np.zeros(9)
     *_, status, _, _ = advance(0.0, 2e-3, 0.0, control, state, nodes, internal, external, frame, energy)
     assert status == explicit._OK
@@ -129,3 +136,31 @@ def test_an_inverted_tetrahedron_after_hexahedra_is_named_by_its_own_index():
     for backend in ("numba", "numpy"):
         with pytest.raises(SolverError, match=r"tet4 element \d+ inverted .* step 0"):
             explicit.run(model, 1e-4, x0=x0, backend=backend)
+
+
+CACHED_LOOP = """
+from ccedi.fea.material import RUBBER
+from ccedi.fea.mesh import elliptical_cantilever
+from ccedi.fea.model import cantilever_model, tip_pulse
+from ccedi.fea.solvers import explicit
+mesh = elliptical_cantilever(0.05, 3, 6)
+model = cantilever_model(mesh, RUBBER, alpha=50.0, pulses=[tip_pulse(mesh, [0.0, 2.0, 0.0], 2e-3)])
+explicit.run(model, 1e-4, n_outputs=2, threads=1)
+contact = explicit._contact_group(model, explicit.critical_time_step(model))
+internal = explicit._internal_forces(model, "numba")
+external = explicit._external_forces(model, contact, "numba")
+loop = explicit._advance_numba(tuple(t.kernel for t in internal.terms), tuple((t.kernel, t.impulse) for t in external))
+print(sum(loop.stats.cache_hits.values()), sum(loop.stats.cache_misses.values()))
+"""
+
+
+def test_the_compiled_step_loop_is_cached_on_disk():
+    """A second process loads the step loop from numba's cache instead of compiling it
+    (a process's first run then starts in about a second, not eight)."""
+    counts = []
+    for _ in range(2):
+        done = subprocess.run([sys.executable, "-c", CACHED_LOOP], capture_output=True, text=True, cwd=ROOT,
+                              check=True)
+        counts.append(tuple(int(n) for n in done.stdout.split()[-2:]))
+    hits, misses = counts[1]
+    assert hits >= 1 and misses == 0, counts
