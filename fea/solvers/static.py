@@ -18,7 +18,6 @@ Bulk viscosity is rate dependent and absent in statics.
 """
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from ccedi.errors import InputError, SolverError
 from ccedi.fea.elements import hex8, tet4, tet10
@@ -26,6 +25,7 @@ from ccedi.fea.elements.hex8 import internal_forces_numpy
 from ccedi.fea.elements.hex8_kernels import SolidMaterial
 from ccedi.fea.mesh import element_name
 from ccedi.fea.model import Model, face_node_weights
+from ccedi.fea.solvers.linear import Factorization
 
 
 def tangent_stiffness(model: Model, x=None):
@@ -132,6 +132,11 @@ def free_dofs(model: Model):
 MIN_LOAD_STEP = 1.0 / 64.0
 """Smallest load increment (fraction of the load) :func:`static_solve` cuts down to."""
 
+REFACTOR_RATIO = 0.25
+"""A Newton iteration factorises the tangent anew when the previous correction left more
+than this fraction of the residual before it (module :func:`_newton`); below it the
+previous factors are reused (modified Newton, converging at least that fast)."""
+
 
 def static_solve(model: Model, f_ext, *, n_increments=2, tol=1e-7, max_iter=30, linear=False):
     """Nonlinear static equilibrium f_int(x) = f_ext by incremental Newton-Raphson.
@@ -179,7 +184,7 @@ def static_solve(model: Model, f_ext, *, n_increments=2, tol=1e-7, max_iter=30, 
     if linear:
         K = tangent_stiffness(model)[free][:, free]
         u = np.zeros(x.size)
-        u[free] = spla.spsolve(K.tocsc(), f_ext.ravel()[free])
+        u[free] = Factorization(K).solve(f_ext.ravel()[free])
         return x + u.reshape(x.shape)
     return static_path(model, f_ext, np.arange(1, n_increments + 1) / n_increments, tol=tol, max_iter=max_iter)[-1]
 
@@ -238,14 +243,22 @@ def static_path(model: Model, f_ext, load_factors, *, tol=1e-7, max_iter=30):
 def _newton(model, x, f, free, atol, tol, max_iter):
     """Newton iterations from x to f_int(x) = f on the ``free`` DOFs (residual below
     ``atol`` [N], or a correction below ``tol`` of the displacement); SolverError if an
-    element inverts or ``max_iter`` iterations do not converge."""
+    element inverts or ``max_iter`` iterations do not converge.
+
+    The tangent is factorised anew only when the last correction contracted the residual
+    by less than :data:`REFACTOR_RATIO` (the factors are reused while they still converge
+    fast: a factorisation of SM-C's tangent costs as much as some fifty residuals)."""
+    factors, last = None, np.inf
     for _ in range(max_iter):
         r = (f - internal_force(model, x)).ravel()[free]
-        if np.linalg.norm(r) <= atol:
+        norm = np.linalg.norm(r)
+        if norm <= atol:
             return x
-        K = tangent_stiffness(model, x)[free][:, free]
+        if factors is None or norm > REFACTOR_RATIO * last:
+            factors = Factorization(tangent_stiffness(model, x)[free][:, free])
+        last = norm
         du = np.zeros(x.size)
-        du[free] = spla.spsolve(K.tocsc(), r)
+        du[free] = factors.solve(r)
         x = x + du.reshape(x.shape)
         if np.linalg.norm(du) <= tol * np.linalg.norm(x - model.mesh.nodes):
             return x                       # residual at its round-off floor; displacement converged
