@@ -6,9 +6,10 @@ stiffness (two nonlinear static solves, 1 N and 2 N, :func:`ccedi.fea.solvers.st
 and the first natural frequency (:func:`ccedi.fea.solvers.modal.natural_frequencies`),
 timed, with the number of factorisations of the tangent. Variants:
 
-* ``reuse``: the factors reused across Newton iterations while they converge (the code);
-* ``full``: a factorisation every Newton iteration (``REFACTOR_RATIO = 0``: full Newton,
-  as before the reuse);
+* ``reuse``: each Newton correction by conjugate gradients preconditioned with an earlier
+  tangent's factors, new factors when they no longer converge fast (the code);
+* ``full``: a factorisation every Newton iteration (``PRECONDITIONED_ITERATIONS = 0``,
+  direct full Newton as before);
 
 each with the process's sparse solver (:data:`ccedi.fea.solvers.linear.SOLVER`: PARDISO
 when pypardiso is installed, else SuperLU) and, when PARDISO is there, with SuperLU forced
@@ -44,7 +45,7 @@ def measure(mesh_name, variant):
               "SM-C": lambda: sm_c(length_in=4.5), "DM": detailed_model}
     model = cantilever_model(meshes[mesh_name](), RUBBER)
     if variant == "full":
-        static.REFACTOR_RATIO = 0.0
+        static.PRECONDITIONED_ITERATIONS = 0
     made = []
     original = linear.Factorization
 
