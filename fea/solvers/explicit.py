@@ -428,6 +428,16 @@ def _advance_numba(internal_kernels, external_kernels):
     return nb.njit(cache=True, fastmath=FASTMATH)(written)
 
 
+def _load_parallel_kernels(internal, x):
+    """Call once, on its (possibly empty) data, every internal term's kernel that numba
+    compiled with ``parallel=True`` (the hexahedra's), so that its code is loaded in this
+    process: the step loop loaded from numba's cache calls into it, and in a process that
+    had not run it (a tetrahedral finger) the call jumped to address 0 (a segfault)."""
+    for term in internal.terms:
+        if getattr(term.kernel, "targetoptions", {}).get("parallel"):
+            term.kernel(x, np.zeros_like(x), term.data, internal.material, np.zeros_like(x))
+
+
 def _compiled_terms(internal, external):
     """The terms as the compiled step loop takes them: the kernels replaced by None (it
     calls them by name, :func:`_advance_numba`)."""
@@ -1022,6 +1032,7 @@ def run(model: Model, t_end_s, *, n_outputs=400, dt_s=None, backend="numba", tip
     if backend == "numba":
         dispatcher = _advance_numba(tuple(term.kernel for term in internal.terms),
                                     tuple((term.kernel, term.impulse) for term in external))
+        _load_parallel_kernels(internal, x)
         control, _, nodes, _, _, frame = groups
         groups = (control, state, nodes, *_compiled_terms(internal, external), frame)
         advance = compiled_entry(dispatcher, t, t_end_s, dt_prev, *groups, energy)

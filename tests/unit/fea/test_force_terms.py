@@ -141,9 +141,10 @@ def test_an_inverted_tetrahedron_after_hexahedra_is_named_by_its_own_index():
 CACHED_LOOP = """
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import elliptical_cantilever
+from ccedi.fea.mesh.tet_mesh import box_cantilever, quadratic_tets, split_hexes
 from ccedi.fea.model import cantilever_model, tip_pulse
 from ccedi.fea.solvers import explicit
-mesh = elliptical_cantilever(0.05, 3, 6)
+mesh = MESH
 model = cantilever_model(mesh, RUBBER, alpha=50.0, pulses=[tip_pulse(mesh, [0.0, 2.0, 0.0], 2e-3)])
 explicit.run(model, 1e-4, n_outputs=2, threads=1)
 contact = explicit._contact_group(model, explicit.critical_time_step(model))
@@ -154,13 +155,19 @@ print(sum(loop.stats.cache_hits.values()), sum(loop.stats.cache_misses.values())
 """
 
 
-def test_the_compiled_step_loop_is_cached_on_disk():
+@pytest.mark.parametrize("mesh", ["elliptical_cantilever(0.05, 3, 6)",
+                                  "quadratic_tets(split_hexes(box_cantilever(0.04, 0.01, 0.01, nx=2, ny=2, nz=6)))"],
+                         ids=["hexahedra", "tetrahedra only"])
+def test_the_compiled_step_loop_is_cached_on_disk(mesh):
     """A second process loads the step loop from numba's cache instead of compiling it
-    (a process's first run then starts in about a second, not eight)."""
+    (a process's first run then starts in about a second, not eight), and runs it: also
+    for a finger without hexahedra, whose process never ran the parallel hexahedron
+    kernel the cached loop calls into (it segfaulted before the kernel was loaded first)."""
     counts = []
     for _ in range(2):
-        done = subprocess.run([sys.executable, "-c", CACHED_LOOP], capture_output=True, text=True, cwd=ROOT,
-                              check=True)
+        done = subprocess.run([sys.executable, "-c", CACHED_LOOP.replace("MESH", mesh)], capture_output=True,
+                              text=True, cwd=ROOT)
+        assert done.returncode == 0, (done.returncode, done.stderr[-2000:])
         counts.append(tuple(int(n) for n in done.stdout.split()[-2:]))
     hits, misses = counts[1]
     assert hits >= 1 and misses == 0, counts
