@@ -64,7 +64,7 @@ def main():
         "elements": mesh.n_elements, "nodes": mesh.n_nodes, "element_type": mesh.element_type,
         "meshing_s": round(mesh_s, 2),
         "step_limiting_element": e["element"],
-        "step_limiting_element_centroid_mm": [round(1e3 * c, 3) for c in e["centroid_m"]],
+        "step_limiting_element_centroid_mm": [round(float(1e3 * c), 3) for c in e["centroid_m"]],
         "step_limiting_element_length_mm": round(1e3 * e["length_m"], 4),
         "median_element_length_mm": round(1e3 * e["median_length_m"], 4),
         **{k: (round(v, 9) if isinstance(v, float) else v) for k, v in report.summary().items()},

@@ -700,7 +700,8 @@ def sliver_warnings(model, e=None):
         return []
     return [f"{_step_setter(model, e)}: the stable step is {e['median_length_m'] / e['length_m']:.3g} times shorter than "
             "the mesh's typical element needs; remesh with a minimum element size there (Gmsh: "
-            "Mesh.CharacteristicLengthMin, or optimise the mesh) to make every run that much faster"]
+            "Mesh.CharacteristicLengthMin, or optimise the mesh) to make every run that much faster, or scale "
+            "the small elements' mass (ccedi.fea.solvers.mass_scaling.mass_scaled)"]
 
 
 def _step_setter(model, e=None):
