@@ -155,6 +155,13 @@ class Model:
         Mass damping on the absolute velocity (LS-DYNA *DAMPING_GLOBAL) or on the
         velocity relative to the frame of ``rotating`` (*DAMPING_RELATIVE).
         Default ``"global"``.
+    element_mass_scale : numpy.ndarray or None, optional
+        Factor >= 1 on the density of each solid element (hexahedra, then 4-node, then
+        10-node tetrahedra), shape (n_elements,) [-]: mass scaling
+        (:mod:`ccedi.fea.solvers.mass_scaling`), for the tetrahedra only (the
+        hexahedra's factors must be 1). It scales the element's lumped mass and its
+        stable step (by the square root); the bulk viscosity keeps the material's
+        density. Default None: no scaling.
 
     Attributes
     ----------
@@ -175,7 +182,8 @@ class Model:
     ------
     InputError
         If a damping value or the hourglass coefficient is out of range, ``damping``
-        is unknown (or ``"relative"`` without ``rotating``), an element is inverted,
+        is unknown (or ``"relative"`` without ``rotating``), ``element_mass_scale`` is
+        not one factor >= 1 per solid element (1 on hexahedra), an element is inverted,
         the material is missing for solid elements, a rod or point mass refers to a
         node outside the mesh, a point mass is not > 0, or a free node has no mass.
     """
@@ -192,6 +200,7 @@ class Model:
     point_masses: dict = field(default_factory=dict)
     contact: object = None
     damping: str = "global"
+    element_mass_scale: np.ndarray | None = None
 
     def __post_init__(self):
         self.alpha = require_finite_positive("alpha (mass-proportional damping, 1/s)", self.alpha, allow_zero=True)
@@ -208,9 +217,10 @@ class Model:
             raise InputError(f"mesh: {err}") from None
         if self.material is None and self.mesh.n_elements:
             raise InputError("material is required when the mesh has solid elements")
+        rho4, rho10 = self._tetrahedra_densities()
         try:
-            self.tet4: Tet4Group = tet4_group(self.mesh.nodes, self.mesh.tets4, self.material)
-            self.tet10: Tet10Group = tet10_group(self.mesh.nodes, self.mesh.tets10, self.material)
+            self.tet4: Tet4Group = tet4_group(self.mesh.nodes, self.mesh.tets4, self.material, density=rho4)
+            self.tet10: Tet10Group = tet10_group(self.mesh.nodes, self.mesh.tets10, self.material, density=rho10)
         except ValueError as err:
             raise InputError(f"mesh: {err}") from None
         mu, lam = (self.material.mu, self.material.lam) if self.material is not None else (0.0, 0.0)
@@ -224,8 +234,8 @@ class Model:
         self.rod_arrays: RodArrays = rod_arrays(self.mesh.nodes, self.rods)
         rho = self.material.rho if self.material is not None else 0.0
         self.mass = (lumped_mass(self.mesh, self.geometry, rho)
-                     + tet4_lumped_mass(self.tet4, self.mesh.n_nodes, rho)
-                     + tet10_lumped_mass(self.mesh.nodes, self.tet10, rho)
+                     + tet4_lumped_mass(self.tet4, self.mesh.n_nodes, rho if rho4 is None else rho4)
+                     + tet10_lumped_mass(self.mesh.nodes, self.tet10, rho if rho10 is None else rho10)
                      + rod_lumped_mass(self.mesh.nodes, self.rods))
         for node, m in dict(self.point_masses).items():
             if not 0 <= int(node) < self.mesh.n_nodes:
@@ -236,6 +246,22 @@ class Model:
         if np.any(self.mass[free] <= 0.0):
             bad = int(np.flatnonzero(free & (self.mass <= 0.0))[0])
             raise InputError(f"node {bad} is free but has no mass (belongs to no element)")
+
+    def _tetrahedra_densities(self):
+        """The 4-node and the 10-node tetrahedra's densities [kg/m^3] under
+        ``element_mass_scale`` (None for each: the material's), after checking it."""
+        if self.element_mass_scale is None:
+            return None, None
+        n_hex, n_tet4 = len(self.mesh.hexes), len(self.mesh.tets4)
+        s = np.asarray(self.element_mass_scale, dtype=float)
+        if s.shape != (self.mesh.n_elements,) or not np.all(np.isfinite(s)) or np.any(s < 1.0):
+            raise InputError(f"element_mass_scale must be one finite factor >= 1 per solid element, shape "
+                             f"({self.mesh.n_elements},), got shape {s.shape}")
+        if np.any(s[:n_hex] != 1.0):
+            raise InputError("element_mass_scale: mass scaling is for tetrahedra; the hexahedra's factors must be 1")
+        self.element_mass_scale = s
+        rho = self.material.rho
+        return rho * s[n_hex:n_hex + n_tet4], rho * s[n_hex + n_tet4:]
 
     @cached_property
     def hex_length_factor(self):

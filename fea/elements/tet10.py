@@ -155,7 +155,7 @@ def collapsed_rule(n):
     return points, wu * wv * wt * (1 - u) ** 2 * (1 - v)
 
 
-def tet10_group(nodes, tets, material):
+def tet10_group(nodes, tets, material, *, density=None):
     """Reference geometry of 10-node tetrahedra at the 4 integration points and their
     time-step length factors.
 
@@ -168,6 +168,10 @@ def tet10_group(nodes, tets, material):
     material : NeoHookean
         ``mu``, ``lam`` [Pa], ``rho`` [kg/m^3], ``wave_speed`` [m/s] (unused without
         elements, may then be None).
+    density : numpy.ndarray, optional
+        Density of each element, shape (e,) [kg/m^3], for the time-step length factors
+        (a mass-scaled mesh, :mod:`ccedi.fea.solvers.mass_scaling`). Default: the
+        material's.
 
     Returns
     -------
@@ -197,7 +201,8 @@ def tet10_group(nodes, tets, material):
     grad = np.einsum("mkj,emji->emki", dN, np.linalg.inv(Jm))
     weight = det / 24.0
     volume = weight.sum(axis=1)
-    element_mass = material.rho * volume[:, None] * hrz_fractions(X)
+    rho = material.rho if density is None else np.asarray(density)[:, None]
+    element_mass = rho * volume[:, None] * hrz_fractions(X)
     kappa = time_step_length_factors(nodes, tets, grad, weight=weight,
                                      average=averaging_matrix(tets, len(nodes), nodal=False),
                                      element_mass=element_mass, mu=material.mu, lam=material.lam, c=material.wave_speed)
@@ -238,8 +243,8 @@ def lumped_mass(nodes, group, rho):
         Reference nodal positions, shape (n, 3) [m].
     group : Tet10Group
         The tetrahedra.
-    rho : float
-        Density [kg/m^3].
+    rho : float or numpy.ndarray
+        Density [kg/m^3], of all elements or of each, shape (e,).
 
     Returns
     -------
@@ -248,7 +253,8 @@ def lumped_mass(nodes, group, rho):
     """
     m = np.zeros(len(nodes))
     if len(group.tets):
-        np.add.at(m, group.tets, rho * group.volume[:, None] * hrz_fractions(nodes[group.tets]))
+        rho_e = np.broadcast_to(np.asarray(rho, dtype=float), group.volume.shape)[:, None]
+        np.add.at(m, group.tets, rho_e * group.volume[:, None] * hrz_fractions(nodes[group.tets]))
     return m
 
 

@@ -110,7 +110,7 @@ bulk_force : (n_nodes, 3) ndarray
 """
 
 
-def tet4_group(nodes, tets, material, *, nodal_shear=NODAL_SHEAR_FRACTION):
+def tet4_group(nodes, tets, material, *, nodal_shear=NODAL_SHEAR_FRACTION, density=None):
     """Reference geometry and time-step length factors of 4-node tetrahedra.
 
     Parameters
@@ -125,6 +125,10 @@ def tet4_group(nodes, tets, material, *, nodal_shear=NODAL_SHEAR_FRACTION):
     nodal_shear : float, optional
         alpha in [0, 1], the share of the shear energy on the node-smoothed deformation
         gradients. Default :data:`NODAL_SHEAR_FRACTION`.
+    density : numpy.ndarray, optional
+        Density of each element, shape (e,) [kg/m^3], for the time-step length factors
+        (a mass-scaled mesh, :mod:`ccedi.fea.solvers.mass_scaling`). Default: the
+        material's.
 
     Returns
     -------
@@ -154,7 +158,8 @@ def tet4_group(nodes, tets, material, *, nodal_shear=NODAL_SHEAR_FRACTION):
     group = Tet4Group(tets, grad, volume, average @ volume, np.zeros(len(tets)), float(nodal_shear), np.zeros(n),
                       np.zeros(n), np.zeros((n, 3, 3)), np.zeros((n, 3, 3)), np.zeros((n, 3)))
     if len(tets):
-        element_mass = np.repeat((material.rho * volume / 4.0)[:, None], 4, axis=1)
+        rho = material.rho if density is None else density
+        element_mass = np.repeat((rho * volume / 4.0)[:, None], 4, axis=1)
         group.length_factor[:] = time_step_length_factors(
             nodes, tets, grad[:, None], weight=volume[:, None], average=average, element_mass=element_mass,
             mu=material.mu, lam=material.lam, c=material.wave_speed, tangent=tangent_stiffness(nodes, group, material))
@@ -170,8 +175,8 @@ def lumped_mass(group, n_nodes, rho):
         The tetrahedra.
     n_nodes : int
         Number of mesh nodes.
-    rho : float
-        Density [kg/m^3].
+    rho : float or numpy.ndarray
+        Density [kg/m^3], of all elements or of each, shape (e,).
 
     Returns
     -------

@@ -31,9 +31,7 @@ worker's thread), builds its own model, and finalises only what it initialised. 
 goes through a temporary ``.msh`` file and :func:`ccedi.fea.mesh.readers.read_finger_mesh`,
 so a generated finger is read exactly as an imported one.
 """
-import contextlib
 import tempfile
-import threading
 from pathlib import Path
 from typing import NamedTuple
 
@@ -41,7 +39,7 @@ import numpy as np
 
 from ccedi.errors import InputError, SolverError, require_finite_positive
 from ccedi.fea.mesh import SEMI_AXES, _finger_length_m, finger_section
-from ccedi.fea.mesh.readers import read_finger_mesh
+from ccedi.fea.mesh.readers import gmsh_session, read_finger_mesh
 
 SM_C_ELEMENT_LENGTH = 4.0e-3
 """SM-C's average element length [m] (Table 1: "tetra (10-node), 4 mm")."""
@@ -50,34 +48,6 @@ GMSH_SIZE_RATIO = 0.87
 target s have an average length of 1.18 s on the paper's finger."""
 MSH_VERSIONS = {4: 4.1, 2: 2.2}
 """Gmsh file format versions :func:`write_tapered_finger` writes, by major version."""
-_LOCK = threading.Lock()
-
-
-@contextlib.contextmanager
-def _gmsh_model(name):
-    """A fresh Gmsh model, quiet and deterministic; Gmsh initialised (and finalised) here
-    only if it was not already."""
-    import gmsh  # the Gmsh library loads only when a mesh is generated
-
-    with _LOCK:
-        own = not gmsh.isInitialized()
-        if own:
-            gmsh.initialize(readConfigFiles=False, interruptible=False)
-        try:
-            gmsh.option.setNumber("General.Terminal", 0)
-            gmsh.option.setNumber("General.Verbosity", 0)
-            gmsh.model.add(name)
-            for option, value in (("General.NumThreads", 1), ("Mesh.MaxNumThreads3D", 1),
-                                  ("Mesh.RandomSeed", 1), ("Mesh.Algorithm", 6), ("Mesh.Algorithm3D", 1),
-                                  ("Mesh.HighOrderOptimize", 1), ("Mesh.MeshSizeFromPoints", 0),
-                                  ("Mesh.MeshSizeExtendFromBoundary", 1), ("Mesh.MeshSizeFromCurvature", 0)):
-                gmsh.option.setNumber(option, value)
-            yield gmsh
-        finally:
-            if own:
-                gmsh.finalize()
-            else:
-                gmsh.model.remove()
 
 
 def _element_order(order):
@@ -117,7 +87,7 @@ def _generated(build, length_m, element_size_m, order, name, straight=False, alg
     :class:`ccedi.fea.mesh.Mesh` (node sets ``root`` and ``tip``)."""
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / f"{name}.msh"
-        with _gmsh_model(name) as gmsh:
+        with gmsh_session(name) as gmsh:
             _mesh_and_write(gmsh, build(gmsh.model.occ), length_m, element_size_m, order, path, straight=straight,
                             algorithm_3d=algorithm_3d)
         return read_finger_mesh(path, clamp="clamp", tip="tip")
@@ -280,7 +250,7 @@ def write_tapered_finger(path, element_size_m, *, length_in=4.5, root_semi_axes_
     if msh_version not in MSH_VERSIONS:
         raise InputError(f"msh_version = {msh_version!r}: must be 4 or 2")
     size, order = _element_size(element_size_m), _element_order(order)
-    with _gmsh_model("tapered_finger") as gmsh:
+    with gmsh_session("tapered_finger") as gmsh:
         volume = _tapered_geometry(length_m, root, tip, hole)(gmsh.model.occ)
         _mesh_and_write(gmsh, volume, length_m, size, order, path, msh_version, binary)
         return gmsh.model.occ.getMass(3, volume)
@@ -513,7 +483,7 @@ def detailed_model_volume(cone_radius_m=DM_CONE_RADIUS, rib_thickness_m=DM_RIB_T
         A radius or thickness out of range.
     """
     length_m, cone, rib = _dm_inputs(cone_radius_m, rib_thickness_m)
-    with _gmsh_model("detailed_model_volume") as gmsh:
+    with gmsh_session("detailed_model_volume") as gmsh:
         volume = _dm_geometry(length_m, cone, rib)(gmsh.model.occ)
         gmsh.model.occ.synchronize()
         return gmsh.model.occ.getMass(3, volume)

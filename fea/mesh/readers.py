@@ -1,7 +1,8 @@
 """Finger meshes from outside: read a solid mesh from a file, check it, and name its clamped
 root and its loaded tip.
 
-Formats: Gmsh ``.msh`` (v2 and v4, ASCII and binary), Abaqus ``.inp``, VTK ``.vtu`` /
+Formats: Gmsh ``.msh`` (v2 and v4, ASCII and binary) and Gmsh ``.geo`` scripts (meshed by
+Gmsh in 3D with the script's settings), Abaqus ``.inp``, VTK ``.vtu`` /
 ``.vtk`` (all through meshio) and LS-DYNA keyword decks (``.k``, ``.key``, ``.dyn``: *NODE
 and *ELEMENT_SOLID, as :mod:`ccedi.fea.io.lsdyna` writes them, in the one-line 8-node format
 or the two-line format of up to 10 nodes; a 4-node tetrahedron may be written as a
@@ -30,7 +31,10 @@ Points that no cell uses (a CAD file's geometry points) are dropped; a point use
 boundary cell, or in the set named as clamp or tip, but by no solid element is an error. Every problem is one
 :class:`ccedi.errors.InputError` line naming the file, the problem and where.
 """
+import contextlib
 import importlib
+import tempfile
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -70,6 +74,65 @@ BOUNDARY_CELLS = {"vertex": 0, "line": 1, "line3": 1, "triangle": 2, "triangle6"
                   "quad9": 2}
 """meshio names of the lower-dimensional cells read as boundary cells, with their dimension."""
 _FIELD = {"hexahedron": "hexes", "tetra": "tets4", "tetra10": "tets10"}
+GMSH_SCRIPT_SUFFIX = ".geo"
+"""A Gmsh script: meshed in 3D by Gmsh with the script's own settings, then read as its
+``.msh``."""
+_LOCK = threading.Lock()
+
+
+@contextlib.contextmanager
+def gmsh_session(name):
+    """A fresh Gmsh model, quiet and deterministic; Gmsh initialised (and finalised) here
+    only if it was not already.
+
+    Parameters
+    ----------
+    name : str
+        The model's name.
+
+    Yields
+    ------
+    module
+        The ``gmsh`` module, its current model the new one (one thread at a time).
+    """
+    import gmsh  # the Gmsh library loads only when a mesh is generated
+
+    with _LOCK:
+        own = not gmsh.isInitialized()
+        if own:
+            gmsh.initialize(readConfigFiles=False, interruptible=False)
+        try:
+            gmsh.option.setNumber("General.Terminal", 0)
+            gmsh.option.setNumber("General.Verbosity", 0)
+            gmsh.model.add(name)
+            for option, value in (("General.NumThreads", 1), ("Mesh.MaxNumThreads3D", 1),
+                                  ("Mesh.RandomSeed", 1), ("Mesh.Algorithm", 6), ("Mesh.Algorithm3D", 1),
+                                  ("Mesh.HighOrderOptimize", 1), ("Mesh.MeshSizeFromPoints", 0),
+                                  ("Mesh.MeshSizeExtendFromBoundary", 1), ("Mesh.MeshSizeFromCurvature", 0)):
+                gmsh.option.setNumber(option, value)
+            yield gmsh
+        finally:
+            if own:
+                gmsh.finalize()
+            else:
+                gmsh.model.remove()
+
+
+def _read_gmsh_script(path):
+    """A Gmsh ``.geo`` script meshed in 3D (its own size and order settings apply) and read
+    as the ``.msh`` it gives."""
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / (path.stem + ".msh")
+        with gmsh_session(path.stem) as gmsh:
+            try:
+                gmsh.open(str(path))
+                gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+                gmsh.model.mesh.generate(3)
+                gmsh.write(str(out))
+            except Exception as err:        # Gmsh raises a bare Exception with its own message
+                raise InputError(f"{path}: Gmsh could not mesh the script ({one_line(err) or type(err).__name__})") \
+                    from None
+        return _read_meshio(out, "gmsh")
 
 
 @dataclass(frozen=True)
@@ -175,10 +238,15 @@ def read_finger_mesh(path, *, mesh_unit="m", clamp="z_min", tip="z_max", bending
     if not path.is_file():
         raise InputError(f"{path}: no such mesh file")
     suffix = path.suffix.lower()
-    if suffix not in KEYWORD_SUFFIXES and suffix not in MESHIO_SUFFIXES:
+    if suffix not in KEYWORD_SUFFIXES and suffix not in MESHIO_SUFFIXES and suffix != GMSH_SCRIPT_SUFFIX:
         raise InputError(f"{path}: unknown mesh format {suffix or '(no suffix)'!r}; ccedi reads "
-                         f"{', '.join([*MESHIO_SUFFIXES, *KEYWORD_SUFFIXES])}")
-    raw = _read_keyword(path) if suffix in KEYWORD_SUFFIXES else _read_meshio(path, MESHIO_SUFFIXES[suffix])
+                         f"{', '.join([*MESHIO_SUFFIXES, *KEYWORD_SUFFIXES, GMSH_SCRIPT_SUFFIX])}")
+    if suffix in KEYWORD_SUFFIXES:
+        raw = _read_keyword(path)
+    elif suffix == GMSH_SCRIPT_SUFFIX:
+        raw = _read_gmsh_script(path)
+    else:
+        raw = _read_meshio(path, MESHIO_SUFFIXES[suffix])
     kind, cells = _solid_cells(path, raw)
     used = np.unique(cells)
     _no_orphans(path, raw, used)

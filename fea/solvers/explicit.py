@@ -605,14 +605,54 @@ def critical_time_step(model, x=None, v=None):
     return dt
 
 
-def limiting_element(model):
-    """The solid element that sets the stable step at rest, its size and where it is.
+def element_stable_steps(model):
+    """Stable step of every solid element at rest, ``dt_e = Le / c`` [s].
 
-    ``dt_e = Le / c`` with ``c = sqrt((lambda + 2 mu) / rho)`` and the characteristic
-    length Le of each element type (:func:`ccedi.fea.elements.hex8.characteristic_length`, the
-    tetrahedra's ``kappa_e`` x minimum altitude); the smallest dt_e is the step before
-    TSSFAC as :func:`critical_time_step` finds it at rest (the tetrahedra's exactly, the
-    hexahedra's within about 1 %: 4.90 against 4.85 us on SM-A).
+    ``c = sqrt((lambda + 2 mu) / rho)`` and the characteristic length Le of each element
+    type (:func:`ccedi.fea.elements.hex8.characteristic_length`, the tetrahedra's
+    ``kappa_e`` x minimum altitude, whose kappa_e carry the element's own mass, scaled
+    or not); the smallest is the step before TSSFAC as :func:`critical_time_step` finds
+    it at rest (the tetrahedra's exactly, the hexahedra's within about 1 %: 4.90 against
+    4.85 us on SM-A).
+
+    Parameters
+    ----------
+    model : Model
+        A model with solid elements.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n_elements,) [s], over the hexahedra, then the 4-node, then the 10-node
+        tetrahedra (:func:`element_name`'s numbering).
+    """
+    return _element_lengths(model)[0] / _wave_speed(model)
+
+
+def _wave_speed(model):
+    m = model.material
+    return np.sqrt((m.lam + 2.0 * m.mu) / m.rho)
+
+
+def _element_lengths(model):
+    """(Le, centroid) of every solid element at rest, in :func:`element_name`'s order [m]."""
+    mesh, X = model.mesh, model.mesh.nodes
+    lengths, centroids = [], []
+    if len(mesh.hexes):
+        lengths.append(hex_characteristic_length(X[mesh.hexes], element_geometry(X, mesh.hexes).volume))
+        centroids.append(X[mesh.hexes].mean(axis=1))
+    if len(mesh.tets4):
+        lengths.append(model.tet4.length_factor * min_altitude(X[mesh.tets4]))
+        centroids.append(X[mesh.tets4].mean(axis=1))
+    if len(mesh.tets10):
+        lengths.append(tet10_characteristic_length(X, model.tet10))
+        centroids.append(X[mesh.tets10[:, :4]].mean(axis=1))
+    return np.concatenate(lengths), np.concatenate(centroids)
+
+
+def limiting_element(model):
+    """The solid element that sets the stable step at rest, its size and where it is
+    (:func:`element_stable_steps`).
 
     Parameters
     ----------
@@ -626,23 +666,10 @@ def limiting_element(model):
         elements), ``dt_s`` [s], ``length_m`` (its Le) [m], ``median_length_m`` (of all
         elements) [m], ``centroid_m`` (3,) [m].
     """
-    mesh, X = model.mesh, model.mesh.nodes
-    lengths, centroids = [], []
-    if len(mesh.hexes):
-        lengths.append(hex_characteristic_length(X[mesh.hexes], element_geometry(X, mesh.hexes).volume))
-        centroids.append(X[mesh.hexes].mean(axis=1))
-    if len(mesh.tets4):
-        lengths.append(model.tet4.length_factor * min_altitude(X[mesh.tets4]))
-        centroids.append(X[mesh.tets4].mean(axis=1))
-    if len(mesh.tets10):
-        lengths.append(tet10_characteristic_length(X, model.tet10))
-        centroids.append(X[mesh.tets10[:, :4]].mean(axis=1))
-    Le = np.concatenate(lengths)
+    Le, centroids = _element_lengths(model)
     k = int(np.argmin(Le))
-    m = model.material
-    c = np.sqrt((m.lam + 2.0 * m.mu) / m.rho)
-    return {"element": element_name(mesh, k), "index": k, "dt_s": float(Le[k] / c), "length_m": float(Le[k]),
-            "median_length_m": float(np.median(Le)), "centroid_m": np.concatenate(centroids)[k]}
+    return {"element": element_name(model.mesh, k), "index": k, "dt_s": float(Le[k] / _wave_speed(model)),
+            "length_m": float(Le[k]), "median_length_m": float(np.median(Le)), "centroid_m": centroids[k]}
 
 
 SLIVER_RATIO = 0.25
@@ -673,7 +700,8 @@ def sliver_warnings(model, e=None):
         return []
     return [f"{_step_setter(model, e)}: the stable step is {e['median_length_m'] / e['length_m']:.3g} times shorter than "
             "the mesh's typical element needs; remesh with a minimum element size there (Gmsh: "
-            "Mesh.CharacteristicLengthMin, or optimise the mesh) to make every run that much faster"]
+            "Mesh.CharacteristicLengthMin, or optimise the mesh) to make every run that much faster, or scale "
+            "the small elements' mass (ccedi.fea.solvers.mass_scaling.mass_scaled)"]
 
 
 def _step_setter(model, e=None):

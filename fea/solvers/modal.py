@@ -5,8 +5,9 @@ reference (or a preloaded) state and the lumped mass M::
 
     K phi = omega^2 M phi                     omega [rad/s]
 
-solved by shift-invert Lanczos (scipy.sparse.linalg.eigsh, sigma = 0), or densely when
-(nearly) all modes are asked for.
+solved by shift-invert Lanczos (scipy.sparse.linalg.eigsh, sigma = 0, with the factors of
+:class:`ccedi.fea.solvers.linear.Factorization`, from a fixed start vector so that the
+result is the same in every run), or densely when (nearly) all modes are asked for.
 """
 import numpy as np
 import scipy.sparse as sp
@@ -15,6 +16,7 @@ from scipy.linalg import eigh
 
 from ccedi.errors import InputError
 from ccedi.fea.model import Model
+from ccedi.fea.solvers.linear import Factorization
 from ccedi.fea.solvers.static import free_dofs, tangent_stiffness
 
 
@@ -60,7 +62,8 @@ def natural_frequencies(model: Model, *, n_modes=3, x=None, return_modes=False):
     if n_modes >= len(free) - 1:                 # all (or nearly all) modes: dense solve
         w2, phi = eigh(K.toarray(), M.toarray(), subset_by_index=[0, int(n_modes) - 1])
     else:
-        w2, phi = spla.eigsh(K, k=int(n_modes), M=M, sigma=0.0, which="LM")
+        w2, phi = spla.eigsh(K, k=int(n_modes), M=M, sigma=0.0, which="LM", OPinv=Factorization(K).operator(),
+                              v0=np.ones(K.shape[0]))
     order = np.argsort(w2)
     omega = np.sqrt(np.clip(w2[order], 0.0, None))
     if not return_modes:

@@ -11,8 +11,8 @@ from ccedi.errors import InputError
 from ccedi.fea.io.lsdyna import _card, _node_line, write_keyword
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import Mesh, elliptical_cantilever, sm_a, sm_b
-from ccedi.fea.mesh.gmsh_fingers import _gmsh_model, sm_c, tapered_finger, tapered_volume, write_tapered_finger
-from ccedi.fea.mesh.readers import FingerMeshSpec, element_volumes, read_finger_mesh
+from ccedi.fea.mesh.gmsh_fingers import sm_c, tapered_finger, tapered_volume, write_tapered_finger
+from ccedi.fea.mesh.readers import FingerMeshSpec, element_volumes, gmsh_session, read_finger_mesh
 from ccedi.fea.model import cantilever_model
 
 L = 0.06
@@ -107,7 +107,7 @@ def test_the_deck_ccedi_writes_reads_back(tmp_path, meshes):
 
 def _box_msh(path, version, binary, order=2):
     """A 20 x 10 x 50 mm box meshed by Gmsh itself, physical groups clamp / tip / finger."""
-    with _gmsh_model("box") as gmsh:
+    with gmsh_session("box") as gmsh:
         box = gmsh.model.occ.addBox(0, 0, 0, 0.02, 0.01, 0.05)
         gmsh.model.occ.synchronize()
         faces = {gmsh.model.occ.getCenterOfMass(2, t)[2]: t for _, t in gmsh.model.getBoundary([(3, box)])}
@@ -254,3 +254,32 @@ def test_the_paper_hexahedral_meshes_pass_the_checks(tmp_path, generator):
     back = read_finger_mesh(path)
     assert all(np.array_equal(back.node_sets[k], mesh.node_sets[k]) for k in ("root", "tip"))
     assert element_volumes(back).sum() == pytest.approx(np.pi * 12e-3 * 8.45e-3 * 4.5 * 0.0254, rel=0.02)
+
+
+BOX_SCRIPT = """SetFactory("OpenCASCADE");
+Box(1) = {-0.005, -0.004, 0, 0.01, 0.008, 0.05};
+Physical Volume("finger") = {1};
+Mesh.MeshSizeMax = 0.004;
+Mesh.ElementOrder = ORDER;
+"""
+
+
+@pytest.mark.parametrize("order, kind", [(1, "tet4"), (2, "tet10")])
+def test_a_gmsh_script_is_meshed_and_read(tmp_path, order, kind):
+    """A .geo script: Gmsh meshes it with the script's own settings (order), and the
+    finger reads back with its volume and its clamp and tip planes."""
+    path = tmp_path / "box.geo"
+    path.write_text(BOX_SCRIPT.replace("ORDER", str(order)))
+    mesh = read_finger_mesh(path)
+    assert mesh.element_type == kind and mesh.n_elements > 20
+    assert element_volumes(mesh).sum() == pytest.approx(0.01 * 0.008 * 0.05, rel=1e-9)
+    assert np.allclose(mesh.nodes[mesh.node_sets["root"], 2], 0.0)
+    assert np.allclose(mesh.nodes[mesh.node_sets["tip"], 2], 0.05)
+
+
+def test_a_broken_gmsh_script_is_one_line(tmp_path):
+    path = tmp_path / "broken.geo"
+    path.write_text('SetFactory("OpenCASCADE");\nBox(1) = {0, 0, 0, 0.01, 0.01};\n')
+    with pytest.raises(InputError, match=r"broken.geo: Gmsh could not mesh the script") as err:
+        read_finger_mesh(path)
+    assert "\n" not in str(err.value)
