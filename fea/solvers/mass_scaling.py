@@ -189,8 +189,8 @@ def mass_scaled(model: Model, *, dt_target_s="auto", max_added_mass_fraction=MAX
         scaled = replace(model, element_mass_scale=factor)
         return scaled, float(element_stable_steps(scaled).min())
 
-    scaled = model
-    if steps.min() < target:
+    scaled, step = model, float(steps.min())
+    if step < target:
         low, high = None, target
         scaled, step = lifted(high)
         while step < target:
@@ -201,9 +201,9 @@ def mass_scaled(model: Model, *, dt_target_s="auto", max_added_mass_fraction=MAX
             scaled, step = lifted(high)
         for _ in range(BISECTIONS if low is not None else 0):
             middle = np.sqrt(low * high)
-            candidate, step = lifted(middle)
-            if step >= target:
-                high, scaled = middle, candidate
+            candidate, candidate_step = lifted(middle)
+            if candidate_step >= target:
+                high, scaled, step = middle, candidate, candidate_step
             else:
                 low = middle
     added = scaled.total_mass / model.total_mass - 1.0
@@ -211,18 +211,17 @@ def mass_scaled(model: Model, *, dt_target_s="auto", max_added_mass_fraction=MAX
         raise InputError(f"mass scaling step {target:.4g} s: reaching it adds {100 * added:.3g} % to the finger's mass "
                          f"(at most {100 * max_added_mass_fraction:.3g} % allowed): the dynamics would change; remesh "
                          f"the small elements or ask for a step nearer {steps.min():.4g} s")
-    return scaled, _report(model, scaled, target, steps)
+    return scaled, _report(model, scaled, original=original, target=target, steps_before=steps, step_after=step)
 
 
-def _report(model, scaled, target, steps_before):
-    """The :class:`MassScaling` of ``scaled`` against ``model``."""
+def _report(model, scaled, *, original, target, steps_before, step_after):
+    """The :class:`MassScaling` of ``scaled`` against ``model`` (whose density factors are
+    ``original``), the stable steps already measured."""
     before = natural_frequencies(model, n_modes=CHECKED_MODES) / (2.0 * np.pi)
     after = before if scaled is model else natural_frequencies(scaled, n_modes=CHECKED_MODES) / (2.0 * np.pi)
-    original = np.ones(model.mesh.n_elements) if model.element_mass_scale is None else model.element_mass_scale
     factor = original if scaled is model else scaled.element_mass_scale
     added = scaled.total_mass - model.total_mass
-    return MassScaling(dt_target_s=target, dt_before_s=float(steps_before.min()),
-                       dt_after_s=float(element_stable_steps(scaled).min()),
+    return MassScaling(dt_target_s=target, dt_before_s=float(steps_before.min()), dt_after_s=step_after,
                        scaled_elements=int(np.sum(factor > original)), largest_factor=float((factor / original).max()),
                        added_mass_kg=float(added), added_mass_fraction=float(added / model.total_mass),
                        frequencies_before_hz=before, frequencies_after_hz=after)
