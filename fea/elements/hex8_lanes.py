@@ -1,0 +1,282 @@
+"""numba-compiled internal forces of one-point hexahedra for several runs of one mesh at once.
+
+The runs (the lanes) share the mesh, the material and so every element constant; they
+differ in their state (positions and velocities), because they differ in damping, load or
+initial state. :func:`ccedi.fea.elements.hex8_kernels.internal_forces_numba` puts the SIMD
+lanes across elements; here they run across runs: the element's constants (uniform
+gradients, hourglass centres and stiffness, volume) are read once per element and shared
+by every lane, the gathered nodal values and the nodal sums are contiguous in the lanes,
+and each element's forces are added straight into per-node lane sums.
+
+Every lane computes, bit for bit, what :func:`internal_forces_numba` computes for that
+run alone: the same expressions in the same order (no fast-math, so LLVM keeps them), each
+node's force summed over its elements in ascending element order from zero and then added
+to the run's force, and the energies summed in element order. ``tests/unit/fea/
+test_batch.py`` checks the bits against that kernel and the values against the numpy
+reference :func:`ccedi.fea.elements.hex8.internal_forces_numpy`.
+
+The kernel is serial: the runs are shared between threads (each thread its own lanes,
+:mod:`ccedi.fea.solvers.batch`), so it is compiled with ``nogil``.
+"""
+import numba as nb
+import numpy as np
+
+from ccedi.fea.elements.fastmath import FASTMATH
+from ccedi.fea.elements.hex8 import BULK_VISCOSITY_C0, BULK_VISCOSITY_C1
+from ccedi.fea.elements.hex8_kernels import _H, _UPPER, BLOCK
+
+LANES = 8
+"""Runs one call of :func:`internal_forces_lanes` advances: a compile-time constant, so that
+LLVM knows the work rows' layout and compiles every stage to 8-wide SIMD (the trip count
+of a lane loop and the lanes' stride are then known; with the count read at run time it
+needed more run-time alias checks than it makes). A caller with fewer runs fills the
+remaining lanes with copies of one of them."""
+
+# rows of the work array: gathered positions (3k + i) and velocities (24 + 3k + i); F^-1 (9),
+# F (9), J, e_v, q, r_a (12), qt_a (12), dt; sum_k v_k b_k^T; Qt = K_hg qt; the nodal
+# forces; ln J; the element's b, G_a and K_hg (12 x 12), copied to every lane; A_a = F^-T Qt_a;
+# P - S / V0; the lane's running results (those of ``result``)
+_XV, _W, _DV, _HQ, _OUT, _LNJ, _B, _C, _K, _A, _P, _R, _ROWS = 0, 48, 96, 105, 117, 141, 142, 166, 178, 322, 334, 343, 348
+
+
+@nb.njit(cache=True, fastmath=FASTMATH, inline="always")
+def _face_area2(wk, a0, a1, a2, a3, ll, amax2):
+    """The larger of amax2 and |d1 x d2|^2 of the face a0 a1 a2 a3 (diagonals d1 = x_a2 -
+    x_a0, d2 = x_a3 - x_a1) of lane ll: four times the squared face area; called with
+    literal node numbers, so that the lane loop sees fixed rows."""
+    p0 = wk[(_XV + 3 * a2) * LANES + ll] - wk[(_XV + 3 * a0) * LANES + ll]
+    p1 = wk[(_XV + 3 * a2 + 1) * LANES + ll] - wk[(_XV + 3 * a0 + 1) * LANES + ll]
+    p2 = wk[(_XV + 3 * a2 + 2) * LANES + ll] - wk[(_XV + 3 * a0 + 2) * LANES + ll]
+    r0 = wk[(_XV + 3 * a3) * LANES + ll] - wk[(_XV + 3 * a1) * LANES + ll]
+    r1 = wk[(_XV + 3 * a3 + 1) * LANES + ll] - wk[(_XV + 3 * a1 + 1) * LANES + ll]
+    r2 = wk[(_XV + 3 * a3 + 2) * LANES + ll] - wk[(_XV + 3 * a1 + 2) * LANES + ll]
+    cx = p1 * r2 - p2 * r1; cy = p2 * r0 - p0 * r2; cz = p0 * r1 - p1 * r0
+    area2 = cx * cx + cy * cy + cz * cz
+    return area2 if area2 > amax2 else amax2
+
+
+def full_stiffness(group):
+    """Every entry of each element's hourglass stiffness, row by row, as the single-run
+    kernel uses them: entry (r, c) is its stored upper-triangle value (r, c) or (c, r).
+
+    Parameters
+    ----------
+    group : HexGroup
+        The hexahedra.
+
+    Returns
+    -------
+    (n_elem, 144) ndarray
+        K_hg [N/m].
+    """
+    iu, ju = np.triu_indices(12)
+    return np.ascontiguousarray(group.kappa[:, iu, ju][:, _UPPER.ravel()])
+
+
+@nb.njit(cache=True, fastmath=FASTMATH, error_model="numpy", nogil=True)
+def internal_forces_lanes(x, v, group, stiffness, material, b0, node_sums, f, result):
+    """Internal nodal forces of one-point hexahedra for runs ``b0 .. b0 + lanes - 1``.
+
+    The equations are those of :func:`ccedi.fea.elements.hex8_kernels.internal_forces_numba`.
+
+    Parameters
+    ----------
+    x, v : (n_runs, n_nodes, 3) ndarray
+        Nodal positions [m] and velocities [m/s] of every run.
+    group : HexGroup
+        The hexahedra (:func:`ccedi.fea.elements.hex8_kernels.hex_group`), shared by the runs.
+    stiffness : (n_elem, 144) ndarray
+        The hourglass stiffness K_hg of each element, all 12 x 12 entries row by row
+        (:func:`full_stiffness`) [N/m].
+    material : SolidMaterial
+        (mu [Pa], lam [Pa], rho [kg/m^3], c [m/s]), shared by the runs.
+    b0 : int
+        First run of the lanes.
+    node_sums : (n_nodes, 3, lanes) ndarray
+        Work array: the lanes' nodal sums; its last axis sets the lane count.
+    f : (n_runs, n_nodes, 3) ndarray
+        Nodal forces [N]; each lane's internal forces are ADDED to its run's.
+    result : (5, lanes) ndarray
+        Filled per lane with the smallest critical step [s], the strain energy [J], the
+        hourglass energy [J], the bulk-viscous power [W] and -1 or the first inverted
+        element (J <= 0; the lane's forces are then meaningless).
+    """
+    lanes = LANES
+    wk = np.empty(_ROWS * LANES)        # every work row, so LLVM sees one array and vectorises the lanes
+    mu, lam, rho, c = material[0], material[1], material[2], material[3]
+    lf = group.length_factor
+    for ll in range(lanes):
+        wk[_R * LANES + ll] = np.inf
+        wk[(_R + 1) * LANES + ll] = 0.0
+        wk[(_R + 2) * LANES + ll] = 0.0
+        wk[(_R + 3) * LANES + ll] = 0.0
+        wk[(_R + 4) * LANES + ll] = -1.0
+    node_sums[:] = 0.0
+    n_elem = group.hexes.shape[0]
+    for e in range(n_elem):
+        blk = e // BLOCK
+        le = e % BLOCK
+        V0 = group.block_volume[blk, le]
+        iV = 1.0 / V0
+        for r in range(24):                  # the element's constants, one copy per lane
+            value = group.block_b[blk, r, le]
+            for ll in range(lanes):
+                wk[(_B + r) * LANES + ll] = value
+        for r in range(12):
+            value = group.block_centre[blk, r, le]
+            for ll in range(lanes):
+                wk[(_C + r) * LANES + ll] = value
+        for r in range(144):
+            value = stiffness[e, r]
+            for ll in range(lanes):
+                wk[(_K + r) * LANES + ll] = value
+        for k in range(8):
+            nd = group.block_nodes[blk, k, le]
+            for ll in range(lanes):
+                b = b0 + ll
+                wk[(_XV + 3 * k) * LANES + ll] = x[b, nd, 0]; wk[(_XV + 3 * k + 1) * LANES + ll] = x[b, nd, 1]; wk[(_XV + 3 * k + 2) * LANES + ll] = x[b, nd, 2]
+                wk[(_XV + 24 + 3 * k) * LANES + ll] = v[b, nd, 0]; wk[(_XV + 25 + 3 * k) * LANES + ll] = v[b, nd, 1]; wk[(_XV + 26 + 3 * k) * LANES + ll] = v[b, nd, 2]
+        for ll in range(lanes):
+            f00 = f01 = f02 = f10 = f11 = f12 = f20 = f21 = f22 = 0.0
+            for k in range(8):
+                x0 = wk[(_XV + 3 * k) * LANES + ll]; x1 = wk[(_XV + 3 * k + 1) * LANES + ll]; x2 = wk[(_XV + 3 * k + 2) * LANES + ll]
+                b0_ = wk[(_B + 3 * k) * LANES + ll]; b1 = wk[(_B + 3 * k + 1) * LANES + ll]; b2 = wk[(_B + 3 * k + 2) * LANES + ll]
+                f00 += x0 * b0_; f01 += x0 * b1; f02 += x0 * b2
+                f10 += x1 * b0_; f11 += x1 * b1; f12 += x1 * b2
+                f20 += x2 * b0_; f21 += x2 * b1; f22 += x2 * b2
+            wk[(_W + 9) * LANES + ll] = f00 * iV; wk[(_W + 10) * LANES + ll] = f01 * iV; wk[(_W + 11) * LANES + ll] = f02 * iV
+            wk[(_W + 12) * LANES + ll] = f10 * iV; wk[(_W + 13) * LANES + ll] = f11 * iV; wk[(_W + 14) * LANES + ll] = f12 * iV
+            wk[(_W + 15) * LANES + ll] = f20 * iV; wk[(_W + 16) * LANES + ll] = f21 * iV; wk[(_W + 17) * LANES + ll] = f22 * iV
+        for ll in range(lanes):
+            d00 = d01 = d02 = d10 = d11 = d12 = d20 = d21 = d22 = 0.0
+            for k in range(8):
+                v0 = wk[(_XV + 24 + 3 * k) * LANES + ll]; v1 = wk[(_XV + 25 + 3 * k) * LANES + ll]; v2 = wk[(_XV + 26 + 3 * k) * LANES + ll]
+                b0_ = wk[(_B + 3 * k) * LANES + ll]; b1 = wk[(_B + 3 * k + 1) * LANES + ll]; b2 = wk[(_B + 3 * k + 2) * LANES + ll]
+                d00 += v0 * b0_; d01 += v0 * b1; d02 += v0 * b2
+                d10 += v1 * b0_; d11 += v1 * b1; d12 += v1 * b2
+                d20 += v2 * b0_; d21 += v2 * b1; d22 += v2 * b2
+            wk[(_DV + 0) * LANES + ll] = d00; wk[(_DV + 1) * LANES + ll] = d01; wk[(_DV + 2) * LANES + ll] = d02
+            wk[(_DV + 3) * LANES + ll] = d10; wk[(_DV + 4) * LANES + ll] = d11; wk[(_DV + 5) * LANES + ll] = d12
+            wk[(_DV + 6) * LANES + ll] = d20; wk[(_DV + 7) * LANES + ll] = d21; wk[(_DV + 8) * LANES + ll] = d22
+        for ll in range(lanes):
+            amax2 = _face_area2(wk, 0, 3, 2, 1, ll, 0.0)
+            amax2 = _face_area2(wk, 4, 5, 6, 7, ll, amax2)
+            amax2 = _face_area2(wk, 0, 1, 5, 4, ll, amax2)
+            amax2 = _face_area2(wk, 1, 2, 6, 5, ll, amax2)
+            amax2 = _face_area2(wk, 2, 3, 7, 6, ll, amax2)
+            amax2 = _face_area2(wk, 3, 0, 4, 7, ll, amax2)
+            wk[(_LNJ) * LANES + ll] = amax2
+        for ll in range(lanes):
+            f00 = wk[(_W + 9) * LANES + ll]; f01 = wk[(_W + 10) * LANES + ll]; f02 = wk[(_W + 11) * LANES + ll]
+            f10 = wk[(_W + 12) * LANES + ll]; f11 = wk[(_W + 13) * LANES + ll]; f12 = wk[(_W + 14) * LANES + ll]
+            f20 = wk[(_W + 15) * LANES + ll]; f21 = wk[(_W + 16) * LANES + ll]; f22 = wk[(_W + 17) * LANES + ll]
+            c00 = f11 * f22 - f12 * f21
+            c01 = f12 * f20 - f10 * f22
+            c02 = f10 * f21 - f11 * f20
+            J = f00 * c00 + f01 * c01 + f02 * c02
+            iJ = 1.0 / J
+            g00 = c00 * iJ; g10 = c01 * iJ; g20 = c02 * iJ
+            g01 = (f02 * f21 - f01 * f22) * iJ
+            g11 = (f00 * f22 - f02 * f20) * iJ
+            g21 = (f01 * f20 - f00 * f21) * iJ
+            g02 = (f01 * f12 - f02 * f11) * iJ
+            g12 = (f02 * f10 - f00 * f12) * iJ
+            g22 = (f00 * f11 - f01 * f10) * iJ
+            e_v = iV * (wk[(_DV + 0) * LANES + ll] * g00 + wk[(_DV + 1) * LANES + ll] * g10 + wk[(_DV + 2) * LANES + ll] * g20 + wk[(_DV + 3) * LANES + ll] * g01 + wk[(_DV + 4) * LANES + ll] * g11
+                        + wk[(_DV + 5) * LANES + ll] * g21 + wk[(_DV + 6) * LANES + ll] * g02 + wk[(_DV + 7) * LANES + ll] * g12 + wk[(_DV + 8) * LANES + ll] * g22)
+            Le = lf * 2.0 * J * V0 / np.sqrt(wk[(_LNJ) * LANES + ll])
+            compress = e_v < 0.0
+            qb = rho * Le * (BULK_VISCOSITY_C0 * Le * e_v * e_v - BULK_VISCOSITY_C1 * c * e_v) if compress else 0.0
+            Q = BULK_VISCOSITY_C1 * c + BULK_VISCOSITY_C0 * Le * (-e_v) if compress else 0.0
+            wk[(_W + 47) * LANES + ll] = Le / (Q + np.sqrt(Q * Q + c * c))
+            wk[(_W + 0) * LANES + ll] = g00; wk[(_W + 1) * LANES + ll] = g01; wk[(_W + 2) * LANES + ll] = g02
+            wk[(_W + 3) * LANES + ll] = g10; wk[(_W + 4) * LANES + ll] = g11; wk[(_W + 5) * LANES + ll] = g12
+            wk[(_W + 6) * LANES + ll] = g20; wk[(_W + 7) * LANES + ll] = g21; wk[(_W + 8) * LANES + ll] = g22
+            wk[(_W + 18) * LANES + ll] = J; wk[(_W + 19) * LANES + ll] = e_v; wk[(_W + 20) * LANES + ll] = qb
+        for a in range(4):
+            for ll in range(lanes):
+                s0 = 0.0; s1 = 0.0; s2 = 0.0
+                for k in range(8):
+                    h = _H[a, k]
+                    s0 += h * wk[(_XV + 3 * k) * LANES + ll]; s1 += h * wk[(_XV + 3 * k + 1) * LANES + ll]; s2 += h * wk[(_XV + 3 * k + 2) * LANES + ll]
+                r0 = wk[(_W + 0) * LANES + ll] * s0 + wk[(_W + 1) * LANES + ll] * s1 + wk[(_W + 2) * LANES + ll] * s2
+                r1 = wk[(_W + 3) * LANES + ll] * s0 + wk[(_W + 4) * LANES + ll] * s1 + wk[(_W + 5) * LANES + ll] * s2
+                r2 = wk[(_W + 6) * LANES + ll] * s0 + wk[(_W + 7) * LANES + ll] * s1 + wk[(_W + 8) * LANES + ll] * s2
+                wk[(_W + 21 + 3 * a) * LANES + ll] = r0; wk[(_W + 22 + 3 * a) * LANES + ll] = r1; wk[(_W + 23 + 3 * a) * LANES + ll] = r2
+                wk[(_W + 33 + 3 * a) * LANES + ll] = r0 - wk[(_C + 3 * a) * LANES + ll]
+                wk[(_W + 34 + 3 * a) * LANES + ll] = r1 - wk[(_C + 3 * a + 1) * LANES + ll]
+                wk[(_W + 35 + 3 * a) * LANES + ll] = r2 - wk[(_C + 3 * a + 2) * LANES + ll]
+        for ll in range(lanes):
+            wk[(_LNJ) * LANES + ll] = np.log(wk[(_W + 18) * LANES + ll])
+        for r in range(12):
+            for ll in range(lanes):
+                acc_r = 0.0
+                for cc in range(12):
+                    acc_r += wk[(_K + 12 * r + cc) * LANES + ll] * wk[(_W + 33 + cc) * LANES + ll]
+                wk[(_HQ + r) * LANES + ll] = acc_r
+        for ll in range(lanes):
+            g00 = wk[(_W + 0) * LANES + ll]; g01 = wk[(_W + 1) * LANES + ll]; g02 = wk[(_W + 2) * LANES + ll]
+            g10 = wk[(_W + 3) * LANES + ll]; g11 = wk[(_W + 4) * LANES + ll]; g12 = wk[(_W + 5) * LANES + ll]
+            g20 = wk[(_W + 6) * LANES + ll]; g21 = wk[(_W + 7) * LANES + ll]; g22 = wk[(_W + 8) * LANES + ll]
+            J = wk[(_W + 18) * LANES + ll]; e_v = wk[(_W + 19) * LANES + ll]; qb = wk[(_W + 20) * LANES + ll]; lnJ = wk[(_LNJ) * LANES + ll]
+            f00 = wk[(_W + 9) * LANES + ll]; f01 = wk[(_W + 10) * LANES + ll]; f02 = wk[(_W + 11) * LANES + ll]
+            f10 = wk[(_W + 12) * LANES + ll]; f11 = wk[(_W + 13) * LANES + ll]; f12 = wk[(_W + 14) * LANES + ll]
+            f20 = wk[(_W + 15) * LANES + ll]; f21 = wk[(_W + 16) * LANES + ll]; f22 = wk[(_W + 17) * LANES + ll]
+            I1 = (f00 * f00 + f01 * f01 + f02 * f02 + f10 * f10 + f11 * f11 + f12 * f12
+                  + f20 * f20 + f21 * f21 + f22 * f22)
+            co = lam * lnJ - mu - qb * J
+            P00 = mu * f00 + co * g00; P01 = mu * f01 + co * g10; P02 = mu * f02 + co * g20
+            P10 = mu * f10 + co * g01; P11 = mu * f11 + co * g11; P12 = mu * f12 + co * g21
+            P20 = mu * f20 + co * g02; P21 = mu * f21 + co * g12; P22 = mu * f22 + co * g22
+            s00 = s01 = s02 = s10 = s11 = s12 = s20 = s21 = s22 = 0.0
+            whg = 0.0
+            for a in range(4):
+                t0 = wk[(_HQ + 3 * a) * LANES + ll]; t1 = wk[(_HQ + 3 * a + 1) * LANES + ll]; t2 = wk[(_HQ + 3 * a + 2) * LANES + ll]
+                whg += 0.5 * (t0 * wk[(_W + 33 + 3 * a) * LANES + ll] + t1 * wk[(_W + 34 + 3 * a) * LANES + ll] + t2 * wk[(_W + 35 + 3 * a) * LANES + ll])
+                u0 = g00 * t0 + g10 * t1 + g20 * t2
+                u1 = g01 * t0 + g11 * t1 + g21 * t2
+                u2 = g02 * t0 + g12 * t1 + g22 * t2
+                r0 = wk[(_W + 21 + 3 * a) * LANES + ll]; r1 = wk[(_W + 22 + 3 * a) * LANES + ll]; r2 = wk[(_W + 23 + 3 * a) * LANES + ll]
+                s00 += u0 * r0; s01 += u0 * r1; s02 += u0 * r2
+                s10 += u1 * r0; s11 += u1 * r1; s12 += u1 * r2
+                s20 += u2 * r0; s21 += u2 * r1; s22 += u2 * r2
+                wk[(_A + 3 * a) * LANES + ll] = u0
+                wk[(_A + 3 * a + 1) * LANES + ll] = u1
+                wk[(_A + 3 * a + 2) * LANES + ll] = u2
+            P00 -= iV * s00; P01 -= iV * s01; P02 -= iV * s02
+            P10 -= iV * s10; P11 -= iV * s11; P12 -= iV * s12
+            P20 -= iV * s20; P21 -= iV * s21; P22 -= iV * s22
+            wk[(_P + 0) * LANES + ll] = P00; wk[(_P + 1) * LANES + ll] = P01; wk[(_P + 2) * LANES + ll] = P02
+            wk[(_P + 3) * LANES + ll] = P10; wk[(_P + 4) * LANES + ll] = P11; wk[(_P + 5) * LANES + ll] = P12
+            wk[(_P + 6) * LANES + ll] = P20; wk[(_P + 7) * LANES + ll] = P21; wk[(_P + 8) * LANES + ll] = P22
+            dt_e = wk[(_W + 47) * LANES + ll]
+            dt_min = wk[_R * LANES + ll]
+            wk[_R * LANES + ll] = dt_e if dt_e < dt_min else dt_min
+            wk[(_R + 1) * LANES + ll] += V0 * (0.5 * mu * (I1 - 3.0) - mu * lnJ + 0.5 * lam * lnJ * lnJ)
+            wk[(_R + 2) * LANES + ll] += whg
+            wk[(_R + 3) * LANES + ll] += -qb * e_v * J * V0
+            bad = wk[(_R + 4) * LANES + ll]
+            wk[(_R + 4) * LANES + ll] = e if (not (J > 0.0) and bad < 0.0) else bad
+        for k in range(8):
+            h0 = _H[0, k]; h1 = _H[1, k]; h2 = _H[2, k]; h3 = _H[3, k]
+            for i in range(3):
+                for ll in range(lanes):
+                    wk[(_OUT + 3 * k + i) * LANES + ll] = (
+                        wk[(_P + 3 * i) * LANES + ll] * wk[(_B + 3 * k) * LANES + ll]
+                        + wk[(_P + 3 * i + 1) * LANES + ll] * wk[(_B + 3 * k + 1) * LANES + ll]
+                        + wk[(_P + 3 * i + 2) * LANES + ll] * wk[(_B + 3 * k + 2) * LANES + ll]
+                        + h0 * wk[(_A + i) * LANES + ll] + h1 * wk[(_A + 3 + i) * LANES + ll]
+                        + h2 * wk[(_A + 6 + i) * LANES + ll] + h3 * wk[(_A + 9 + i) * LANES + ll])
+        for k in range(8):
+            nd = group.block_nodes[blk, k, le]
+            for ll in range(lanes):
+                node_sums[nd, 0, ll] += wk[(_OUT + 3 * k) * LANES + ll]
+                node_sums[nd, 1, ll] += wk[(_OUT + 3 * k + 1) * LANES + ll]
+                node_sums[nd, 2, ll] += wk[(_OUT + 3 * k + 2) * LANES + ll]
+    for nd in range(node_sums.shape[0]):
+        for ll in range(lanes):
+            b = b0 + ll
+            f[b, nd, 0] += node_sums[nd, 0, ll]; f[b, nd, 1] += node_sums[nd, 1, ll]; f[b, nd, 2] += node_sums[nd, 2, ll]
+    for r in range(5):
+        for ll in range(lanes):
+            result[r, ll] = wk[(_R + r) * LANES + ll]
