@@ -34,9 +34,41 @@ remaining lanes with copies of one of them."""
 
 # rows of the work array: gathered positions (3k + i) and velocities (24 + 3k + i); F^-1 (9),
 # F (9), J, e_v, q, r_a (12), qt_a (12), dt; sum_k v_k b_k^T; Qt = K_hg qt; the nodal
-# forces; ln J; the element's b, G_a and K_hg (12 x 12), copied to every lane; A_a = F^-T Qt_a;
+# forces; ln J; A_a = F^-T Qt_a;
 # P - S / V0; the lane's running results (those of ``result``)
-_XV, _W, _DV, _HQ, _OUT, _LNJ, _B, _C, _K, _A, _P, _R, _ROWS = 0, 48, 96, 105, 117, 141, 142, 166, 178, 322, 334, 343, 348
+_XV, _W, _DV, _HQ, _OUT, _LNJ, _A, _P, _R, _ROWS = 0, 48, 96, 105, 117, 141, 142, 154, 163, 168
+
+
+@nb.njit(cache=True, fastmath=FASTMATH, inline="always")
+def _element_b(block_b, blk, le):
+    """The 24 uniform gradients of element ``le`` of block ``blk`` as a tuple: numbers in
+    registers, which the lane loops read without LLVM having to rule out that their
+    stores change them."""
+    b = block_b[blk]
+    return (b[0, le], b[1, le], b[2, le], b[3, le], b[4, le], b[5, le], b[6, le], b[7, le],
+            b[8, le], b[9, le], b[10, le], b[11, le], b[12, le], b[13, le], b[14, le], b[15, le],
+            b[16, le], b[17, le], b[18, le], b[19, le], b[20, le], b[21, le], b[22, le], b[23, le])
+
+
+@nb.njit(cache=True, fastmath=FASTMATH, inline="always")
+def _row12(a, e, start):
+    """``a[e, start:start + 12]`` as a tuple (see :func:`_element_b`)."""
+    return (a[e, start], a[e, start + 1], a[e, start + 2], a[e, start + 3], a[e, start + 4], a[e, start + 5],
+            a[e, start + 6], a[e, start + 7], a[e, start + 8], a[e, start + 9], a[e, start + 10], a[e, start + 11])
+
+
+@nb.njit(cache=True, fastmath=FASTMATH, inline="always")
+def _node_forces(wk, bv, k, ll):
+    """Node k's force of lane ll, ``(P - S / V0) b_k + sum_a h_ak A_a``, into its rows of
+    ``wk``; called with literal k, so that the lane loop sees fixed rows and constant h."""
+    h0 = _H[0, k]; h1 = _H[1, k]; h2 = _H[2, k]; h3 = _H[3, k]
+    b0 = bv[3 * k]; b1 = bv[3 * k + 1]; b2 = bv[3 * k + 2]
+    for i in range(3):
+        wk[(_OUT + 3 * k + i) * LANES + ll] = (
+            wk[(_P + 3 * i) * LANES + ll] * b0 + wk[(_P + 3 * i + 1) * LANES + ll] * b1
+            + wk[(_P + 3 * i + 2) * LANES + ll] * b2 + h0 * wk[(_A + i) * LANES + ll]
+            + h1 * wk[(_A + 3 + i) * LANES + ll] + h2 * wk[(_A + 6 + i) * LANES + ll]
+            + h3 * wk[(_A + 9 + i) * LANES + ll])
 
 
 @nb.njit(cache=True, fastmath=FASTMATH, inline="always")
@@ -111,25 +143,14 @@ def internal_forces_lanes(x, v, group, stiffness, material, b0, node_sums, f, re
         wk[(_R + 2) * LANES + ll] = 0.0
         wk[(_R + 3) * LANES + ll] = 0.0
         wk[(_R + 4) * LANES + ll] = -1.0
-    node_sums[:] = 0.0
+    sums = np.zeros((node_sums.shape[0], 3, LANES))
     n_elem = group.hexes.shape[0]
     for e in range(n_elem):
         blk = e // BLOCK
         le = e % BLOCK
         V0 = group.block_volume[blk, le]
+        bv = _element_b(group.block_b, blk, le)
         iV = 1.0 / V0
-        for r in range(24):                  # the element's constants, one copy per lane
-            value = group.block_b[blk, r, le]
-            for ll in range(lanes):
-                wk[(_B + r) * LANES + ll] = value
-        for r in range(12):
-            value = group.block_centre[blk, r, le]
-            for ll in range(lanes):
-                wk[(_C + r) * LANES + ll] = value
-        for r in range(144):
-            value = stiffness[e, r]
-            for ll in range(lanes):
-                wk[(_K + r) * LANES + ll] = value
         for k in range(8):
             nd = group.block_nodes[blk, k, le]
             for ll in range(lanes):
@@ -140,7 +161,7 @@ def internal_forces_lanes(x, v, group, stiffness, material, b0, node_sums, f, re
             f00 = f01 = f02 = f10 = f11 = f12 = f20 = f21 = f22 = 0.0
             for k in range(8):
                 x0 = wk[(_XV + 3 * k) * LANES + ll]; x1 = wk[(_XV + 3 * k + 1) * LANES + ll]; x2 = wk[(_XV + 3 * k + 2) * LANES + ll]
-                b0_ = wk[(_B + 3 * k) * LANES + ll]; b1 = wk[(_B + 3 * k + 1) * LANES + ll]; b2 = wk[(_B + 3 * k + 2) * LANES + ll]
+                b0_ = bv[3 * k]; b1 = bv[3 * k + 1]; b2 = bv[3 * k + 2]
                 f00 += x0 * b0_; f01 += x0 * b1; f02 += x0 * b2
                 f10 += x1 * b0_; f11 += x1 * b1; f12 += x1 * b2
                 f20 += x2 * b0_; f21 += x2 * b1; f22 += x2 * b2
@@ -151,7 +172,7 @@ def internal_forces_lanes(x, v, group, stiffness, material, b0, node_sums, f, re
             d00 = d01 = d02 = d10 = d11 = d12 = d20 = d21 = d22 = 0.0
             for k in range(8):
                 v0 = wk[(_XV + 24 + 3 * k) * LANES + ll]; v1 = wk[(_XV + 25 + 3 * k) * LANES + ll]; v2 = wk[(_XV + 26 + 3 * k) * LANES + ll]
-                b0_ = wk[(_B + 3 * k) * LANES + ll]; b1 = wk[(_B + 3 * k + 1) * LANES + ll]; b2 = wk[(_B + 3 * k + 2) * LANES + ll]
+                b0_ = bv[3 * k]; b1 = bv[3 * k + 1]; b2 = bv[3 * k + 2]
                 d00 += v0 * b0_; d01 += v0 * b1; d02 += v0 * b2
                 d10 += v1 * b0_; d11 += v1 * b1; d12 += v1 * b2
                 d20 += v2 * b0_; d21 += v2 * b1; d22 += v2 * b2
@@ -194,6 +215,9 @@ def internal_forces_lanes(x, v, group, stiffness, material, b0, node_sums, f, re
             wk[(_W + 6) * LANES + ll] = g20; wk[(_W + 7) * LANES + ll] = g21; wk[(_W + 8) * LANES + ll] = g22
             wk[(_W + 18) * LANES + ll] = J; wk[(_W + 19) * LANES + ll] = e_v; wk[(_W + 20) * LANES + ll] = qb
         for a in range(4):
+            c0 = group.block_centre[blk, 3 * a, le]
+            c1 = group.block_centre[blk, 3 * a + 1, le]
+            c2 = group.block_centre[blk, 3 * a + 2, le]
             for ll in range(lanes):
                 s0 = 0.0; s1 = 0.0; s2 = 0.0
                 for k in range(8):
@@ -203,16 +227,17 @@ def internal_forces_lanes(x, v, group, stiffness, material, b0, node_sums, f, re
                 r1 = wk[(_W + 3) * LANES + ll] * s0 + wk[(_W + 4) * LANES + ll] * s1 + wk[(_W + 5) * LANES + ll] * s2
                 r2 = wk[(_W + 6) * LANES + ll] * s0 + wk[(_W + 7) * LANES + ll] * s1 + wk[(_W + 8) * LANES + ll] * s2
                 wk[(_W + 21 + 3 * a) * LANES + ll] = r0; wk[(_W + 22 + 3 * a) * LANES + ll] = r1; wk[(_W + 23 + 3 * a) * LANES + ll] = r2
-                wk[(_W + 33 + 3 * a) * LANES + ll] = r0 - wk[(_C + 3 * a) * LANES + ll]
-                wk[(_W + 34 + 3 * a) * LANES + ll] = r1 - wk[(_C + 3 * a + 1) * LANES + ll]
-                wk[(_W + 35 + 3 * a) * LANES + ll] = r2 - wk[(_C + 3 * a + 2) * LANES + ll]
+                wk[(_W + 33 + 3 * a) * LANES + ll] = r0 - c0
+                wk[(_W + 34 + 3 * a) * LANES + ll] = r1 - c1
+                wk[(_W + 35 + 3 * a) * LANES + ll] = r2 - c2
         for ll in range(lanes):
             wk[(_LNJ) * LANES + ll] = np.log(wk[(_W + 18) * LANES + ll])
         for r in range(12):
+            kr = _row12(stiffness, e, 12 * r)
             for ll in range(lanes):
                 acc_r = 0.0
                 for cc in range(12):
-                    acc_r += wk[(_K + 12 * r + cc) * LANES + ll] * wk[(_W + 33 + cc) * LANES + ll]
+                    acc_r += kr[cc] * wk[(_W + 33 + cc) * LANES + ll]
                 wk[(_HQ + r) * LANES + ll] = acc_r
         for ll in range(lanes):
             g00 = wk[(_W + 0) * LANES + ll]; g01 = wk[(_W + 1) * LANES + ll]; g02 = wk[(_W + 2) * LANES + ll]
@@ -257,26 +282,19 @@ def internal_forces_lanes(x, v, group, stiffness, material, b0, node_sums, f, re
             wk[(_R + 3) * LANES + ll] += -qb * e_v * J * V0
             bad = wk[(_R + 4) * LANES + ll]
             wk[(_R + 4) * LANES + ll] = e if (not (J > 0.0) and bad < 0.0) else bad
-        for k in range(8):
-            h0 = _H[0, k]; h1 = _H[1, k]; h2 = _H[2, k]; h3 = _H[3, k]
-            for i in range(3):
-                for ll in range(lanes):
-                    wk[(_OUT + 3 * k + i) * LANES + ll] = (
-                        wk[(_P + 3 * i) * LANES + ll] * wk[(_B + 3 * k) * LANES + ll]
-                        + wk[(_P + 3 * i + 1) * LANES + ll] * wk[(_B + 3 * k + 1) * LANES + ll]
-                        + wk[(_P + 3 * i + 2) * LANES + ll] * wk[(_B + 3 * k + 2) * LANES + ll]
-                        + h0 * wk[(_A + i) * LANES + ll] + h1 * wk[(_A + 3 + i) * LANES + ll]
-                        + h2 * wk[(_A + 6 + i) * LANES + ll] + h3 * wk[(_A + 9 + i) * LANES + ll])
+        for ll in range(lanes):
+            _node_forces(wk, bv, 0, ll); _node_forces(wk, bv, 1, ll); _node_forces(wk, bv, 2, ll); _node_forces(wk, bv, 3, ll)
+            _node_forces(wk, bv, 4, ll); _node_forces(wk, bv, 5, ll); _node_forces(wk, bv, 6, ll); _node_forces(wk, bv, 7, ll)
         for k in range(8):
             nd = group.block_nodes[blk, k, le]
             for ll in range(lanes):
-                node_sums[nd, 0, ll] += wk[(_OUT + 3 * k) * LANES + ll]
-                node_sums[nd, 1, ll] += wk[(_OUT + 3 * k + 1) * LANES + ll]
-                node_sums[nd, 2, ll] += wk[(_OUT + 3 * k + 2) * LANES + ll]
+                sums[nd, 0, ll] += wk[(_OUT + 3 * k) * LANES + ll]
+                sums[nd, 1, ll] += wk[(_OUT + 3 * k + 1) * LANES + ll]
+                sums[nd, 2, ll] += wk[(_OUT + 3 * k + 2) * LANES + ll]
     for nd in range(node_sums.shape[0]):
         for ll in range(lanes):
             b = b0 + ll
-            f[b, nd, 0] += node_sums[nd, 0, ll]; f[b, nd, 1] += node_sums[nd, 1, ll]; f[b, nd, 2] += node_sums[nd, 2, ll]
+            f[b, nd, 0] += sums[nd, 0, ll]; f[b, nd, 1] += sums[nd, 1, ll]; f[b, nd, 2] += sums[nd, 2, ll]
     for r in range(5):
         for ll in range(lanes):
             result[r, ll] = wk[(_R + r) * LANES + ll]
