@@ -58,6 +58,15 @@ def _row12(a, e, start):
 
 
 @nb.njit(cache=True, fastmath=FASTMATH, inline="always")
+def _hourglass_force(wk, kr, r, ll):
+    """Row r of ``Qt = K_hg qt`` for lane ll (``kr``: row r of K_hg), into its row of ``wk``."""
+    acc = 0.0
+    for cc in range(12):
+        acc += kr[cc] * wk[(_W + 33 + cc) * LANES + ll]
+    wk[(_HQ + r) * LANES + ll] = acc
+
+
+@nb.njit(cache=True, fastmath=FASTMATH, inline="always")
 def _node_forces(wk, bv, k, ll):
     """Node k's force of lane ll, ``(P - S / V0) b_k + sum_a h_ak A_a``, into its rows of
     ``wk``; called with literal k, so that the lane loop sees fixed rows and constant h."""
@@ -232,13 +241,15 @@ def internal_forces_lanes(x, v, group, stiffness, material, b0, node_sums, f, re
                 wk[(_W + 35 + 3 * a) * LANES + ll] = r2 - c2
         for ll in range(lanes):
             wk[(_LNJ) * LANES + ll] = np.log(wk[(_W + 18) * LANES + ll])
-        for r in range(12):
-            kr = _row12(stiffness, e, 12 * r)
-            for ll in range(lanes):
-                acc_r = 0.0
-                for cc in range(12):
-                    acc_r += kr[cc] * wk[(_W + 33 + cc) * LANES + ll]
-                wk[(_HQ + r) * LANES + ll] = acc_r
+        k0 = _row12(stiffness, e, 0); k1 = _row12(stiffness, e, 12); k2 = _row12(stiffness, e, 24)
+        k3 = _row12(stiffness, e, 36); k4 = _row12(stiffness, e, 48); k5 = _row12(stiffness, e, 60)
+        k6 = _row12(stiffness, e, 72); k7 = _row12(stiffness, e, 84); k8 = _row12(stiffness, e, 96)
+        k9 = _row12(stiffness, e, 108); k10 = _row12(stiffness, e, 120); k11 = _row12(stiffness, e, 132)
+        for ll in range(lanes):
+            _hourglass_force(wk, k0, 0, ll); _hourglass_force(wk, k1, 1, ll); _hourglass_force(wk, k2, 2, ll)
+            _hourglass_force(wk, k3, 3, ll); _hourglass_force(wk, k4, 4, ll); _hourglass_force(wk, k5, 5, ll)
+            _hourglass_force(wk, k6, 6, ll); _hourglass_force(wk, k7, 7, ll); _hourglass_force(wk, k8, 8, ll)
+            _hourglass_force(wk, k9, 9, ll); _hourglass_force(wk, k10, 10, ll); _hourglass_force(wk, k11, 11, ll)
         for ll in range(lanes):
             g00 = wk[(_W + 0) * LANES + ll]; g01 = wk[(_W + 1) * LANES + ll]; g02 = wk[(_W + 2) * LANES + ll]
             g10 = wk[(_W + 3) * LANES + ll]; g11 = wk[(_W + 4) * LANES + ll]; g12 = wk[(_W + 5) * LANES + ll]
