@@ -40,6 +40,32 @@ _XV, _W, _DV, _HQ, _OUT, _LNJ, _A, _P, _R, _ROWS = 0, 48, 96, 105, 117, 141, 142
 
 
 @nb.njit(cache=True, fastmath=FASTMATH, inline="always")
+def _load_lanes(wk, row, a, j):
+    """Row ``row`` of ``wk`` = ``a[j:j + 8]`` (flat arrays): the eight loads come before
+    the eight stores, at unsigned indices (no wrap-around of negative ones), so LLVM
+    joins each eight into one vector instruction."""
+    j = np.uint64(j)
+    t = (a[j], a[j + np.uint64(1)], a[j + np.uint64(2)], a[j + np.uint64(3)],
+         a[j + np.uint64(4)], a[j + np.uint64(5)], a[j + np.uint64(6)], a[j + np.uint64(7)])
+    w = np.uint64(row * LANES)
+    wk[w] = t[0]; wk[w + np.uint64(1)] = t[1]; wk[w + np.uint64(2)] = t[2]; wk[w + np.uint64(3)] = t[3]
+    wk[w + np.uint64(4)] = t[4]; wk[w + np.uint64(5)] = t[5]; wk[w + np.uint64(6)] = t[6]; wk[w + np.uint64(7)] = t[7]
+
+
+@nb.njit(cache=True, fastmath=FASTMATH, inline="always")
+def _add_lanes(a, j, src, k):
+    """``a[j:j + 8] += src[k:k + 8]`` (flat arrays), loads before stores (see :func:`_load_lanes`)."""
+    j = np.uint64(j)
+    k = np.uint64(k)
+    t = (a[j] + src[k], a[j + np.uint64(1)] + src[k + np.uint64(1)], a[j + np.uint64(2)] + src[k + np.uint64(2)],
+         a[j + np.uint64(3)] + src[k + np.uint64(3)], a[j + np.uint64(4)] + src[k + np.uint64(4)],
+         a[j + np.uint64(5)] + src[k + np.uint64(5)], a[j + np.uint64(6)] + src[k + np.uint64(6)],
+         a[j + np.uint64(7)] + src[k + np.uint64(7)])
+    a[j] = t[0]; a[j + np.uint64(1)] = t[1]; a[j + np.uint64(2)] = t[2]; a[j + np.uint64(3)] = t[3]
+    a[j + np.uint64(4)] = t[4]; a[j + np.uint64(5)] = t[5]; a[j + np.uint64(6)] = t[6]; a[j + np.uint64(7)] = t[7]
+
+
+@nb.njit(cache=True, fastmath=FASTMATH, inline="always")
 def _element_b(block_b, blk, le):
     """The 24 uniform gradients of element ``le`` of block ``blk`` as a tuple: numbers in
     registers, which the lane loops read without LLVM having to rule out that their
@@ -115,15 +141,16 @@ def full_stiffness(group):
 
 
 @nb.njit(cache=True, fastmath=FASTMATH, error_model="numpy", nogil=True)
-def internal_forces_lanes(x, v, group, stiffness, material, b0, node_sums, f, result):
-    """Internal nodal forces of one-point hexahedra for runs ``b0 .. b0 + lanes - 1``.
+def internal_forces_lanes(x, v, group, stiffness, material, b0, f, result):
+    """Internal nodal forces of one-point hexahedra for runs ``b0 .. b0 + LANES - 1``.
 
     The equations are those of :func:`ccedi.fea.elements.hex8_kernels.internal_forces_numba`.
 
     Parameters
     ----------
-    x, v : (n_runs, n_nodes, 3) ndarray
-        Nodal positions [m] and velocities [m/s] of every run.
+    x, v : (n_nodes, 3, n_runs) ndarray
+        Nodal positions [m] and velocities [m/s] of every run (runs innermost;
+        ``n_runs >= b0 + LANES``).
     group : HexGroup
         The hexahedra (:func:`ccedi.fea.elements.hex8_kernels.hex_group`), shared by the runs.
     stiffness : (n_elem, 144) ndarray
@@ -133,11 +160,9 @@ def internal_forces_lanes(x, v, group, stiffness, material, b0, node_sums, f, re
         (mu [Pa], lam [Pa], rho [kg/m^3], c [m/s]), shared by the runs.
     b0 : int
         First run of the lanes.
-    node_sums : (n_nodes, 3, lanes) ndarray
-        Work array: the lanes' nodal sums; its last axis sets the lane count.
-    f : (n_runs, n_nodes, 3) ndarray
+    f : (n_nodes, 3, n_runs) ndarray
         Nodal forces [N]; each lane's internal forces are ADDED to its run's.
-    result : (5, lanes) ndarray
+    result : (5, LANES) ndarray
         Filled per lane with the smallest critical step [s], the strain energy [J], the
         hourglass energy [J], the bulk-viscous power [W] and -1 or the first inverted
         element (J <= 0; the lane's forces are then meaningless).
@@ -152,7 +177,10 @@ def internal_forces_lanes(x, v, group, stiffness, material, b0, node_sums, f, re
         wk[(_R + 2) * LANES + ll] = 0.0
         wk[(_R + 3) * LANES + ll] = 0.0
         wk[(_R + 4) * LANES + ll] = -1.0
-    sums = np.zeros((node_sums.shape[0], 3, LANES))
+    n_nodes = x.shape[0]
+    n_runs = x.shape[2]
+    xf, vf = x.reshape(-1), v.reshape(-1)
+    sums = np.zeros(n_nodes * 3 * LANES)        # each node's force per lane, summed in element order
     n_elem = group.hexes.shape[0]
     for e in range(n_elem):
         blk = e // BLOCK
@@ -162,10 +190,9 @@ def internal_forces_lanes(x, v, group, stiffness, material, b0, node_sums, f, re
         iV = 1.0 / V0
         for k in range(8):
             nd = group.block_nodes[blk, k, le]
-            for ll in range(lanes):
-                b = b0 + ll
-                wk[(_XV + 3 * k) * LANES + ll] = x[b, nd, 0]; wk[(_XV + 3 * k + 1) * LANES + ll] = x[b, nd, 1]; wk[(_XV + 3 * k + 2) * LANES + ll] = x[b, nd, 2]
-                wk[(_XV + 24 + 3 * k) * LANES + ll] = v[b, nd, 0]; wk[(_XV + 25 + 3 * k) * LANES + ll] = v[b, nd, 1]; wk[(_XV + 26 + 3 * k) * LANES + ll] = v[b, nd, 2]
+            for i in range(3):
+                _load_lanes(wk, _XV + 3 * k + i, xf, (3 * nd + i) * n_runs + b0)
+                _load_lanes(wk, _XV + 24 + 3 * k + i, vf, (3 * nd + i) * n_runs + b0)
         for ll in range(lanes):
             f00 = f01 = f02 = f10 = f11 = f12 = f20 = f21 = f22 = 0.0
             for k in range(8):
@@ -298,14 +325,12 @@ def internal_forces_lanes(x, v, group, stiffness, material, b0, node_sums, f, re
             _node_forces(wk, bv, 4, ll); _node_forces(wk, bv, 5, ll); _node_forces(wk, bv, 6, ll); _node_forces(wk, bv, 7, ll)
         for k in range(8):
             nd = group.block_nodes[blk, k, le]
-            for ll in range(lanes):
-                sums[nd, 0, ll] += wk[(_OUT + 3 * k) * LANES + ll]
-                sums[nd, 1, ll] += wk[(_OUT + 3 * k + 1) * LANES + ll]
-                sums[nd, 2, ll] += wk[(_OUT + 3 * k + 2) * LANES + ll]
-    for nd in range(node_sums.shape[0]):
-        for ll in range(lanes):
-            b = b0 + ll
-            f[b, nd, 0] += sums[nd, 0, ll]; f[b, nd, 1] += sums[nd, 1, ll]; f[b, nd, 2] += sums[nd, 2, ll]
+            for i in range(3):
+                _add_lanes(sums, (3 * nd + i) * LANES, wk, (_OUT + 3 * k + i) * LANES)
+    ff = f.reshape(-1)
+    for nd in range(n_nodes):
+        for i in range(3):
+            _add_lanes(ff, (3 * nd + i) * n_runs + b0, sums, (3 * nd + i) * LANES)
     for r in range(5):
         for ll in range(lanes):
             result[r, ll] = wk[(_R + r) * LANES + ll]
