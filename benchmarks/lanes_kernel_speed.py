@@ -1,7 +1,10 @@
 import sys, time
 import numpy as np, numba as nb
 from ccedi.fea.elements.hex8_kernels import internal_forces_numba
-from ccedi.fea.elements.hex8_lanes import internal_forces_lanes, full_stiffness, LANES
+import sys
+from ccedi.fea.elements.hex8_lanes import lanes_kernel, full_stiffness
+LANES = int(sys.argv[1]) if len(sys.argv) > 1 else 8
+internal_forces_lanes = lanes_kernel(LANES)
 from ccedi.fea.mesh import sm_a
 from ccedi.fea.model import cantilever_model, tip_pulse
 from ccedi.fea.solvers.explicit import SolidMaterial
