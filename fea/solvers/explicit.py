@@ -913,6 +913,240 @@ def _duration(seconds):
     return f"{seconds:.2g} s"
 
 
+RunPlan = namedtuple("RunPlan", "t_end_s n_outputs dt_user tssfac limiting dt_cfl dt_first n_expected")
+RunPlan.__doc__ = """A run's checked arguments and its step, worked out before it starts (:func:`run_plan`).
+
+Attributes
+----------
+t_end_s : float
+    End time [s].
+n_outputs : int
+    Output rows.
+dt_user : float
+    Fixed step [s]; 0.0 for the CFL-controlled step.
+tssfac : float
+    Scale factor of the CFL step [-].
+limiting : dict or None
+    The element that sets the step (:func:`limiting_element`); None without solid elements.
+dt_cfl : float
+    Critical step of the model at rest [s].
+dt_first : float
+    The first step [s].
+n_expected : float
+    Expected step count.
+"""
+
+
+def run_plan(model, t_end_s, *, n_outputs, dt_s, max_steps):
+    """Check a run's arguments and work out its step (:func:`run`'s parameters).
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    t_end_s : float
+        End time [s].
+    n_outputs : int
+        Output rows.
+    dt_s : float or None
+        Fixed step [s], or None for the CFL-controlled step.
+    max_steps : int or None
+        Step budget.
+
+    Returns
+    -------
+    RunPlan
+
+    Raises
+    ------
+    InputError
+        An argument is out of range, ``dt_s`` exceeds the CFL limit, or the run would take
+        more steps than its budget.
+    """
+    t_end_s = require_finite_positive("t_end_s (end time, s)", t_end_s)
+    n_outputs = check_outputs(n_outputs)
+    mesh = model.mesh
+    dt_user = 0.0 if dt_s is None else require_finite_positive("dt_s (time step, s)", dt_s)
+    budget = step_budget(max_steps)
+    tssfac = TSSFAC * (STEP_SHRINK if model.contact is not None else 1.0)
+    limiting = limiting_element(model) if mesh.n_elements else None
+    if not dt_user and limiting:                    # refused before the kernels compile (tens of seconds, cold)
+        _check_budget(model, t_end_s, tssfac * min(limiting["dt_s"], rod_time_step(model)), budget, limiting,
+                      margin=BUDGET_ESTIMATE_MARGIN)
+    dt_cfl = critical_time_step(model)
+    if dt_user > dt_cfl:
+        raise InputError(f"dt_s = {dt_user:.4g} s exceeds the CFL limit {dt_cfl:.4g} s "
+                         f"(paper Eq. 6); use dt_s <= {TSSFAC * dt_cfl:.4g} s or leave it unset")
+    dt_first = dt_user if dt_user else tssfac * dt_cfl
+    n_expected = _check_budget(model, t_end_s, dt_first, budget, limiting)
+    return RunPlan(t_end_s, n_outputs, dt_user, tssfac, limiting, dt_cfl, dt_first, n_expected)
+
+
+def check_status(mesh, status, info, *, t, steps, dt_seen, dt_user):
+    """Raise the step loop's failure, if any, as a :class:`SolverError` naming what failed.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The model's mesh (for the element's name).
+    status : int
+        The step loop's status.
+    info : int
+        The failed element or rod hinge.
+    t : float
+        Time reached [s].
+    steps : int
+        Steps taken.
+    dt_seen : float
+        Smallest step (the stable step, for a fixed step that got too large) [s].
+    dt_user : float
+        The fixed step [s] (0.0 for the CFL step).
+
+    Raises
+    ------
+    SolverError
+        An element inverted, a rod hinge folded, the solution diverged or the fixed step
+        exceeds the stable step.
+    """
+    if status == _INVERTED:
+        raise SolverError(f"{element_name(mesh, info)} inverted (J <= 0) at t = {t:.6g} s, step {steps}: "
+                          "the mesh is too coarse for the deformation there; refine it")
+    if status == _FOLDED:
+        raise SolverError(f"rod hinge {info} folded back on itself (turning angle >= 180 deg) "
+                          f"at t = {t:.6g} s, step {steps}")
+    if status == _DIVERGED:
+        raise SolverError(f"solution diverged (non-finite velocity) at step {steps + 1}, t = {t:.6g} s")
+    if status == _STEP_TOO_LARGE:
+        raise SolverError(f"dt_s = {dt_user:.4g} s exceeds the current stable step {dt_seen:.4g} s "
+                          f"at step {steps}, t = {t:.6g} s (the mesh deformed)")
+
+
+OutputPoints = namedtuple("OutputPoints", "tip tip_weights reaction")
+OutputPoints.__doc__ = """Where a run's history is read (:func:`output_points`).
+
+Attributes
+----------
+tip : (k,) int ndarray
+    The tip nodes.
+tip_weights : (k,) ndarray
+    Their area weights [-] (sum 1).
+reaction : (r,) int ndarray
+    The nodes whose support reactions are summed.
+"""
+
+
+def output_points(mesh, tip_set, reaction_set):
+    """The tip nodes with their weights and the reaction nodes of a run's history.
+
+    Parameters
+    ----------
+    mesh : Mesh
+    tip_set, reaction_set : str
+        Node set names.
+
+    Returns
+    -------
+    OutputPoints
+    """
+    tip = mesh.node_sets[tip_set]
+    return OutputPoints(tip, face_node_weights(mesh, tip) if len(tip) > 1 else np.ones(1), mesh.node_sets[reaction_set])
+
+
+def output_row(model, points, *, t_out, t, x, v, reaction, energy, contact):
+    """One history row at the output time ``t_out``, from the state at ``t`` (the end of
+    the step that reached it).
+
+    Positions (and the displacement and stress derived from them) are moved back to
+    t_out, exactly, since central differences move each node linearly over a step;
+    reactions and energies are the step's.
+
+    Parameters
+    ----------
+    model : Model
+    points : OutputPoints
+    t_out, t : float
+        Output time and the state's time [s], ``t - dt < t_out <= t``.
+    x, v : (n, 3) ndarray
+        Positions [m] and half-step velocities [m/s] at t.
+    reaction : (n, 3) ndarray
+        Support reactions [N].
+    energy : (9,) ndarray
+        The energy record [J].
+    contact : ContactGroup
+        The run's contact (its record is read when the model has contact).
+
+    Returns
+    -------
+    row : tuple
+        The values of the history's columns (:data:`HISTORY_COLUMNS`, then
+        :data:`CONTACT_COLUMNS` with contact).
+    x_out : (n, 3) ndarray
+        Positions at t_out [m].
+    """
+    X = model.mesh.nodes
+    x_out = x - (t - t_out) * v
+    u_tip = points.tip_weights @ (x_out[points.tip] - X[points.tip])
+    r = reaction[points.reaction].sum(axis=0)
+    row = (t_out, *u_tip, *r, *_stress_and_strain(model, x_out), *energy[:E_PENALTY])
+    if model.contact is not None:
+        out = contact.out
+        row += (*out[:3], energy[E_PENALTY], *out[4:], energy[W_NORMAL], energy[W_FRICTION])
+    return row, x_out
+
+
+HISTORY_COLUMNS = ["time_s", "tip_ux_m", "tip_uy_m", "tip_uz_m", "reaction_x_N", "reaction_y_N", "reaction_z_N",
+                   "max_von_mises_Pa", "max_log_strain", "external_work_J", "damping_energy_J",
+                   "bulk_viscosity_energy_J", "kinetic_energy_J", "internal_energy_J", "hourglass_energy_J"]
+"""The columns every run's history has: time [s], tip displacement [m], support reaction
+[N], largest von Mises stress [Pa] and log strain [-], and the energy record [J]."""
+
+
+def run_record(model, plan, rows, *, extra_columns, energy_0, t_final, steps, dt_min, wall, backend, threads):
+    """A run's history and summary, with its validity checks (warnings issued once).
+
+    Parameters
+    ----------
+    model : Model
+    plan : RunPlan
+    rows : list of tuple
+        History rows (:func:`output_row`, then the output hook's values).
+    extra_columns : list of str
+        The output hook's column names.
+    energy_0 : float
+        Energy of the initial state [J].
+    t_final : float
+        Time reached [s].
+    steps : int
+        Steps taken.
+    dt_min : float
+        Smallest step [s].
+    wall : float
+        Wall time of the step loop [s].
+    backend : str
+        Whose kernels ran.
+    threads : int
+        Threads the run used.
+
+    Returns
+    -------
+    history : pandas.DataFrame
+    summary : dict
+    """
+    mesh = model.mesh
+    cols = HISTORY_COLUMNS + (CONTACT_COLUMNS if model.contact is not None else []) + list(extra_columns)
+    history = pd.DataFrame(rows, columns=cols)
+    n_elements = mesh.n_elements + len(model.rod_arrays.segments)
+    summary = {"nodes": mesh.n_nodes, "elements": n_elements, "dt_initial_s": plan.dt_first,
+               "dt_min_s": float(dt_min), "steps": int(steps), "t_end_s": plan.t_end_s, "t_final_s": t_final,
+               "wall_time_s": wall, "backend": backend, "threads": threads, "alpha_per_s": model.alpha,
+               "beta_s": model.beta,
+               "ns_per_element_cycle": 1e9 * wall / max(1, steps * n_elements)}
+    summary.update(run_checks(history, energy_0))
+    summary["warnings"] += sliver_warnings(model, plan.limiting)
+    issue(summary["warnings"], run_label(model.alpha, model.damping))
+    return history, summary
+
+
 def run(model: Model, t_end_s, *, n_outputs=400, dt_s=None, backend="numba", tip_set="tip",
         reaction_set="root", snapshot_every=0, x0=None, v0=None, progress=False, output_hook=None, threads=None,
         max_steps=None):
@@ -991,34 +1225,19 @@ def run(model: Model, t_end_s, *, n_outputs=400, dt_s=None, backend="numba", tip
     """
     if not isinstance(model, Model):
         raise InputError("model must be a fea.model.Model")
-    t_end_s = require_finite_positive("t_end_s (end time, s)", t_end_s)
-    n_outputs = check_outputs(n_outputs)
     if backend not in ("numba", "numpy"):
         raise InputError(f"backend must be 'numba' or 'numpy', got {backend!r}")
     n_threads = thread_count(threads)
+    plan = run_plan(model, t_end_s, n_outputs=n_outputs, dt_s=dt_s, max_steps=max_steps)
+    t_end_s, n_outputs, dt_user, n_expected = plan.t_end_s, plan.n_outputs, plan.dt_user, plan.n_expected
     mesh = model.mesh
-    dt_user = 0.0 if dt_s is None else require_finite_positive("dt_s (time step, s)", dt_s)
-    budget = step_budget(max_steps)
-    tssfac = TSSFAC * (STEP_SHRINK if model.contact is not None else 1.0)
-    limiting = limiting_element(model) if mesh.n_elements else None
-    if not dt_user and limiting:                    # refused before the kernels compile (tens of seconds, cold)
-        _check_budget(model, t_end_s, tssfac * min(limiting["dt_s"], rod_time_step(model)), budget, limiting,
-                      margin=BUDGET_ESTIMATE_MARGIN)
-    dt_cfl = critical_time_step(model)
-    if dt_user > dt_cfl:
-        raise InputError(f"dt_s = {dt_user:.4g} s exceeds the CFL limit {dt_cfl:.4g} s "
-                         f"(paper Eq. 6); use dt_s <= {TSSFAC * dt_cfl:.4g} s or leave it unset")
-    dt_first = dt_user if dt_user else tssfac * dt_cfl
-    n_expected = _check_budget(model, t_end_s, dt_first, budget, limiting)
     X = mesh.nodes
     x = X.copy() if x0 is None else _initial_state("x0 (initial positions, m)", x0, X.shape)
     v = np.zeros_like(X) if v0 is None else _initial_state("v0 (initial velocities, m/s)", v0, X.shape)
-    contact = _contact_group(model, dt_cfl)
-    groups = _step_data(model, x, v, dt_user, tssfac, contact, backend)
+    contact = _contact_group(model, plan.dt_cfl)
+    groups = _step_data(model, x, v, dt_user, plan.tssfac, contact, backend)
     _, state, _, internal, external, _ = groups
-    tip = mesh.node_sets[tip_set]
-    tip_w = face_node_weights(mesh, tip) if len(tip) > 1 else np.ones(1)
-    react_nodes = mesh.node_sets[reaction_set]
+    outputs = output_points(mesh, tip_set, reaction_set)
     energy = np.zeros(9)
     energy_0 = _initial_energy(model, x, v, internal)
 
@@ -1044,26 +1263,9 @@ def run(model: Model, t_end_s, *, n_outputs=400, dt_s=None, backend="numba", tip
             t, dt_prev, n, status, info, dt_seen = advance(t, t_out, dt_prev, *groups, energy)
             steps += n
             dt_min = min(dt_min, dt_seen)
-            if status == _INVERTED:
-                raise SolverError(f"{element_name(mesh, info)} inverted (J <= 0) at t = {t:.6g} s, step {steps}: "
-                                  "the mesh is too coarse for the deformation there; refine it")
-            if status == _FOLDED:
-                raise SolverError(f"rod hinge {info} folded back on itself (turning angle >= 180 deg) "
-                                  f"at t = {t:.6g} s, step {steps}")
-            if status == _DIVERGED:
-                raise SolverError(f"solution diverged (non-finite velocity) at step {steps + 1}, t = {t:.6g} s")
-            if status == _STEP_TOO_LARGE:
-                raise SolverError(f"dt_s = {dt_user:.4g} s exceeds the current stable step {dt_seen:.4g} s "
-                                  f"at step {steps}, t = {t:.6g} s (the mesh deformed)")
-            # positions at t_out, which always lies within the last step (t - dt_prev, t]:
-            # central differences move each node linearly over a step
-            x_out = x - (t - t_out) * v
-            u_tip = tip_w @ (x_out[tip] - X[tip])
-            r = state.reaction[react_nodes].sum(axis=0)
-            row = (t_out, *u_tip, *r, *_stress_and_strain(model, x_out), *energy[:E_PENALTY])
-            if model.contact is not None:
-                out = contact.out
-                row += (*out[:3], energy[E_PENALTY], *out[4:], energy[W_NORMAL], energy[W_FRICTION])
+            check_status(mesh, status, info, t=t, steps=steps, dt_seen=dt_seen, dt_user=dt_user)
+            row, x_out = output_row(model, outputs, t_out=t_out, t=t, x=x, v=v, reaction=state.reaction,
+                                    energy=energy, contact=contact)
             if output_hook is not None:
                 extra = output_hook(t_out, x_out, state.f_ext)
                 row += tuple(extra.values())
@@ -1075,21 +1277,7 @@ def run(model: Model, t_end_s, *, n_outputs=400, dt_s=None, backend="numba", tip
         if progress:
             times.close()       # before an error message is printed, so it starts a line of its own
     wall = _time.perf_counter() - wall0
-    cols = ["time_s", "tip_ux_m", "tip_uy_m", "tip_uz_m", "reaction_x_N", "reaction_y_N", "reaction_z_N",
-            "max_von_mises_Pa", "max_log_strain", "external_work_J", "damping_energy_J", "bulk_viscosity_energy_J",
-            "kinetic_energy_J", "internal_energy_J", "hourglass_energy_J"]
-    if model.contact is not None:
-        cols += CONTACT_COLUMNS
-    if output_hook is not None:
-        cols += list(extra)
-    history = pd.DataFrame(rows, columns=cols)
-    n_elements = mesh.n_elements + len(model.rod_arrays.segments)
-    summary = {"nodes": mesh.n_nodes, "elements": n_elements, "dt_initial_s": dt_first,
-               "dt_min_s": float(dt_min), "steps": int(steps), "t_end_s": t_end_s, "t_final_s": t,
-               "wall_time_s": wall, "backend": backend, "threads": n_threads, "alpha_per_s": model.alpha,
-               "beta_s": model.beta,
-               "ns_per_element_cycle": 1e9 * wall / max(1, steps * n_elements)}
-    summary.update(run_checks(history, energy_0))
-    summary["warnings"] += sliver_warnings(model, limiting)
-    issue(summary["warnings"], run_label(model.alpha, model.damping))
+    history, summary = run_record(model, plan, rows, extra_columns=list(extra) if output_hook is not None else [],
+                                  energy_0=energy_0, t_final=t, steps=steps, dt_min=dt_min, wall=wall,
+                                  backend=backend, threads=n_threads)
     return RunResult(history=history, summary=summary, x=x, v=v, snapshots=snapshots)

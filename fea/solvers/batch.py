@@ -1,0 +1,439 @@
+"""Many runs of one mesh in one pass: the explicit solver with its SIMD lanes across runs.
+
+A CCEDI search, a damping sweep, a grid of full-FEA checks around a design or an ensemble
+runs one finger many times with a different damping, load or initial state. Here the runs
+advance together: the runs' nodal arrays are stored runs innermost, ``(n_nodes, 3,
+lanes)``, and the hexahedron kernel (:mod:`ccedi.fea.elements.hex8_lanes`) computes an
+element for 4 or 8 runs at once, reading the element's constants once; the step update
+loops over the lanes of each nodal value. The lanes are dealt into groups, one group per
+thread (each core its own runs: the kernel and the loop release the GIL), each group with
+its own arrays.
+
+Every run is, bit for bit, the run :func:`ccedi.fea.solvers.explicit.run` makes alone:
+each lane keeps its own time, its own CFL step and its own step count (a lane that reaches
+an output time waits, unchanged, for the others), and every expression of the single run's
+step loop is evaluated in the same order. A lane past the last run of its group repeats
+that run and is discarded. ``tests/unit/fea/test_batch.py`` compares histories and final
+states with single runs.
+
+What may differ between the runs: alpha, the force pulses, the initial positions and
+velocities. What they must share, else :func:`batch_refusal` says why not and the caller
+runs them one by one: the mesh (hexahedra only), the material, beta, the supports, the
+masses; no contact, no rotating frame, mass damping on the absolute velocity.
+"""
+import functools
+import time as _time
+from collections import namedtuple
+from concurrent.futures import ThreadPoolExecutor
+
+import numba as nb
+import numpy as np
+
+from ccedi.errors import InputError, SolverError
+from ccedi.fea.elements.fastmath import FASTMATH
+from ccedi.fea.elements.hex8_lanes import full_stiffness, lanes_kernel
+from ccedi.fea.model import Model
+from ccedi.fea.solvers.explicit import (
+    _DIVERGED,
+    _INVERTED,
+    _OK,
+    _STEP_TOO_LARGE,
+    RunResult,
+    SolidMaterial,
+    _initial_energy,
+    _initial_state,
+    _internal_forces,
+    _stable_step,
+    check_status,
+    output_points,
+    output_row,
+    run_plan,
+    run_record,
+)
+from ccedi.fea.solvers.force_terms import E_BULK, E_DAMP, HG, IE, KE, W_EXT
+from ccedi.fea.solvers.loads import pulse_loads
+from ccedi.progress import progress_bar
+from ccedi.threads import thread_count
+
+LaneControl = namedtuple("LaneControl", "dt_user tssfac beta alpha")
+LaneControl.__doc__ = """The step control of a group of lanes.
+
+Attributes
+----------
+dt_user : float
+    Fixed step [s]; 0.0 for the CFL-controlled step.
+tssfac : float
+    Scale factor of the CFL step [-].
+beta : float
+    Stiffness-proportional damping [s], shared.
+alpha : (lanes,) ndarray
+    Mass-proportional damping of each lane [1/s].
+"""
+LaneState = namedtuple("LaneState", "x v v_new f_int f_int_prev f_ext reaction")
+LaneState.__doc__ = """Nodal state of a group of lanes, every field (n_nodes, 3, lanes): as
+:data:`ccedi.fea.solvers.explicit.State` with the runs innermost."""
+LaneNodes = namedtuple("LaneNodes", "mass inv_mass constrained v_pres")
+LaneNodes.__doc__ = """The nodes' constants, shared by the lanes.
+
+Attributes
+----------
+mass : (n_nodes,) ndarray
+    Lumped masses [kg].
+inv_mass : (n_nodes, 3) ndarray
+    Their inverses [1/kg] (0 for a massless node).
+constrained : (c,) int ndarray
+    The fixed nodes.
+v_pres : (n_nodes, 3) ndarray
+    Their prescribed velocities [m/s] (zero).
+"""
+LaneLoads = namedtuple("LaneLoads", "nodes forces t_start t_end lane_start")
+LaneLoads.__doc__ = """The lanes' force pulses (:data:`ccedi.fea.solvers.loads.PulseLoads`
+of each lane, one after the other): lane l's rows are ``lane_start[l]:lane_start[l + 1]``."""
+LaneClock = namedtuple("LaneClock", "t dt_prev steps status info dt_seen")
+LaneClock.__doc__ = """Each lane's time [s], previous step [s], step count, status (the step
+loop's), failed element and smallest step [s] (every field (lanes,))."""
+
+
+def _lane_step_loop(lanes):
+    """The step loop for ``lanes`` runs (:func:`step_loop`)."""
+    kernel = lanes_kernel(lanes)
+    L = lanes
+
+    @nb.njit(cache=True, fastmath=FASTMATH, nogil=True)
+    def advance_lanes(t_stop, control, state, nodes, hexes, loads, clock, energy):
+        x, v, v_new, f_int, f_int_prev, f_ext, reaction = state
+        xf, vf, vnf = x.reshape(-1), v.reshape(-1), v_new.reshape(-1)
+        fif, fpf, fef, rf = f_int.reshape(-1), f_int_prev.reshape(-1), f_ext.reshape(-1), reaction.reshape(-1)
+        imf = nodes.inv_mass.reshape(-1)
+        mass = nodes.mass
+        group, stiffness, material = hexes
+        t, dt_prev, steps, status, info, dt_seen = clock
+        dt_user, tssfac, beta, alpha = control
+        n3 = x.shape[0] * 3
+        res = np.empty((5, L))
+        act = np.zeros(L, np.bool_)
+        dt = np.zeros(L); Dt = np.ones(L); a = np.zeros(L); inv_den = np.ones(L); beta_rate = np.zeros(L)
+        w_ext = np.zeros(L); mvb2 = np.zeros(L); ke = np.zeros(L); extra = np.zeros(L)
+        while True:
+            n_active = 0
+            for ll in range(L):
+                act[ll] = status[ll] == _OK and t[ll] < t_stop
+                n_active += act[ll]
+            if n_active == 0:
+                return
+            for j in range(fif.shape[0]):
+                fif[j] = 0.0
+            kernel(x, v, group, stiffness, material, 0, f_int, res)
+            for ll in range(L):
+                if not act[ll]:
+                    continue
+                if res[4, ll] >= 0.0:
+                    status[ll] = _INVERTED; info[ll] = int(res[4, ll]); act[ll] = False
+                    continue
+                dt_stable = _stable_step(res[0, ll], beta)
+                if dt_user > 0.0:
+                    if dt_user > dt_stable:
+                        status[ll] = _STEP_TOO_LARGE; dt_seen[ll] = dt_stable; act[ll] = False
+                        continue
+                    d = dt_user
+                else:
+                    d = tssfac * dt_stable
+                dt_seen[ll] = min(dt_seen[ll], d)
+                dt[ll] = d
+                Dt[ll] = 0.5 * (dt_prev[ll] + d)
+                beta_rate[ll] = beta / dt_prev[ll] if (beta > 0.0 and dt_prev[ll] > 0.0) else 0.0
+                a[ll] = 0.5 * alpha[ll] * Dt[ll]
+                inv_den[ll] = 1.0 / (1.0 + a[ll])
+            for j in range(fef.shape[0]):
+                fef[j] = 0.0
+            for ll in range(L):
+                if act[ll]:
+                    for p in range(loads.lane_start[ll], loads.lane_start[ll + 1]):
+                        if loads.t_start[p] <= t[ll] and t[ll] < loads.t_end[p]:
+                            for i in range(3):
+                                f_ext[loads.nodes[p], i, ll] += loads.forces[p, i]
+            # trial velocities v^{n+1/2} (every lane: an idle lane's are not committed)
+            for q in range(n3):
+                im = imf[q]
+                for ll in range(L):
+                    j = q * L + ll
+                    if beta_rate[ll] > 0.0:
+                        fb = beta_rate[ll] * (fif[j] - fpf[j])
+                        vnf[j] = ((1.0 - a[ll]) * vf[j] + Dt[ll] * (fef[j] - fif[j] - fb) * im) * inv_den[ll]
+                    else:
+                        vnf[j] = ((1.0 - a[ll]) * vf[j] + Dt[ll] * (fef[j] - fif[j]) * im) * inv_den[ll]
+            # supports: prescribed velocity and reaction
+            for c in range(nodes.constrained.shape[0]):
+                nd = nodes.constrained[c]
+                m = mass[nd]
+                for i in range(3):
+                    for ll in range(L):
+                        if act[ll]:
+                            vref = 0.0
+                            fb = beta_rate[ll] * (f_int[nd, i, ll] - f_int_prev[nd, i, ll])
+                            vn = nodes.v_pres[nd, i]
+                            v_new[nd, i, ll] = vn
+                            reaction[nd, i, ll] = (m * (vn - v[nd, i, ll]) / Dt[ll]
+                                                   + alpha[ll] * m * (0.5 * (vn + v[nd, i, ll]) - vref)
+                                                   + f_int[nd, i, ll] + fb - f_ext[nd, i, ll])
+            # works, kinetic energy and the move to the new state
+            for ll in range(L):
+                w_ext[ll] = 0.0; mvb2[ll] = 0.0; ke[ll] = 0.0; extra[ll] = 0.0
+            if beta > 0.0:
+                for q in range(n3):
+                    for ll in range(L):
+                        if beta_rate[ll] > 0.0:
+                            j = q * L + ll
+                            extra[ll] += beta_rate[ll] * (fif[j] - fpf[j]) * 0.5 * (vf[j] + vnf[j])
+            for q in range(n3):
+                m = mass[q // 3]
+                for ll in range(L):
+                    j = q * L + ll
+                    vo = vf[j]
+                    vn = vnf[j]
+                    b = 0.5 * (vo + vn)
+                    w_ext[ll] += (fef[j] + rf[j]) * b
+                    mvb2[ll] += m * b * b
+                    ke[ll] += m * vo * vn
+                    if act[ll]:
+                        vf[j] = vn
+                        xf[j] += dt[ll] * vn
+            if beta > 0.0:
+                for q in range(n3):
+                    for ll in range(L):
+                        if act[ll]:
+                            fpf[q * L + ll] = fif[q * L + ll]
+            for ll in range(L):
+                if not act[ll]:
+                    continue
+                energy[ll, W_EXT] += Dt[ll] * w_ext[ll]
+                energy[ll, E_DAMP] += Dt[ll] * (alpha[ll] * mvb2[ll] + extra[ll])
+                energy[ll, E_BULK] += Dt[ll] * res[3, ll]
+                energy[ll, KE] = 0.5 * ke[ll]
+                energy[ll, IE] = res[1, ll]
+                energy[ll, HG] = res[2, ll]
+                if not (mvb2[ll] < np.inf):              # also catches NaN
+                    status[ll] = _DIVERGED
+                    continue
+                t[ll] += dt[ll]
+                dt_prev[ll] = dt[ll]
+                steps[ll] += 1
+
+    return advance_lanes
+
+
+@functools.cache
+def step_loop(lanes):
+    """The compiled step loop that advances a group of ``lanes`` runs (4 or 8).
+
+    ``advance(t_stop, control, state, nodes, hexes, loads, clock, energy)`` steps every
+    lane whose status is OK until its time reaches ``t_stop`` (the last step not
+    shortened, as in :func:`ccedi.fea.solvers.explicit.run`); a lane that fails keeps its
+    status and element in ``clock``. One dispatcher (and one cache entry) per width.
+
+    Parameters
+    ----------
+    lanes : {4, 8}
+        Runs per group.
+
+    Returns
+    -------
+    numba dispatcher
+    """
+    return _lane_step_loop(lanes)
+
+
+def batch_refusal(models):
+    """Why the models cannot advance in one batch, or None when they can.
+
+    Parameters
+    ----------
+    models : sequence of Model
+        The runs' models.
+
+    Returns
+    -------
+    str or None
+        The first difference found (it names the run and what differs).
+    """
+    if len(models) == 0:
+        return "no models"
+    if not all(isinstance(m, Model) for m in models):
+        return "every model must be a fea.model.Model"
+    first = models[0]
+    mesh = first.mesh
+    if len(mesh.hexes) == 0 or len(mesh.tets4) or len(mesh.tets10):
+        return "batched runs take meshes of hexahedra only"
+    for k, m in enumerate(models):
+        if m.contact is not None or m.rotating is not None or m.rods:
+            return f"run {k} has contact, a rotating frame or rods, which batched runs do not take"
+        if m.damping != "global":
+            return f"run {k} has {m.damping!r} damping; batched runs take global (absolute-velocity) damping"
+        if m.mesh is not mesh and not (np.array_equal(m.mesh.nodes, mesh.nodes)
+                                       and np.array_equal(m.mesh.hexes, mesh.hexes)):
+            return f"run {k} has another mesh than run 0"
+        if m.solid_constants != first.solid_constants or m.hourglass_coefficient != first.hourglass_coefficient:
+            return f"run {k} has another material or hourglass coefficient than run 0"
+        if m.beta != first.beta:
+            return f"run {k} has beta = {m.beta:g} s, run 0 {first.beta:g} s: batched runs share beta"
+        if not (np.array_equal(m.fixed_nodes, first.fixed_nodes) and np.array_equal(m.mass, first.mass)):
+            return f"run {k} has other supports or masses than run 0"
+    return None
+
+
+def _lane_loads(models):
+    """The pulses of the lanes' models as :data:`LaneLoads`."""
+    per_lane = [pulse_loads(m.pulses) for m in models]
+    start = np.concatenate([[0], np.cumsum([len(p.nodes) for p in per_lane])]).astype(np.int64)
+    return LaneLoads(np.concatenate([p.nodes for p in per_lane]).astype(np.int64),
+                     np.concatenate([p.forces for p in per_lane]).reshape(-1, 3),
+                     np.concatenate([p.t_start for p in per_lane]), np.concatenate([p.t_end for p in per_lane]),
+                     start)
+
+
+def _group_size(n_runs, threads):
+    """Lanes per group: 4 while the runs fill at most four per thread, else 8."""
+    return 4 if n_runs <= 4 * threads else 8
+
+
+def _run_group(models, starts, plans, *, t_end_s, n_outputs, lanes, points, bar):
+    """Advance one group's runs (``models``; the lanes past them repeat the last) over
+    every output time. Returns, per run, ``(rows, x, v, clock values, energy_0, failure)``."""
+    n_real = len(models)
+    lane_models = list(models) + [models[-1]] * (lanes - n_real)
+    lane_starts = list(starts) + [starts[-1]] * (lanes - n_real)
+    first = lane_models[0]
+    X = first.mesh.nodes
+    n = len(X)
+
+    def lanes_of(arrays):
+        return np.ascontiguousarray(np.stack(arrays, axis=-1))
+
+    free = np.ones(n)
+    free[first.fixed_nodes] = 0.0
+    x = lanes_of([s[0] for s in lane_starts])
+    v = lanes_of([s[1] * free[:, None] for s in lane_starts])
+    state = LaneState(x, v, *(np.zeros((n, 3, lanes)) for _ in range(5)))
+    mass3 = np.repeat(first.mass[:, None], 3, axis=1)
+    nodes = LaneNodes(first.mass, np.divide(1.0, mass3, out=np.zeros_like(mass3), where=mass3 > 0.0),
+                      np.flatnonzero(free == 0.0), np.zeros((n, 3)))
+    plan = plans[0]
+    control = LaneControl(plan.dt_user, plan.tssfac, float(first.beta), np.array([m.alpha for m in lane_models]))
+    group = first.hexahedra
+    hexes = (group, full_stiffness(group), SolidMaterial(*first.solid_constants))
+    internal = _internal_forces(first, "numba")
+    energy_0 = [_initial_energy(m, np.ascontiguousarray(x[:, :, k]), np.ascontiguousarray(v[:, :, k]), internal)
+                for k, m in enumerate(models)]
+    clock = LaneClock(np.zeros(lanes), np.zeros(lanes), np.zeros(lanes, np.int64), np.zeros(lanes, np.int64),
+                      np.zeros(lanes, np.int64), np.full(lanes, np.inf))
+    energy = np.zeros((lanes, 9))
+    loads = _lane_loads(lane_models)
+    advance = step_loop(lanes)
+    rows = [[] for _ in range(n_real)]
+    failure = [None] * n_real
+    for t_out in np.linspace(0.0, t_end_s, n_outputs + 1)[1:]:
+        advance(t_out, control, state, nodes, hexes, loads, clock, energy)
+        for k, m in enumerate(models):
+            if failure[k] is not None:
+                continue
+            if clock.status[k] != _OK:
+                failure[k] = (int(clock.status[k]), int(clock.info[k]), float(clock.t[k]), int(clock.steps[k]),
+                              float(clock.dt_seen[k]))
+                continue
+            row, _ = output_row(m, points, t_out=t_out, t=clock.t[k], x=np.ascontiguousarray(x[:, :, k]),
+                                v=np.ascontiguousarray(v[:, :, k]),
+                                reaction=np.ascontiguousarray(state.reaction[:, :, k]), energy=energy[k],
+                                contact=None)
+            rows[k].append(row)
+        if bar is not None:
+            bar.update(1)
+        if all(f is not None for f in failure):
+            break
+    return [(rows[k], np.ascontiguousarray(x[:, :, k]), np.ascontiguousarray(v[:, :, k]), float(clock.t[k]),
+             int(clock.steps[k]), float(clock.dt_seen[k]), energy_0[k], failure[k]) for k in range(n_real)]
+
+
+def run_batch(models, t_end_s, *, n_outputs=400, x0=None, v0=None, tip_set="tip", reaction_set="root",
+              threads=None, progress=False, max_steps=None):
+    """Run several models of one mesh together, each result the same bits as its run alone.
+
+    Parameters
+    ----------
+    models : sequence of Model
+        The runs (:func:`batch_refusal` says what they must share).
+    t_end_s : float
+        End time of every run [s], > 0.
+    n_outputs : int, optional
+        Output rows of every run. Default 400.
+    x0, v0 : sequence of (n_nodes, 3) array_like or None, optional
+        Each run's initial positions [m] and velocities [m/s] (None: at rest in the
+        reference configuration).
+    tip_set, reaction_set : str, optional
+        Node sets of the tip displacement and the summed reaction.
+    threads : int, optional
+        Threads (each advances its own runs; :func:`ccedi.threads.thread_count`).
+    progress : bool, optional
+        Show a progress bar over the groups' output times.
+    max_steps : int, optional
+        Step budget of each run (:func:`ccedi.fea.solvers.budget.step_budget`).
+
+    Returns
+    -------
+    list of RunResult
+        In the order of ``models``; equal to :func:`ccedi.fea.solvers.explicit.run` of
+        each (its ``wall_time_s`` is the batch's, shared).
+
+    Raises
+    ------
+    InputError
+        The models cannot run in one batch (the reason), or an argument is out of range.
+    SolverError
+        A run failed (the first failed run is named; the others' results are lost with it,
+        as when a sweep of single runs stops at a failed run).
+    """
+    models = list(models)
+    reason = batch_refusal(models)
+    if reason is not None:
+        raise InputError(f"these runs cannot be batched: {reason}")
+    n_threads = thread_count(threads)
+    plans = [run_plan(m, t_end_s, n_outputs=n_outputs, dt_s=None, max_steps=max_steps) for m in models]
+    X = models[0].mesh.nodes
+    starts = []
+    for k in range(len(models)):
+        xk = X.copy() if x0 is None or x0[k] is None else _initial_state(f"x0[{k}] (initial positions, m)", x0[k],
+                                                                         X.shape)
+        vk = np.zeros_like(X) if v0 is None or v0[k] is None else _initial_state(
+            f"v0[{k}] (initial velocities, m/s)", v0[k], X.shape)
+        starts.append((xk, vk))
+    lanes = _group_size(len(models), n_threads)
+    groups = [list(range(i, min(i + lanes, len(models)))) for i in range(0, len(models), lanes)]
+    points = output_points(models[0].mesh, tip_set, reaction_set)
+    plan = plans[0]
+    wall0 = _time.perf_counter()
+    bar = progress_bar(total=len(groups) * plan.n_outputs, desc=f"{len(models)} runs, t_end {plan.t_end_s:g} s",
+                       unit="output") if progress else None
+    try:
+        with ThreadPoolExecutor(max_workers=min(n_threads, len(groups))) as pool:
+            futures = [pool.submit(_run_group, [models[k] for k in g], [starts[k] for k in g],
+                                   [plans[k] for k in g], t_end_s=plan.t_end_s, n_outputs=plan.n_outputs,
+                                   lanes=lanes, points=points, bar=bar) for g in groups]
+            outcomes = [item for f in futures for item in f.result()]
+    finally:
+        if bar is not None:
+            bar.close()
+    wall = _time.perf_counter() - wall0
+    results = []
+    for k, (m, outcome) in enumerate(zip(models, outcomes)):
+        rows, x, v, t, steps, dt_min, energy_0, failure = outcome
+        if failure is not None:
+            status, info, t_fail, steps_fail, dt_seen = failure
+            try:
+                check_status(m.mesh, status, info, t=t_fail, steps=steps_fail, dt_seen=dt_seen,
+                             dt_user=plans[k].dt_user)
+            except SolverError as error:
+                raise SolverError(f"run {k} of the batch (alpha = {m.alpha:g} 1/s): {error}") from None
+        history, summary = run_record(m, plans[k], rows, extra_columns=[], energy_0=energy_0, t_final=t,
+                                      steps=steps, dt_min=dt_min, wall=wall, backend="numba", threads=n_threads)
+        summary["batch_runs"] = len(models)
+        results.append(RunResult(history=history, summary=summary, x=x, v=v, snapshots=[]))
+    return results
