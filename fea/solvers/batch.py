@@ -72,13 +72,15 @@ alpha : (lanes,) ndarray
 LaneState = namedtuple("LaneState", "x v v_new f_int f_int_prev f_ext reaction")
 LaneState.__doc__ = """Nodal state of a group of lanes, every field (n_nodes, 3, lanes): as
 :data:`ccedi.fea.solvers.explicit.State` with the runs innermost."""
-LaneNodes = namedtuple("LaneNodes", "mass inv_mass constrained v_pres")
+LaneNodes = namedtuple("LaneNodes", "mass mass3 inv_mass constrained v_pres")
 LaneNodes.__doc__ = """The nodes' constants, shared by the lanes.
 
 Attributes
 ----------
 mass : (n_nodes,) ndarray
     Lumped masses [kg].
+mass3 : (n_nodes, 3) ndarray
+    The masses repeated for each direction [kg].
 inv_mass : (n_nodes, 3) ndarray
     Their inverses [1/kg] (0 for a massless node).
 constrained : (c,) int ndarray
@@ -94,9 +96,63 @@ LaneClock.__doc__ = """Each lane's time [s], previous step [s], step count, stat
 loop's), failed element and smallest step [s] (every field (lanes,))."""
 
 
+def _lane_code(lanes):
+    """Source of the step loop's per-node passes for ``lanes`` runs, each lane written out:
+    in each node's pass every lane's loads and arithmetic come before its stores and the
+    lanes' sums are scalars, so that LLVM joins the lanes into vector instructions (a loop
+    over the lanes left each lane's load behind the previous lane's store, which LLVM
+    cannot move without knowing the arrays apart)."""
+    lane = range(lanes)
+
+    def each(template, sep="; "):
+        return sep.join(template.format(l=k) for k in lane)
+
+    return f"""
+def trial_velocities_{lanes}(vnf, vf, fef, fif, imf, a, Dt, inv_den, n3):
+    {each("a{l} = a[{l}]")}
+    {each("Dt{l} = Dt[{l}]")}
+    {each("d{l} = inv_den[{l}]")}
+    for q in range(n3):
+        im = imf[q]
+        j = np.uint64(q * {lanes})
+        {each("r{l} = ((1.0 - a{l}) * vf[j + np.uint64({l})] + Dt{l} * (fef[j + np.uint64({l})] - fif[j + np.uint64({l})]) * im) * d{l}", chr(10) + 8 * " ")}
+        {each("vnf[j + np.uint64({l})] = r{l}")}
+
+
+def commit_{lanes}(vf, vnf, xf, fef, rf, mass3, dt, n3, w_ext, mvb2, ke):
+    {each("dt{l} = dt[{l}]")}
+    {each("w_ext[{l}] = 0.0; mvb2[{l}] = 0.0; ke[{l}] = 0.0")}
+    for q in range(n3):
+        m = mass3[q]
+        j = np.uint64(q * {lanes})
+        {each("vo{l} = vf[j + np.uint64({l})]; vn{l} = vnf[j + np.uint64({l})]; x{l} = xf[j + np.uint64({l})]", chr(10) + 8 * " ")}
+        {each("b{l} = 0.5 * (vo{l} + vn{l})", chr(10) + 8 * " ")}
+        {each("w{l} = w_ext[{l}] + (fef[j + np.uint64({l})] + rf[j + np.uint64({l})]) * b{l}", chr(10) + 8 * " ")}
+        {each("m{l} = mvb2[{l}] + m * b{l} * b{l}", chr(10) + 8 * " ")}
+        {each("k{l} = ke[{l}] + m * vo{l} * vn{l}", chr(10) + 8 * " ")}
+        {each("xn{l} = x{l} + dt{l} * vn{l}", chr(10) + 8 * " ")}
+        {each("w_ext[{l}] = w{l}", chr(10) + 8 * " ")}
+        {each("mvb2[{l}] = m{l}", chr(10) + 8 * " ")}
+        {each("ke[{l}] = k{l}", chr(10) + 8 * " ")}
+        {each("vf[j + np.uint64({l})] = vn{l}", chr(10) + 8 * " ")}
+        {each("xf[j + np.uint64({l})] = xn{l}", chr(10) + 8 * " ")}
+"""
+
+
+@functools.cache
+def _lane_passes(lanes):
+    """The compiled per-node passes of :func:`_lane_code` for ``lanes`` runs:
+    ``(trial_velocities, commit)``."""
+    namespace = {"np": np, "__name__": __name__}
+    exec(compile(_lane_code(lanes), __file__, "exec"), namespace)
+    jit = nb.njit(cache=True, fastmath=FASTMATH, nogil=True, error_model="numpy")
+    return jit(namespace[f"trial_velocities_{lanes}"]), jit(namespace[f"commit_{lanes}"])
+
+
 def _lane_step_loop(lanes):
     """The step loop for ``lanes`` runs (:func:`step_loop`)."""
     kernel = lanes_kernel(lanes)
+    trial_velocities, commit = _lane_passes(lanes)
     L = lanes
 
     @nb.njit(cache=True, fastmath=FASTMATH, nogil=True)
@@ -105,7 +161,7 @@ def _lane_step_loop(lanes):
         xf, vf, vnf = x.reshape(-1), v.reshape(-1), v_new.reshape(-1)
         fif, fpf, fef, rf = f_int.reshape(-1), f_int_prev.reshape(-1), f_ext.reshape(-1), reaction.reshape(-1)
         imf = nodes.inv_mass.reshape(-1)
-        mass = nodes.mass
+        mass, mass3 = nodes.mass, nodes.mass3.reshape(-1)
         group, stiffness, material = hexes
         t, dt_prev, steps, status, info, dt_seen = clock
         dt_user, tssfac, beta, alpha = control
@@ -153,15 +209,18 @@ def _lane_step_loop(lanes):
                             for i in range(3):
                                 f_ext[loads.nodes[p], i, ll] += loads.forces[p, i]
             # trial velocities v^{n+1/2} (every lane: an idle lane's are not committed)
-            for q in range(n3):
-                im = imf[q]
-                for ll in range(L):
-                    j = q * L + ll
-                    if beta_rate[ll] > 0.0:
-                        fb = beta_rate[ll] * (fif[j] - fpf[j])
-                        vnf[j] = ((1.0 - a[ll]) * vf[j] + Dt[ll] * (fef[j] - fif[j] - fb) * im) * inv_den[ll]
-                    else:
-                        vnf[j] = ((1.0 - a[ll]) * vf[j] + Dt[ll] * (fef[j] - fif[j]) * im) * inv_den[ll]
+            if beta > 0.0:
+                for q in range(n3):
+                    im = imf[q]
+                    for ll in range(L):
+                        j = q * L + ll
+                        if beta_rate[ll] > 0.0:
+                            fb = beta_rate[ll] * (fif[j] - fpf[j])
+                            vnf[j] = ((1.0 - a[ll]) * vf[j] + Dt[ll] * (fef[j] - fif[j] - fb) * im) * inv_den[ll]
+                        else:
+                            vnf[j] = ((1.0 - a[ll]) * vf[j] + Dt[ll] * (fef[j] - fif[j]) * im) * inv_den[ll]
+            else:
+                trial_velocities(vnf, vf, fef, fif, imf, a, Dt, inv_den, n3)
             # supports: prescribed velocity and reaction
             for c in range(nodes.constrained.shape[0]):
                 nd = nodes.constrained[c]
@@ -178,26 +237,31 @@ def _lane_step_loop(lanes):
                                                    + f_int[nd, i, ll] + fb - f_ext[nd, i, ll])
             # works, kinetic energy and the move to the new state
             for ll in range(L):
-                w_ext[ll] = 0.0; mvb2[ll] = 0.0; ke[ll] = 0.0; extra[ll] = 0.0
+                extra[ll] = 0.0
             if beta > 0.0:
                 for q in range(n3):
                     for ll in range(L):
                         if beta_rate[ll] > 0.0:
                             j = q * L + ll
                             extra[ll] += beta_rate[ll] * (fif[j] - fpf[j]) * 0.5 * (vf[j] + vnf[j])
-            for q in range(n3):
-                m = mass[q // 3]
+            if n_active == L:
+                commit(vf, vnf, xf, fef, rf, mass3, dt, n3, w_ext, mvb2, ke)
+            else:                    # some lanes wait at the output time: leave their state
                 for ll in range(L):
-                    j = q * L + ll
-                    vo = vf[j]
-                    vn = vnf[j]
-                    b = 0.5 * (vo + vn)
-                    w_ext[ll] += (fef[j] + rf[j]) * b
-                    mvb2[ll] += m * b * b
-                    ke[ll] += m * vo * vn
-                    if act[ll]:
-                        vf[j] = vn
-                        xf[j] += dt[ll] * vn
+                    w_ext[ll] = 0.0; mvb2[ll] = 0.0; ke[ll] = 0.0
+                for q in range(n3):
+                    m = mass3[q]
+                    for ll in range(L):
+                        j = q * L + ll
+                        vo = vf[j]
+                        vn = vnf[j]
+                        b = 0.5 * (vo + vn)
+                        w_ext[ll] += (fef[j] + rf[j]) * b
+                        mvb2[ll] += m * b * b
+                        ke[ll] += m * vo * vn
+                        if act[ll]:
+                            vf[j] = vn
+                            xf[j] += dt[ll] * vn
             if beta > 0.0:
                 for q in range(n3):
                     for ll in range(L):
@@ -315,7 +379,7 @@ def _run_group(models, starts, plans, *, t_end_s, n_outputs, lanes, points, bar)
     v = lanes_of([s[1] * free[:, None] for s in lane_starts])
     state = LaneState(x, v, *(np.zeros((n, 3, lanes)) for _ in range(5)))
     mass3 = np.repeat(first.mass[:, None], 3, axis=1)
-    nodes = LaneNodes(first.mass, np.divide(1.0, mass3, out=np.zeros_like(mass3), where=mass3 > 0.0),
+    nodes = LaneNodes(first.mass, mass3, np.divide(1.0, mass3, out=np.zeros_like(mass3), where=mass3 > 0.0),
                       np.flatnonzero(free == 0.0), np.zeros((n, 3)))
     plan = plans[0]
     control = LaneControl(plan.dt_user, plan.tssfac, float(first.beta), np.array([m.alpha for m in lane_models]))
