@@ -22,7 +22,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from ccedi.errors import InputError, require_finite_positive
-from ccedi.models import ImpulseModel, ImpulseResponse
+from ccedi.models import ImpulseModel, ImpulseResponse, run_alphas
 
 from .damping import _validate_signal, log_decrement, noise_level, oscillates
 
@@ -51,7 +51,12 @@ def _tip_signal(model, alpha, t_end_s, n_outputs):
     InputError
         The model answers something other than an :class:`ccedi.models.ImpulseResponse`.
     """
-    response = model.run(alpha, t_end_s, n_outputs)
+    return _signal_of(model, model.run(alpha, t_end_s, n_outputs))
+
+
+def _signal_of(model, response):
+    """``response.tip_signal()``; InputError when ``model`` answered something other than
+    an :class:`ccedi.models.ImpulseResponse`."""
     if not isinstance(response, ImpulseResponse):
         raise InputError(f"{model.name}.run must answer an ImpulseResponse, got {type(response).__name__}")
     return response.tip_signal()
@@ -90,16 +95,69 @@ class CriticalAlpha:
         Simulations used.
     runs : list
         [(alpha [1/s], oscillates), ...] in the order run.
+    reduced_alpha_cr_per_s : float or None
+        alpha_cr of the reduced model that set the first bracket
+        (:func:`critical_alpha_narrowed`) [1/s]; None without one.
     """
 
     alpha_cr_per_s: float
     bracket_per_s: tuple
     n_runs: int
     runs: list = field(default_factory=list)
+    reduced_alpha_cr_per_s: float | None = None
+
+
+def critical_alpha_narrowed(full, reduced, alpha_guess, t_end_s, *, rtol=0.01, noise_band=1e-6, n_outputs=400,
+                            runs_per_round=8):
+    """alpha_cr of ``full`` with its bracket set by ``reduced`` first: the reduced model's
+    alpha_cr (to rtol / 10, cheap) centres one round of ``runs_per_round`` full runs,
+    spaced 0.95 rtol apart, so that one batched pass brackets alpha_cr to within rtol
+    when the reduced model is that close (further rounds widen or narrow as
+    :func:`critical_alpha` does when it is not).
+
+    Parameters
+    ----------
+    full : ccedi.models.ImpulseModel
+        The model whose alpha_cr is wanted (the full FE model: its runs are batched).
+    reduced : ccedi.models.ImpulseModel
+        A cheap model of the same structure (its modal ROM).
+    alpha_guess : float
+        Starting guess for the reduced model's search [1/s], > 0 (2 omega_1).
+    t_end_s : float
+        Simulated time of every run [s], > 0.
+    rtol : float, optional
+        Final bracket width relative to its upper end, in (0, 0.1).
+    noise_band : float, optional
+        Crossing band relative to the largest excursion [-].
+    n_outputs : int, optional
+        Output times of every run.
+    runs_per_round : int, optional
+        Full runs per round, >= 1.
+
+    Returns
+    -------
+    CriticalAlpha
+        Of the full model; ``reduced_alpha_cr_per_s`` the reduced model's, ``runs`` and
+        ``n_runs`` the full model's runs only.
+
+    Raises
+    ------
+    InputError
+        Invalid arguments, or no bracket found.
+    """
+    if not 0.0 < rtol < 0.1:
+        raise InputError(f"rtol must be in (0, 0.1), got {rtol!r}")
+    first = critical_alpha(reduced, alpha_guess, t_end_s, rtol=rtol / 10.0, noise_band=noise_band,
+                           n_outputs=n_outputs)
+    half = 0.95 * rtol * max(runs_per_round - 1, 1) / 2.0
+    crit = critical_alpha(full, first.alpha_cr_per_s, t_end_s, rtol=rtol, bracket=(1.0 - half, 1.0 + half),
+                          noise_band=noise_band, n_outputs=n_outputs, runs_per_round=runs_per_round)
+    return CriticalAlpha(crit.alpha_cr_per_s, crit.bracket_per_s, crit.n_runs, crit.runs,
+                         reduced_alpha_cr_per_s=first.alpha_cr_per_s)
 
 
 def critical_alpha(model, alpha_guess, t_end_s, *, rtol=0.01, bracket=(0.8, 1.1), noise_band=1e-6, max_expand=6,
-                   n_outputs=400):
+                   n_outputs=400, runs_per_round=1):
     """Critical mass-proportional coefficient alpha_cr [1/s] by bisection on "the
     simulated tip response oscillates" (:func:`ccedi.rom.damping.oscillates`: after its
     largest excursion the response crosses its final value, 0 after an impulse, by more
@@ -129,6 +187,8 @@ def critical_alpha(model, alpha_guess, t_end_s, *, rtol=0.01, bracket=(0.8, 1.1)
         Widening steps allowed at either end.
     n_outputs : int, optional
         Output times of every run.
+    runs_per_round : int, optional
+        Runs evaluated together per round, >= 1.
 
     Returns
     -------
@@ -147,32 +207,43 @@ def critical_alpha(model, alpha_guess, t_end_s, *, rtol=0.01, bracket=(0.8, 1.1)
         raise InputError(f"bracket must be two factors 0 < low < high, got {bracket!r}")
     if not 0.0 < rtol < 1.0:
         raise InputError(f"rtol must be in (0, 1), got {rtol!r}")
+    if not (isinstance(runs_per_round, (int, np.integer)) and runs_per_round >= 1):
+        raise InputError(f"runs_per_round must be an integer >= 1, got {runs_per_round!r}")
     runs = []
+    seen = {}
 
-    def oscillating(alpha):
-        t, y = _tip_signal(model, alpha, t_end_s, n_outputs)
-        result = oscillates(t, y, y_final=0.0, noise_band=noise_band)
-        runs.append((float(alpha), bool(result)))
-        return result
+    def oscillating(*alphas):
+        new = [float(a) for a in alphas if float(a) not in seen]
+        for alpha, response in zip(new, run_alphas(model, new, t_end_s, n_outputs)):
+            t, y = _signal_of(model, response)
+            seen[alpha] = bool(oscillates(t, y, y_final=0.0, noise_band=noise_band))
+            runs.append((alpha, seen[alpha]))
+        return [seen[float(a)] for a in alphas]
 
+    def narrowed(lo, hi):
+        """The tightest bracket the runs so far give inside (lo, hi)."""
+        lo = max([a for a, osc in seen.items() if osc and lo <= a < hi], default=lo)
+        hi = min([a for a, osc in seen.items() if not osc and lo < a <= hi], default=hi)
+        return lo, hi
+
+    if runs_per_round > 1:
+        oscillating(*np.linspace(lo, hi, runs_per_round))
     for _ in range(max_expand):
-        if oscillating(lo):
+        if oscillating(lo)[0]:
             break
         hi, lo = lo, lo / 1.5
     else:
         raise InputError(f"no oscillating response down to alpha = {lo:.4g} 1/s: check the model and load")
     for _ in range(max_expand):
-        if not oscillating(hi):
+        if not oscillating(hi)[0]:
             break
         lo, hi = hi, hi * 1.5
     else:
         raise InputError(f"the response still oscillates at alpha = {hi:.4g} 1/s: run longer or widen the bracket")
+    lo, hi = narrowed(lo, hi)
     while hi - lo > rtol * hi:
-        mid = 0.5 * (lo + hi)
-        if oscillating(mid):
-            lo = mid
-        else:
-            hi = mid
+        oscillating(*np.linspace(lo, hi, runs_per_round + 2)[1:-1])
+        lo, hi = narrowed(lo, hi)
     return CriticalAlpha(alpha_cr_per_s=0.5 * (lo + hi), bracket_per_s=(lo, hi), n_runs=len(runs), runs=runs)
 
 

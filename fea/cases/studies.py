@@ -10,6 +10,7 @@ from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import SEMI_AXES, sm_a, sm_b
 from ccedi.fea.mesh.gmsh_fingers import detailed_model, sm_c
 from ccedi.fea.model import cantilever_model, tip_pulse
+from ccedi.fea.solvers.batch import batch_refusal, run_batch
 from ccedi.fea.solvers.explicit import TSSFAC, critical_time_step, run
 from ccedi.fea.solvers.modal import natural_frequencies
 from ccedi.fea.solvers.static import tip_stiffness
@@ -210,7 +211,11 @@ def _checked_run(model, t_end_s, n_outputs):
     SolverError
         The solver cannot continue, or the tip deflection reaches the length.
     """
-    res = run(model, t_end_s, n_outputs=n_outputs)
+    return _deflection_checked(model, run(model, t_end_s, n_outputs=n_outputs))
+
+
+def _deflection_checked(model, res):
+    """``res`` (a run of the cantilever ``model``) with its tip deflection check."""
     found = tip_deflection_warnings(res.history.tip_uy_m, cantilever_length_m(model.mesh))
     issue(found, run_label(model.alpha, model.damping))
     res.summary["warnings"] += found
@@ -285,6 +290,41 @@ class FullImpulseModel:
         res = _checked_run(self.model_factory(alpha), t_end_s, n_outputs)
         return ImpulseResponse(history=res.history,
                                summary={"model": self.name, "alpha_per_s": alpha, **res.summary})
+
+    def run_many(self, alphas, t_end_s, n_outputs=400):
+        """Responses at several alphas, advanced together in one batched pass
+        (:func:`ccedi.fea.solvers.batch.run_batch`; each the same as :meth:`run`), or run
+        by run when the models cannot be batched (:func:`ccedi.fea.solvers.batch.batch_refusal`).
+
+        Parameters
+        ----------
+        alphas : sequence of float
+            Mass-proportional damping coefficients [1/s].
+        t_end_s : float
+            Simulated time of every run [s].
+        n_outputs : int, optional
+            Output times of every run.
+
+        Returns
+        -------
+        list of ccedi.models.ImpulseResponse
+
+        Raises
+        ------
+        InputError
+            Invalid arguments.
+        SolverError
+            A run cannot continue.
+        """
+        checked = [validate_run_args(alpha, t_end_s, n_outputs) for alpha in alphas]
+        models = [self.model_factory(alpha) for alpha, _, _ in checked]
+        if batch_refusal(models) is not None:
+            return [self.run(alpha, t_end_s, n_outputs) for alpha in alphas]
+        _, t_end_s, n_outputs = checked[0]
+        results = run_batch(models, t_end_s, n_outputs=n_outputs)
+        return [ImpulseResponse(history=res.history,
+                                summary={"model": self.name, "alpha_per_s": alpha, **_deflection_checked(m, res).summary})
+                for (alpha, _, _), m, res in zip(checked, models, results)]
 
 
 def finger_impulse_model(length_in=4.5, *, force_N=1.0, duration_s=0.01, material=RUBBER, beta=0.0, mesh=None,
