@@ -9,7 +9,15 @@ from ccedi.errors import InputError
 from ccedi.fea.cases.steel_rod import PAPER_ROD, STEEL_ROD, steel_rod_impulse_model
 from ccedi.fea.cases.studies import finger_impulse_model
 from ccedi.models import ImpulseModel, ImpulseResponse, pulse_times, validate_run_args
-from ccedi.rom.ccedi import critical_alpha, identify, match_alpha, paper_alpha, paper_alpha_cr, power_law_fit
+from ccedi.rom.ccedi import (
+    critical_alpha,
+    critical_alpha_narrowed,
+    identify,
+    match_alpha,
+    paper_alpha,
+    paper_alpha_cr,
+    power_law_fit,
+)
 from ccedi.rom.damping import log_decrement
 from ccedi.rom.finger_identification import finger_alpha_cr, rod_alpha_cr
 
@@ -60,6 +68,50 @@ def test_critical_alpha_of_sdof_is_two_omega(guess):
     lo, hi = crit.bracket_per_s
     assert (hi - lo) <= 0.005 * hi
 
+
+
+class BatchedSDOF(SDOF):
+    """The SDOF with a batched ``run_many`` that records the size of each batch."""
+
+    name = "sdof-batched"
+
+    def __init__(self, omega=OMEGA):
+        super().__init__(omega)
+        self.batches = []
+
+    def run_many(self, alphas, t_end_s, n_outputs=400):
+        self.batches.append(len(alphas))
+        return [self.run(alpha, t_end_s, n_outputs) for alpha in alphas]
+
+
+def test_rounds_of_batched_runs_find_the_bisection_bracket():
+    """k-section with 5 runs a round: the same alpha_cr as bisection within rtol, the first
+    round one batch of 5 spread over the bracket, each later round 5 inside it."""
+    bisection = critical_alpha(SDOF(), 100.0, rtol=0.005, **RUN)
+    model = BatchedSDOF()
+    crit = critical_alpha(model, 100.0, rtol=0.005, runs_per_round=5, **RUN)
+    assert crit.alpha_cr_per_s == pytest.approx(bisection.alpha_cr_per_s, rel=0.005)
+    lo, hi = crit.bracket_per_s
+    assert hi - lo <= 0.005 * hi and lo <= bisection.alpha_cr_per_s <= hi + 0.005 * hi
+    assert model.batches[0] == 5 and set(model.batches[1:]) == {5}
+    assert len(model.batches) < bisection.n_runs
+
+
+def test_reduced_model_sets_the_bracket_of_one_batched_round():
+    """A reduced model 2 % off in frequency: its alpha_cr centres one round of 8 full runs
+    0.95 rtol apart, which brackets the full alpha_cr to rtol."""
+    full, reduced = BatchedSDOF(OMEGA), SDOF(1.02 * OMEGA)
+    crit = critical_alpha_narrowed(full, reduced, 80.0, rtol=0.01, runs_per_round=8, **RUN)
+    truth = critical_alpha(SDOF(), 100.0, rtol=0.001, **RUN).alpha_cr_per_s
+    assert crit.reduced_alpha_cr_per_s == pytest.approx(1.02 * truth, rel=0.003)
+    lo, hi = crit.bracket_per_s
+    assert lo <= truth <= hi and hi - lo <= 0.01 * hi
+    assert full.batches == [8] and crit.n_runs == 8
+
+
+def test_runs_per_round_must_be_a_positive_integer():
+    with pytest.raises(InputError, match="runs_per_round must be an integer >= 1, got 0"):
+        critical_alpha(SDOF(), 100.0, runs_per_round=0, **RUN)
 
 def test_match_alpha_recovers_overdamped_sdof_with_noise():
     sdof = SDOF()
