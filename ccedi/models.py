@@ -198,7 +198,7 @@ def validate_run_args(alpha, t_end_s, n_outputs, *, damping="global"):
 
 
 
-def run_alphas(model, alphas, t_end_s, n_outputs=400):
+def run_alphas(model, alphas, t_end_s, *, n_outputs=400):
     """Responses of an impulse model at several damping coefficients: in one batched pass
     when the model offers one (``model.run_many``, the full FE model's), else run by run.
 

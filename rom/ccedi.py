@@ -107,7 +107,7 @@ class CriticalAlpha:
     reduced_alpha_cr_per_s: float | None = None
 
 
-def critical_alpha_narrowed(full, reduced, alpha_guess, t_end_s, *, rtol=0.01, noise_band=1e-6, n_outputs=400,
+def critical_alpha_narrowed(full, reduced, alpha_guess, *, t_end_s, rtol=0.01, noise_band=1e-6, n_outputs=400,
                             runs_per_round=8):
     """alpha_cr of ``full`` with its bracket set by ``reduced`` first: the reduced model's
     alpha_cr (to rtol / 10, cheap) centres one round of ``runs_per_round`` full runs,
@@ -214,7 +214,7 @@ def critical_alpha(model, alpha_guess, t_end_s, *, rtol=0.01, bracket=(0.8, 1.1)
 
     def oscillating(*alphas):
         new = [float(a) for a in alphas if float(a) not in seen]
-        for alpha, response in zip(new, run_alphas(model, new, t_end_s, n_outputs)):
+        for alpha, response in zip(new, run_alphas(model, new, t_end_s, n_outputs=n_outputs)):
             t, y = _signal_of(model, response)
             seen[alpha] = bool(oscillates(t, y, y_final=0.0, noise_band=noise_band))
             runs.append((alpha, seen[alpha]))

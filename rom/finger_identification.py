@@ -117,7 +117,7 @@ def finger_alpha_cr(length_in=None, *, rtol=0.01, material=RUBBER, semi_axes_m=S
     runs_per_round = 4 * thread_count() if runs_per_round is None else runs_per_round
     if runs_per_round > 1 and hasattr(model, "run_many"):
         reduced = reduce_impulse_model(model, n_modes=6)
-        return critical_alpha_narrowed(model, reduced, 2.0 * omega1, t_end_s, rtol=rtol, n_outputs=n_outputs,
+        return critical_alpha_narrowed(model, reduced, 2.0 * omega1, t_end_s=t_end_s, rtol=rtol, n_outputs=n_outputs,
                                        runs_per_round=runs_per_round), omega1
     return critical_alpha(model, 2.0 * omega1, t_end_s, rtol=rtol, n_outputs=n_outputs), omega1
 

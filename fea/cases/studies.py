@@ -291,7 +291,7 @@ class FullImpulseModel:
         return ImpulseResponse(history=res.history,
                                summary={"model": self.name, "alpha_per_s": alpha, **res.summary})
 
-    def run_many(self, alphas, t_end_s, n_outputs=400):
+    def run_many(self, alphas, t_end_s, n_outputs=400, *, progress=False):
         """Responses at several alphas, advanced together in one batched pass
         (:func:`ccedi.fea.solvers.batch.run_batch`; each the same as :meth:`run`), or run
         by run when the models cannot be batched (:func:`ccedi.fea.solvers.batch.batch_refusal`).
@@ -304,6 +304,8 @@ class FullImpulseModel:
             Simulated time of every run [s].
         n_outputs : int, optional
             Output times of every run.
+        progress : bool, optional
+            Show a progress bar over the batch's output times.
 
         Returns
         -------
@@ -321,7 +323,7 @@ class FullImpulseModel:
         if batch_refusal(models) is not None:
             return [self.run(alpha, t_end_s, n_outputs) for alpha in alphas]
         _, t_end_s, n_outputs = checked[0]
-        results = run_batch(models, t_end_s, n_outputs=n_outputs)
+        results = run_batch(models, t_end_s, n_outputs=n_outputs, progress=progress)
         return [ImpulseResponse(history=res.history,
                                 summary={"model": self.name, "alpha_per_s": alpha, **_deflection_checked(m, res).summary})
                 for (alpha, _, _), m, res in zip(checked, models, results)]
@@ -368,7 +370,11 @@ def finger_impulse_model(length_in=4.5, *, force_N=1.0, duration_s=0.01, materia
 
 def _impulse_run(alpha, finger, t_end_s, n_outputs):
     """One run of :func:`impulse_study`: (history DataFrame with an alpha_per_s column, summary)."""
-    res = finger_impulse_model(**finger).run(float(alpha), t_end_s, n_outputs)
+    return _impulse_rows(alpha, finger_impulse_model(**finger).run(float(alpha), t_end_s, n_outputs))
+
+
+def _impulse_rows(alpha, res):
+    """(history DataFrame of the response ``res`` with an alpha_per_s column, summary)."""
     h = res.history[["time_s", "tip_uy_m", "max_von_mises_Pa", "reaction_y_N"]].copy()
     h.insert(0, "alpha_per_s", float(alpha))
     return h, res.summary
@@ -376,8 +382,9 @@ def _impulse_run(alpha, finger, t_end_s, n_outputs):
 
 def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), *, scheduler="serial", t_end_s=0.2, n_outputs=400,
                   **finger):
-    """Fig. 7 analogue: tip responses for several alpha [1/s], one run of
-    :func:`finger_impulse_model` per alpha mapped through
+    """Fig. 7 analogue: tip responses for several alpha [1/s] of
+    :func:`finger_impulse_model`: with the ``serial`` scheduler in one batched pass
+    (:meth:`FullImpulseModel.run_many`), else one run per alpha mapped through
     :func:`ccedi.distributed.map_runs` (``scheduler``). Returns (history, summaries): a long
     DataFrame with columns alpha_per_s, time_s, tip_uy_m, max_von_mises_Pa, reaction_y_N and
     a list of run summaries.
@@ -401,6 +408,11 @@ def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), *, scheduler="seria
     tuple
         (history DataFrame, list of summaries).
     """
-    runs = map_runs(partial(_impulse_run, finger=finger, t_end_s=t_end_s, n_outputs=n_outputs), alphas, scheduler=scheduler,
-                    label="impulse runs")
+    if scheduler == "serial" and len(alphas) > 1:
+        alphas = [float(a) for a in alphas]
+        responses = finger_impulse_model(**finger).run_many(alphas, t_end_s, n_outputs, progress=True)
+        runs = [_impulse_rows(alpha, res) for alpha, res in zip(alphas, responses)]
+    else:
+        runs = map_runs(partial(_impulse_run, finger=finger, t_end_s=t_end_s, n_outputs=n_outputs), alphas,
+                        scheduler=scheduler, label="impulse runs")
     return pd.concat([h for h, _ in runs], ignore_index=True), [s for _, s in runs]
