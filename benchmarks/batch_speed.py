@@ -38,6 +38,7 @@ from ccedi.fea.mesh import sm_a
 from ccedi.fea.model import cantilever_model, tip_pulse
 from ccedi.fea.solvers.batch import run_batch
 from ccedi.fea.solvers.explicit import SolidMaterial, run
+from ccedi.outputs import report_figures
 from ccedi.rom.finger_identification import finger_alpha_cr
 
 OUT = Path(__file__).with_suffix(".json")
@@ -152,8 +153,7 @@ def main():
         "python": platform.python_version(),
         "machine": platform.machine(),
     }
-    print(json.dumps(figures, indent=2))
-    OUT.write_text(json.dumps(figures, indent=2) + "\n")
+    report_figures(figures, OUT)
 
 
 if __name__ == "__main__":
