@@ -70,8 +70,26 @@ alpha : (lanes,) ndarray
     Mass-proportional damping of each lane [1/s].
 """
 LaneState = namedtuple("LaneState", "x v v_new f_int f_int_prev f_ext reaction")
-LaneState.__doc__ = """Nodal state of a group of lanes, every field (n_nodes, 3, lanes): as
-:data:`ccedi.fea.solvers.explicit.State` with the runs innermost."""
+LaneState.__doc__ = """Nodal state of a group of lanes, runs innermost (every field (n_nodes, 3, lanes)),
+as :data:`ccedi.fea.solvers.explicit.State` is for one run.
+
+Attributes
+----------
+x : ndarray
+    Positions x^n [m].
+v : ndarray
+    Half-step velocities v^{n-1/2} [m/s].
+v_new : ndarray
+    Trial and then final v^{n+1/2} [m/s].
+f_int : ndarray
+    Internal forces of the step [N].
+f_int_prev : ndarray
+    Internal forces of the previous step [N] (stiffness damping).
+f_ext : ndarray
+    External forces of the step [N].
+reaction : ndarray
+    Support reactions [N].
+"""
 LaneNodes = namedtuple("LaneNodes", "mass mass3 inv_mass constrained v_pres")
 LaneNodes.__doc__ = """The nodes' constants, shared by the lanes.
 
@@ -90,10 +108,37 @@ v_pres : (n_nodes, 3) ndarray
 """
 LaneLoads = namedtuple("LaneLoads", "nodes forces t_start t_end lane_start")
 LaneLoads.__doc__ = """The lanes' force pulses (:data:`ccedi.fea.solvers.loads.PulseLoads`
-of each lane, one after the other): lane l's rows are ``lane_start[l]:lane_start[l + 1]``."""
+of each lane, one after the other).
+
+Attributes
+----------
+nodes : (p,) int ndarray
+    Loaded node of each row.
+forces : (p, 3) ndarray
+    Its force while the pulse is on [N].
+t_start, t_end : (p,) ndarray
+    When the pulse switches on (inclusive) and off (exclusive) [s].
+lane_start : (lanes + 1,) int ndarray
+    Lane l's rows are ``lane_start[l]:lane_start[l + 1]``.
+"""
 LaneClock = namedtuple("LaneClock", "t dt_prev steps status info dt_seen")
-LaneClock.__doc__ = """Each lane's time [s], previous step [s], step count, status (the step
-loop's), failed element and smallest step [s] (every field (lanes,))."""
+LaneClock.__doc__ = """Each lane's clock (every field (lanes,)).
+
+Attributes
+----------
+t : ndarray
+    Time reached [s].
+dt_prev : ndarray
+    The last step [s].
+steps : int ndarray
+    Steps taken.
+status : int ndarray
+    The step loop's status (0: running).
+info : int ndarray
+    The failed element, when one failed.
+dt_seen : ndarray
+    Smallest step taken [s].
+"""
 
 
 def _lane_code(lanes):
