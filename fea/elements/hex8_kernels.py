@@ -156,6 +156,64 @@ def hex_group(nodes, hexes, geometry, *, kappa, length_factor):
                     element_out)
 
 
+@nb.njit(cache=True, fastmath=FASTMATH, inline="always")
+def inverse_3x3(f00, f01, f02, f10, f11, f12, f20, f21, f22):
+    """J = det F and the entries of F^-1 (``gij`` = (F^-1)_ij), by cofactors: the
+    arithmetic both hexahedron kernels share, in one order (their results agree to the bit).
+
+    Parameters
+    ----------
+    f00, f01, f02, f10, f11, f12, f20, f21, f22 : float
+        F, row by row.
+
+    Returns
+    -------
+    tuple
+        ``(J, g00, g01, g02, g10, g11, g12, g20, g21, g22)``.
+    """
+    c00 = f11 * f22 - f12 * f21
+    c01 = f12 * f20 - f10 * f22
+    c02 = f10 * f21 - f11 * f20
+    J = f00 * c00 + f01 * c01 + f02 * c02
+    iJ = 1.0 / J
+    g00 = c00 * iJ; g10 = c01 * iJ; g20 = c02 * iJ
+    g01 = (f02 * f21 - f01 * f22) * iJ
+    g11 = (f00 * f22 - f02 * f20) * iJ
+    g21 = (f01 * f20 - f00 * f21) * iJ
+    g02 = (f01 * f12 - f02 * f11) * iJ
+    g12 = (f02 * f10 - f00 * f12) * iJ
+    g22 = (f00 * f11 - f01 * f10) * iJ
+    return J, g00, g01, g02, g10, g11, g12, g20, g21, g22
+
+
+@nb.njit(cache=True, fastmath=FASTMATH, inline="always")
+def bulk_viscosity(e_v, Le, rho, c):
+    """Bulk-viscosity pressure and critical step of an element (module docstring of
+    :mod:`ccedi.fea.elements.hex8`), shared by both hexahedron kernels.
+
+    Parameters
+    ----------
+    e_v : float
+        Volumetric strain rate [1/s].
+    Le : float
+        Characteristic length [m].
+    rho : float
+        Density [kg/m^3].
+    c : float
+        Dilatational wave speed [m/s].
+
+    Returns
+    -------
+    tuple
+        ``(q [Pa], dt [s])``: q = rho Le (C0 Le e_v^2 - C1 c e_v) in compression, else 0;
+        dt = Le / (Q + sqrt(Q^2 + c^2)), Q = C1 c + C0 Le |e_v| in compression, else 0.
+    """
+    compress = e_v < 0.0
+    qb = rho * Le * (BULK_VISCOSITY_C0 * Le * e_v * e_v - BULK_VISCOSITY_C1 * c * e_v) if compress else 0.0
+    Q = BULK_VISCOSITY_C1 * c + BULK_VISCOSITY_C0 * Le * (-e_v) if compress else 0.0
+    return qb, Le / (Q + np.sqrt(Q * Q + c * c))
+
+
 @nb.njit(cache=True, fastmath=FASTMATH, error_model="numpy", inline="always")
 def _element_block(i, x, v, group, mu, lam, rho, c, xv, w, lnj, dv, hq, out):
     """Nodal forces and element values of block i into ``group.element_out[i]``; xv ... out
@@ -210,25 +268,11 @@ def _element_block(i, x, v, group, mu, lam, rho, c, xv, w, lnj, dv, hq, out):
         f00 = w[9, ll]; f01 = w[10, ll]; f02 = w[11, ll]
         f10 = w[12, ll]; f11 = w[13, ll]; f12 = w[14, ll]
         f20 = w[15, ll]; f21 = w[16, ll]; f22 = w[17, ll]
-        c00 = f11 * f22 - f12 * f21
-        c01 = f12 * f20 - f10 * f22
-        c02 = f10 * f21 - f11 * f20
-        J = f00 * c00 + f01 * c01 + f02 * c02
-        iJ = 1.0 / J
-        g00 = c00 * iJ; g10 = c01 * iJ; g20 = c02 * iJ
-        g01 = (f02 * f21 - f01 * f22) * iJ
-        g11 = (f00 * f22 - f02 * f20) * iJ
-        g21 = (f01 * f20 - f00 * f21) * iJ
-        g02 = (f01 * f12 - f02 * f11) * iJ
-        g12 = (f02 * f10 - f00 * f12) * iJ
-        g22 = (f00 * f11 - f01 * f10) * iJ
+        J, g00, g01, g02, g10, g11, g12, g20, g21, g22 = inverse_3x3(f00, f01, f02, f10, f11, f12, f20, f21, f22)
         e_v = iV * (dv[0, ll] * g00 + dv[1, ll] * g10 + dv[2, ll] * g20 + dv[3, ll] * g01 + dv[4, ll] * g11
                     + dv[5, ll] * g21 + dv[6, ll] * g02 + dv[7, ll] * g12 + dv[8, ll] * g22)
         Le = lf * 2.0 * J * V0 / np.sqrt(lnj[ll])
-        compress = e_v < 0.0
-        qb = rho * Le * (BULK_VISCOSITY_C0 * Le * e_v * e_v - BULK_VISCOSITY_C1 * c * e_v) if compress else 0.0
-        Q = BULK_VISCOSITY_C1 * c + BULK_VISCOSITY_C0 * Le * (-e_v) if compress else 0.0
-        w[47, ll] = Le / (Q + np.sqrt(Q * Q + c * c))
+        qb, w[47, ll] = bulk_viscosity(e_v, Le, rho, c)
         w[0, ll] = g00; w[1, ll] = g01; w[2, ll] = g02
         w[3, ll] = g10; w[4, ll] = g11; w[5, ll] = g12
         w[6, ll] = g20; w[7, ll] = g21; w[8, ll] = g22

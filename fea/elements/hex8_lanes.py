@@ -24,8 +24,7 @@ import numba as nb
 import numpy as np
 
 from ccedi.fea.elements.fastmath import FASTMATH
-from ccedi.fea.elements.hex8 import BULK_VISCOSITY_C0, BULK_VISCOSITY_C1
-from ccedi.fea.elements.hex8_kernels import _H, _UPPER, BLOCK
+from ccedi.fea.elements.hex8_kernels import _H, _UPPER, BLOCK, bulk_viscosity, inverse_3x3
 
 LANE_COUNTS = (4, 8)
 """Runs one kernel call can advance (:func:`lanes_kernel`): 8 fill a 512-bit vector, 4 a
@@ -262,25 +261,12 @@ def lanes_kernel(lanes):
                 f00 = wk[(_W + 9) * L + ll]; f01 = wk[(_W + 10) * L + ll]; f02 = wk[(_W + 11) * L + ll]
                 f10 = wk[(_W + 12) * L + ll]; f11 = wk[(_W + 13) * L + ll]; f12 = wk[(_W + 14) * L + ll]
                 f20 = wk[(_W + 15) * L + ll]; f21 = wk[(_W + 16) * L + ll]; f22 = wk[(_W + 17) * L + ll]
-                c00 = f11 * f22 - f12 * f21
-                c01 = f12 * f20 - f10 * f22
-                c02 = f10 * f21 - f11 * f20
-                J = f00 * c00 + f01 * c01 + f02 * c02
-                iJ = 1.0 / J
-                g00 = c00 * iJ; g10 = c01 * iJ; g20 = c02 * iJ
-                g01 = (f02 * f21 - f01 * f22) * iJ
-                g11 = (f00 * f22 - f02 * f20) * iJ
-                g21 = (f01 * f20 - f00 * f21) * iJ
-                g02 = (f01 * f12 - f02 * f11) * iJ
-                g12 = (f02 * f10 - f00 * f12) * iJ
-                g22 = (f00 * f11 - f01 * f10) * iJ
+                J, g00, g01, g02, g10, g11, g12, g20, g21, g22 = inverse_3x3(f00, f01, f02, f10, f11, f12, f20, f21,
+                                                                             f22)
                 e_v = iV * (wk[(_DV + 0) * L + ll] * g00 + wk[(_DV + 1) * L + ll] * g10 + wk[(_DV + 2) * L + ll] * g20 + wk[(_DV + 3) * L + ll] * g01 + wk[(_DV + 4) * L + ll] * g11
                             + wk[(_DV + 5) * L + ll] * g21 + wk[(_DV + 6) * L + ll] * g02 + wk[(_DV + 7) * L + ll] * g12 + wk[(_DV + 8) * L + ll] * g22)
                 Le = lf * 2.0 * J * V0 / np.sqrt(wk[(_LNJ) * L + ll])
-                compress = e_v < 0.0
-                qb = rho * Le * (BULK_VISCOSITY_C0 * Le * e_v * e_v - BULK_VISCOSITY_C1 * c * e_v) if compress else 0.0
-                Q = BULK_VISCOSITY_C1 * c + BULK_VISCOSITY_C0 * Le * (-e_v) if compress else 0.0
-                wk[(_W + 47) * L + ll] = Le / (Q + np.sqrt(Q * Q + c * c))
+                qb, wk[(_W + 47) * L + ll] = bulk_viscosity(e_v, Le, rho, c)
                 wk[(_W + 0) * L + ll] = g00; wk[(_W + 1) * L + ll] = g01; wk[(_W + 2) * L + ll] = g02
                 wk[(_W + 3) * L + ll] = g10; wk[(_W + 4) * L + ll] = g11; wk[(_W + 5) * L + ll] = g12
                 wk[(_W + 6) * L + ll] = g20; wk[(_W + 7) * L + ll] = g21; wk[(_W + 8) * L + ll] = g22
