@@ -5,7 +5,7 @@ from functools import partial
 
 import pandas as pd
 
-from ccedi.distributed import map_runs
+from ccedi.distributed import LOCAL, SERIAL, map_runs
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import SEMI_AXES, sm_a, sm_b
 from ccedi.fea.mesh.gmsh_fingers import detailed_model, sm_c
@@ -383,9 +383,9 @@ def _impulse_rows(alpha, res):
 def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), *, scheduler="serial", t_end_s=0.2, n_outputs=400,
                   **finger):
     """Fig. 7 analogue: tip responses for several alpha [1/s] of
-    :func:`finger_impulse_model`: with the ``serial`` scheduler in one batched pass
-    (:meth:`FullImpulseModel.run_many`), else one run per alpha mapped through
-    :func:`ccedi.distributed.map_runs` (``scheduler``). Returns (history, summaries): a long
+    :func:`finger_impulse_model`: on this machine (``serial`` or ``local`` scheduler) in one
+    batched pass on its free cores (:meth:`FullImpulseModel.run_many`), else one run per
+    alpha mapped through :func:`ccedi.distributed.map_runs` (a cluster's address). Returns (history, summaries): a long
     DataFrame with columns alpha_per_s, time_s, tip_uy_m, max_von_mises_Pa, reaction_y_N and
     a list of run summaries.
 
@@ -408,7 +408,7 @@ def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), *, scheduler="seria
     tuple
         (history DataFrame, list of summaries).
     """
-    if scheduler == "serial" and len(alphas) > 1:
+    if scheduler in (SERIAL, LOCAL) and len(alphas) > 1:
         alphas = [float(a) for a in alphas]
         responses = finger_impulse_model(**finger).run_many(alphas, t_end_s, n_outputs, progress=True)
         runs = [_impulse_rows(alpha, res) for alpha, res in zip(alphas, responses)]
