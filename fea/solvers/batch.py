@@ -405,9 +405,10 @@ def _group_size(n_runs, threads):
     return 4 if n_runs <= 4 * threads else 8
 
 
-def _run_group(models, starts, plans, *, t_end_s, n_outputs, lanes, points, bar):
-    """Advance one group's runs (``models``; the lanes past them repeat the last) over
-    every output time. Returns, per run, ``(rows, x, v, clock values, energy_0, failure)``."""
+def _run_group(models, starts, energy_0, *, plan, lanes, points, bar):
+    """Advance one group's runs (``models`` from ``starts``, with the initial energies
+    ``energy_0``; the lanes past them repeat the last) over every output time of ``plan``.
+    Returns, per run, ``(rows, x, v, clock values, energy_0, failure)``."""
     n_real = len(models)
     lane_models = list(models) + [models[-1]] * (lanes - n_real)
     lane_starts = list(starts) + [starts[-1]] * (lanes - n_real)
@@ -426,13 +427,9 @@ def _run_group(models, starts, plans, *, t_end_s, n_outputs, lanes, points, bar)
     mass3 = np.repeat(first.mass[:, None], 3, axis=1)
     nodes = LaneNodes(first.mass, mass3, np.divide(1.0, mass3, out=np.zeros_like(mass3), where=mass3 > 0.0),
                       np.flatnonzero(free == 0.0), np.zeros((n, 3)))
-    plan = plans[0]
     control = LaneControl(plan.dt_user, plan.tssfac, float(first.beta), np.array([m.alpha for m in lane_models]))
     group = first.hexahedra
     hexes = (group, full_stiffness(group), SolidMaterial(*first.solid_constants))
-    internal = _internal_forces(first, "numba")
-    energy_0 = [_initial_energy(m, np.ascontiguousarray(x[:, :, k]), np.ascontiguousarray(v[:, :, k]), internal)
-                for k, m in enumerate(models)]
     clock = LaneClock(np.zeros(lanes), np.zeros(lanes), np.zeros(lanes, np.int64), np.zeros(lanes, np.int64),
                       np.zeros(lanes, np.int64), np.full(lanes, np.inf))
     energy = np.zeros((lanes, 9))
@@ -440,7 +437,7 @@ def _run_group(models, starts, plans, *, t_end_s, n_outputs, lanes, points, bar)
     advance = step_loop(lanes)
     rows = [[] for _ in range(n_real)]
     failure = [None] * n_real
-    for t_out in np.linspace(0.0, t_end_s, n_outputs + 1)[1:]:
+    for t_out in np.linspace(0.0, plan.t_end_s, plan.n_outputs + 1)[1:]:
         advance(t_out, control, state, nodes, hexes, loads, clock, energy)
         for k, m in enumerate(models):
             if failure[k] is not None:
@@ -514,6 +511,12 @@ def run_batch(models, t_end_s, *, n_outputs=400, x0=None, v0=None, tip_set="tip"
         vk = np.zeros_like(X) if v0 is None or v0[k] is None else _initial_state(
             f"v0[{k}] (initial velocities, m/s)", v0[k], X.shape)
         starts.append((xk, vk))
+    # initial energies here, not in the group threads: the hexahedron kernel they use is
+    # numba-parallel, which numba's default (workqueue) threading layer runs from one thread at a time
+    free = np.ones(len(X))
+    free[models[0].fixed_nodes] = 0.0
+    internal = _internal_forces(models[0], "numba")
+    energy_0 = [_initial_energy(m, x, v * free[:, None], internal) for m, (x, v) in zip(models, starts)]
     lanes = _group_size(len(models), n_threads)
     groups = [list(range(i, min(i + lanes, len(models)))) for i in range(0, len(models), lanes)]
     points = output_points(models[0].mesh, tip_set, reaction_set)
@@ -524,8 +527,8 @@ def run_batch(models, t_end_s, *, n_outputs=400, x0=None, v0=None, tip_set="tip"
     try:
         with ThreadPoolExecutor(max_workers=min(n_threads, len(groups))) as pool:
             futures = [pool.submit(_run_group, [models[k] for k in g], [starts[k] for k in g],
-                                   [plans[k] for k in g], t_end_s=plan.t_end_s, n_outputs=plan.n_outputs,
-                                   lanes=lanes, points=points, bar=bar) for g in groups]
+                                   [energy_0[k] for k in g], plan=plan, lanes=lanes, points=points, bar=bar)
+                       for g in groups]
             outcomes = [item for f in futures for item in f.result()]
     finally:
         if bar is not None:
