@@ -106,7 +106,7 @@ constrained : (c,) int ndarray
 v_pres : (n_nodes, 3) ndarray
     Their prescribed velocities [m/s] (zero).
 """
-LaneLoads = namedtuple("LaneLoads", "nodes forces t_start t_end lane_start")
+LaneLoads = namedtuple("LaneLoads", "nodes forces t_start t_end lane_start loaded external")
 LaneLoads.__doc__ = """The lanes' force pulses (:data:`ccedi.fea.solvers.loads.PulseLoads`
 of each lane, one after the other).
 
@@ -120,6 +120,11 @@ t_start, t_end : (p,) ndarray
     When the pulse switches on (inclusive) and off (exclusive) [s].
 lane_start : (lanes + 1,) int ndarray
     Lane l's rows are ``lane_start[l]:lane_start[l + 1]``.
+loaded : (k,) int ndarray
+    The nodal values any pulse sets (``3 node + direction``, ascending).
+external : (m,) int ndarray
+    Those and the supported nodes' values, ascending: where the external forces and the
+    reactions can be nonzero.
 """
 LaneClock = namedtuple("LaneClock", "t dt_prev steps status info dt_seen")
 LaneClock.__doc__ = """Each lane's clock (every field (lanes,)).
@@ -164,19 +169,17 @@ def trial_velocities_{lanes}(vnf, vf, fef, fif, imf, a, Dt, inv_den, n3):
         {each("vnf[j + np.uint64({l})] = r{l}")}
 
 
-def commit_{lanes}(vf, vnf, xf, fef, rf, mass3, dt, n3, w_ext, mvb2, ke):
+def commit_{lanes}(vf, vnf, xf, mass3, dt, n3, mvb2, ke):
     {each("dt{l} = dt[{l}]")}
-    {each("w_ext[{l}] = 0.0; mvb2[{l}] = 0.0; ke[{l}] = 0.0")}
+    {each("mvb2[{l}] = 0.0; ke[{l}] = 0.0")}
     for q in range(n3):
         m = mass3[q]
         j = np.uint64(q * {lanes})
         {each("vo{l} = vf[j + np.uint64({l})]; vn{l} = vnf[j + np.uint64({l})]; x{l} = xf[j + np.uint64({l})]", chr(10) + 8 * " ")}
         {each("b{l} = 0.5 * (vo{l} + vn{l})", chr(10) + 8 * " ")}
-        {each("w{l} = w_ext[{l}] + (fef[j + np.uint64({l})] + rf[j + np.uint64({l})]) * b{l}", chr(10) + 8 * " ")}
         {each("m{l} = mvb2[{l}] + m * b{l} * b{l}", chr(10) + 8 * " ")}
         {each("k{l} = ke[{l}] + m * vo{l} * vn{l}", chr(10) + 8 * " ")}
         {each("xn{l} = x{l} + dt{l} * vn{l}", chr(10) + 8 * " ")}
-        {each("w_ext[{l}] = w{l}", chr(10) + 8 * " ")}
         {each("mvb2[{l}] = m{l}", chr(10) + 8 * " ")}
         {each("ke[{l}] = k{l}", chr(10) + 8 * " ")}
         {each("vf[j + np.uint64({l})] = vn{l}", chr(10) + 8 * " ")}
@@ -245,8 +248,9 @@ def _lane_step_loop(lanes):
                 beta_rate[ll] = beta / dt_prev[ll] if (beta > 0.0 and dt_prev[ll] > 0.0) else 0.0
                 a[ll] = 0.5 * alpha[ll] * Dt[ll]
                 inv_den[ll] = 1.0 / (1.0 + a[ll])
-            for j in range(fef.shape[0]):
-                fef[j] = 0.0
+            for q in loads.loaded:            # the only entries a pulse ever set
+                for ll in range(L):
+                    fef[q * L + ll] = 0.0
             for ll in range(L):
                 if act[ll]:
                     for p in range(loads.lane_start[ll], loads.lane_start[ll + 1]):
@@ -289,11 +293,19 @@ def _lane_step_loop(lanes):
                         if beta_rate[ll] > 0.0:
                             j = q * L + ll
                             extra[ll] += beta_rate[ll] * (fif[j] - fpf[j]) * 0.5 * (vf[j] + vnf[j])
+            # external work: only where a load or a support acts (elsewhere the term is
+            # (0 + 0) b, which leaves the sum, never -0, unchanged), in node order
+            for ll in range(L):
+                w_ext[ll] = 0.0
+            for q in loads.external:
+                for ll in range(L):
+                    j = q * L + ll
+                    w_ext[ll] += (fef[j] + rf[j]) * (0.5 * (vf[j] + vnf[j]))
             if n_active == L:
-                commit(vf, vnf, xf, fef, rf, mass3, dt, n3, w_ext, mvb2, ke)
+                commit(vf, vnf, xf, mass3, dt, n3, mvb2, ke)
             else:                    # some lanes wait at the output time: leave their state
                 for ll in range(L):
-                    w_ext[ll] = 0.0; mvb2[ll] = 0.0; ke[ll] = 0.0
+                    mvb2[ll] = 0.0; ke[ll] = 0.0
                 for q in range(n3):
                     m = mass3[q]
                     for ll in range(L):
@@ -301,7 +313,6 @@ def _lane_step_loop(lanes):
                         vo = vf[j]
                         vn = vnf[j]
                         b = 0.5 * (vo + vn)
-                        w_ext[ll] += (fef[j] + rf[j]) * b
                         mvb2[ll] += m * b * b
                         ke[ll] += m * vo * vn
                         if act[ll]:
@@ -390,14 +401,18 @@ def batch_refusal(models):
     return None
 
 
-def _lane_loads(models):
-    """The pulses of the lanes' models as :data:`LaneLoads`."""
+def _lane_loads(models, supported):
+    """The pulses of the lanes' models as :data:`LaneLoads` (``supported``: the fixed nodes)."""
     per_lane = [pulse_loads(m.pulses) for m in models]
     start = np.concatenate([[0], np.cumsum([len(p.nodes) for p in per_lane])]).astype(np.int64)
-    return LaneLoads(np.concatenate([p.nodes for p in per_lane]).astype(np.int64),
-                     np.concatenate([p.forces for p in per_lane]).reshape(-1, 3),
+    nodes = np.concatenate([p.nodes for p in per_lane]).astype(np.int64)
+
+    def values(of):
+        return np.unique(3 * np.asarray(of, np.int64)[:, None] + np.arange(3)).astype(np.int64)
+
+    return LaneLoads(nodes, np.concatenate([p.forces for p in per_lane]).reshape(-1, 3),
                      np.concatenate([p.t_start for p in per_lane]), np.concatenate([p.t_end for p in per_lane]),
-                     start)
+                     start, values(nodes), values(np.concatenate([nodes, supported])))
 
 
 def _group_size(n_runs, threads):
@@ -433,7 +448,7 @@ def _run_group(models, starts, energy_0, *, plan, lanes, points, bar):
     clock = LaneClock(np.zeros(lanes), np.zeros(lanes), np.zeros(lanes, np.int64), np.zeros(lanes, np.int64),
                       np.zeros(lanes, np.int64), np.full(lanes, np.inf))
     energy = np.zeros((lanes, 9))
-    loads = _lane_loads(lane_models)
+    loads = _lane_loads(lane_models, nodes.constrained)
     advance = step_loop(lanes)
     rows = [[] for _ in range(n_real)]
     failure = [None] * n_real
