@@ -109,7 +109,7 @@ def part_search(mode):
     model.run(100.0, 1e-3, 1)
     model.run_many([100.0, 120.0], 1e-3, 1)
     t0 = time.perf_counter()
-    crit, _ = finger_alpha_cr(4.5, rtol=0.01, runs_per_round=1 if mode == "bisection" else None)
+    crit, _ = finger_alpha_cr(4.5, rtol=0.01, runs_per_round=1 if mode == "bisection" else 4)
     return {"wall_s": time.perf_counter() - t0, "runs": crit.n_runs, "alpha_cr_per_s": crit.alpha_cr_per_s,
             "bracket_per_s": list(crit.bracket_per_s), "reduced_alpha_cr_per_s": crit.reduced_alpha_cr_per_s}
 
