@@ -197,7 +197,6 @@ def validate_run_args(alpha, t_end_s, n_outputs, *, damping="global"):
     return alpha, t_end_s, int(n_outputs)
 
 
-
 def run_alphas(model, alphas, t_end_s, *, n_outputs=400):
     """Responses of an impulse model at several damping coefficients: in one batched pass
     when the model offers one (``model.run_many``, the full FE model's), else run by run.
@@ -222,6 +221,7 @@ def run_alphas(model, alphas, t_end_s, *, n_outputs=400):
     if run_many is not None and len(alphas) > 1:
         return run_many(alphas, t_end_s, n_outputs)
     return [model.run(alpha, t_end_s, n_outputs) for alpha in alphas]
+
 
 def _check_core(kind, history, summary, columns, keys):
     if not isinstance(history, pd.DataFrame):

@@ -197,8 +197,24 @@ def _lane_passes(lanes):
     return jit(namespace[f"trial_velocities_{lanes}"]), jit(namespace[f"commit_{lanes}"])
 
 
-def _lane_step_loop(lanes):
-    """The step loop for ``lanes`` runs (:func:`step_loop`)."""
+@functools.cache
+def step_loop(lanes):
+    """The compiled step loop that advances a group of ``lanes`` runs (4 or 8).
+
+    ``advance(t_stop, control, state, nodes, hexes, loads, clock, energy)`` steps every
+    lane whose status is OK until its time reaches ``t_stop`` (the last step not
+    shortened, as in :func:`ccedi.fea.solvers.explicit.run`); a lane that fails keeps its
+    status and element in ``clock``. One dispatcher (and one cache entry) per width.
+
+    Parameters
+    ----------
+    lanes : {4, 8}
+        Runs per group.
+
+    Returns
+    -------
+    numba dispatcher
+    """
     kernel = lanes_kernel(lanes)
     trial_velocities, commit = _lane_passes(lanes)
     L = lanes
@@ -342,27 +358,6 @@ def _lane_step_loop(lanes):
     return advance_lanes
 
 
-@functools.cache
-def step_loop(lanes):
-    """The compiled step loop that advances a group of ``lanes`` runs (4 or 8).
-
-    ``advance(t_stop, control, state, nodes, hexes, loads, clock, energy)`` steps every
-    lane whose status is OK until its time reaches ``t_stop`` (the last step not
-    shortened, as in :func:`ccedi.fea.solvers.explicit.run`); a lane that fails keeps its
-    status and element in ``clock``. One dispatcher (and one cache entry) per width.
-
-    Parameters
-    ----------
-    lanes : {4, 8}
-        Runs per group.
-
-    Returns
-    -------
-    numba dispatcher
-    """
-    return _lane_step_loop(lanes)
-
-
 def batch_refusal(models):
     """Why the models cannot advance in one batch, or None when they can.
 
@@ -420,10 +415,10 @@ def _group_size(n_runs, threads):
     return 4 if n_runs <= 4 * threads else 8
 
 
-def _run_group(models, starts, energy_0, *, plan, lanes, points, bar):
-    """Advance one group's runs (``models`` from ``starts``, with the initial energies
-    ``energy_0``; the lanes past them repeat the last) over every output time of ``plan``.
-    Returns, per run, ``(rows, x, v, clock values, energy_0, failure)``."""
+def _run_group(models, starts, *, plan, lanes, points, bar):
+    """Advance one group's runs (``models`` from ``starts``, their (x, v) with v zero on
+    the supports; the lanes past them repeat the last) over every output time of ``plan``.
+    Returns, per run, ``(rows, x, v, t, steps, dt_min, failure)``."""
     n_real = len(models)
     lane_models = list(models) + [models[-1]] * (lanes - n_real)
     lane_starts = list(starts) + [starts[-1]] * (lanes - n_real)
@@ -434,14 +429,12 @@ def _run_group(models, starts, energy_0, *, plan, lanes, points, bar):
     def lanes_of(arrays):
         return np.ascontiguousarray(np.stack(arrays, axis=-1))
 
-    free = np.ones(n)
-    free[first.fixed_nodes] = 0.0
     x = lanes_of([s[0] for s in lane_starts])
-    v = lanes_of([s[1] * free[:, None] for s in lane_starts])
+    v = lanes_of([s[1] for s in lane_starts])
     state = LaneState(x, v, *(np.zeros((n, 3, lanes)) for _ in range(5)))
     mass3 = np.repeat(first.mass[:, None], 3, axis=1)
     nodes = LaneNodes(first.mass, mass3, np.divide(1.0, mass3, out=np.zeros_like(mass3), where=mass3 > 0.0),
-                      np.flatnonzero(free == 0.0), np.zeros((n, 3)))
+                      np.unique(first.fixed_nodes).astype(np.int64), np.zeros((n, 3)))
     control = LaneControl(plan.dt_user, plan.tssfac, float(first.beta), np.array([m.alpha for m in lane_models]))
     group = first.hexahedra
     hexes = (group, full_stiffness(group), SolidMaterial(*first.solid_constants))
@@ -471,7 +464,7 @@ def _run_group(models, starts, energy_0, *, plan, lanes, points, bar):
         if all(f is not None for f in failure):
             break
     return [(rows[k], np.ascontiguousarray(x[:, :, k]), np.ascontiguousarray(v[:, :, k]), float(clock.t[k]),
-             int(clock.steps[k]), float(clock.dt_seen[k]), energy_0[k], failure[k]) for k in range(n_real)]
+             int(clock.steps[k]), float(clock.dt_seen[k]), failure[k]) for k in range(n_real)]
 
 
 def run_batch(models, t_end_s, *, n_outputs=400, x0=None, v0=None, tip_set="tip", reaction_set="root",
@@ -517,33 +510,32 @@ def run_batch(models, t_end_s, *, n_outputs=400, x0=None, v0=None, tip_set="tip"
     if reason is not None:
         raise InputError(f"these runs cannot be batched: {reason}")
     n_threads = thread_count(threads)
-    plans = [run_plan(m, t_end_s, n_outputs=n_outputs, dt_s=None, max_steps=max_steps) for m in models]
+    # one plan serves every run: it depends only on what batch_refusal made them share
+    plan = run_plan(models[0], t_end_s, n_outputs=n_outputs, dt_s=None, max_steps=max_steps)
     X = models[0].mesh.nodes
+    free = np.ones(len(X))
+    free[models[0].fixed_nodes] = 0.0
     starts = []
     for k in range(len(models)):
         xk = X.copy() if x0 is None or x0[k] is None else _initial_state(f"x0[{k}] (initial positions, m)", x0[k],
                                                                          X.shape)
         vk = np.zeros_like(X) if v0 is None or v0[k] is None else _initial_state(
             f"v0[{k}] (initial velocities, m/s)", v0[k], X.shape)
-        starts.append((xk, vk))
+        starts.append((xk, vk * free[:, None]))
     # initial energies here, not in the group threads: the hexahedron kernel they use is
     # numba-parallel, which numba's default (workqueue) threading layer runs from one thread at a time
-    free = np.ones(len(X))
-    free[models[0].fixed_nodes] = 0.0
     internal = _internal_forces(models[0], "numba")
-    energy_0 = [_initial_energy(m, x, v * free[:, None], internal) for m, (x, v) in zip(models, starts)]
+    energy_0 = [_initial_energy(m, x, v, internal) for m, (x, v) in zip(models, starts)]
     lanes = _group_size(len(models), n_threads)
     groups = [list(range(i, min(i + lanes, len(models)))) for i in range(0, len(models), lanes)]
     points = output_points(models[0].mesh, tip_set, reaction_set)
-    plan = plans[0]
     wall0 = _time.perf_counter()
     bar = progress_bar(total=len(groups) * plan.n_outputs, desc=f"{len(models)} runs, t_end {plan.t_end_s:g} s",
                        unit="output") if progress else None
     try:
         with ThreadPoolExecutor(max_workers=min(n_threads, len(groups))) as pool:
-            futures = [pool.submit(_run_group, [models[k] for k in g], [starts[k] for k in g],
-                                   [energy_0[k] for k in g], plan=plan, lanes=lanes, points=points, bar=bar)
-                       for g in groups]
+            futures = [pool.submit(_run_group, [models[k] for k in g], [starts[k] for k in g], plan=plan,
+                                   lanes=lanes, points=points, bar=bar) for g in groups]
             outcomes = [item for f in futures for item in f.result()]
     finally:
         if bar is not None:
@@ -551,15 +543,15 @@ def run_batch(models, t_end_s, *, n_outputs=400, x0=None, v0=None, tip_set="tip"
     wall = _time.perf_counter() - wall0
     results = []
     for k, (m, outcome) in enumerate(zip(models, outcomes)):
-        rows, x, v, t, steps, dt_min, energy_0, failure = outcome
+        rows, x, v, t, steps, dt_min, failure = outcome
         if failure is not None:
             status, info, t_fail, steps_fail, dt_seen = failure
             try:
                 check_status(m.mesh, status, info, t=t_fail, steps=steps_fail, dt_seen=dt_seen,
-                             dt_user=plans[k].dt_user)
+                             dt_user=plan.dt_user)
             except SolverError as error:
                 raise SolverError(f"run {k} of the batch (alpha = {m.alpha:g} 1/s): {error}") from None
-        history, summary = run_record(m, plans[k], rows, extra_columns=[], energy_0=energy_0, t_final=t,
+        history, summary = run_record(m, plan, rows, extra_columns=[], energy_0=energy_0[k], t_final=t,
                                       steps=steps, dt_min=dt_min, wall=wall, backend="numba", threads=n_threads)
         summary["batch_runs"] = len(models)
         results.append(RunResult(history=history, summary=summary, x=x, v=v, snapshots=[]))
