@@ -59,9 +59,9 @@ characteristic length ``Le = V / A_max`` (current volume over the largest face a
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sp
 
 from ccedi.errors import SolverError
+from ccedi.fea.elements.assembly import assemble
 from ccedi.fea.material import first_piola, strain_energy_density
 
 NATURAL = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
@@ -497,18 +497,15 @@ def tangent_stiffness(x, hexes, geometry, *, kappa, material):
     if np.any(J <= 0.0):
         raise SolverError(f"element {int(np.argmax(J <= 0.0))} inverted (J <= 0)")
     Fi = np.linalg.inv(F)
-    eye = np.eye(3)
+    # b_kj A_ijml b_bl with c_k = F^-T b_k: mu (b_k . b_b) d_im + c1 c_bi c_km + lam c_ki c_bm
+    c = g.b @ Fi                                                  # (e, 8, 3): c_k,i = b_kj Fi_ji
     c1 = (mat.mu - mat.lam * np.log(J))[:, None, None, None, None]
-    A = (mat.mu * np.einsum("im,jl->ijml", eye, eye)[None]
-         + c1 * np.einsum("eli,ejm->eijml", Fi, Fi)
-         + mat.lam * np.einsum("eji,elm->eijml", Fi, Fi))
-    Ke = np.einsum("ekj,eijml,ebl->ekibm", g.b, A, g.b) / g.volume[:, None, None, None, None]
+    Ke = (mat.mu * (g.b @ g.b.transpose(0, 2, 1)))[:, :, None, :, None] * np.eye(3)[None, None, :, None, :]
+    Ke += c1 * c.transpose(0, 2, 1)[:, None, :, :, None] * c[:, :, None, None, :]
+    Ke += mat.lam * c[:, :, :, None, None] * c[:, None, None, :, :]
+    Ke /= g.volume[:, None, None, None, None]
     Ke += hourglass_tangent(x[hexes], g, kappa, Finv=Fi)
-    dofs = (3 * hexes[:, :, None] + np.arange(3)[None, None, :]).reshape(len(hexes), 24)
-    rows = np.repeat(dofs, 24, axis=1).ravel()
-    cols = np.tile(dofs, (1, 24)).ravel()
-    n = 3 * len(x)
-    return sp.csr_matrix((Ke.reshape(len(hexes), -1).ravel(), (rows, cols)), shape=(n, n))
+    return assemble(Ke, hexes, len(x))
 
 
 def hourglass_tangent(x_e, geometry, kappa, *, Finv):
@@ -541,14 +538,16 @@ def hourglass_tangent(x_e, geometry, kappa, *, Finv):
     b, V, gamma = geometry.b, geometry.volume[:, None, None], geometry.gamma
     e = len(x_e)
     qt, Qt = hourglass_displacements(x_e, gamma, kappa, Finv=Finv)
-    A = np.einsum("eji,eaj->eai", Finv, Qt)
-    T = np.einsum("eji,ejn->ein", Finv, np.einsum("eai,eaj->eij", Qt, qt))
-    Fb = np.einsum("eji,elj->eli", Finv, b) / V                          # F^-T b_l / V0
-    c = gamma.swapaxes(1, 2) - np.einsum("elj,eaj->ela", b, qt) / V       # (e, l, a)
-    dqt = np.einsum("eim,ela->elmai", Finv, c)                            # (e, l, m, a, i)
-    dQt = np.einsum("eAB,elmB->elmA", kappa, dqt.reshape(e, 8, 3, 12)).reshape(dqt.shape)
-    dA = np.einsum("eji,elmaj->elmai", Finv, dQt) - np.einsum("eli,eam->elmai", Fb, A)
-    dS = np.einsum("elmai,eaj->elmij", dQt, qt) + np.einsum("eai,elmaj->elmij", Qt, dqt)
-    dT = np.einsum("epi,elmpj->elmij", Finv, dS) - np.einsum("eli,emj->elmij", Fb, T)
-    df = np.einsum("eak,elmai->elmki", gamma, dA) - np.einsum("elmij,ekj->elmki", dT, b) / V[:, :, :, None, None]
-    return df.transpose(0, 3, 4, 1, 2)
+    # batched matrix products over the element axis, (l, m) flattened to 24 rows
+    FiT = Finv.transpose(0, 2, 1)[:, None]
+    A = Qt @ Finv                                                         # A_a = F^-T Qt_a
+    T = FiT[:, 0] @ (Qt.transpose(0, 2, 1) @ qt)                          # F^-T S
+    Fb = b @ Finv / V                                                     # F^-T b_l / V0
+    c = gamma.swapaxes(1, 2) - b @ qt.transpose(0, 2, 1) / V              # (e, l, a)
+    dqt = np.einsum("eim,ela->elmai", Finv, c).reshape(e, 24, 4, 3)       # (e, lm, a, i)
+    dQt = (dqt.reshape(e, 24, 12) @ kappa.transpose(0, 2, 1)).reshape(e, 24, 4, 3)
+    dA = dQt @ Finv[:, None] - (Fb[:, :, None, None, :] * A.transpose(0, 2, 1)[:, None, :, :, None]).reshape(e, 24, 4, 3)
+    dS = dQt.transpose(0, 1, 3, 2) @ qt[:, None] + Qt.transpose(0, 2, 1)[:, None] @ dqt
+    dT = FiT @ dS - (Fb[:, :, None, :, None] * T[:, None, :, None, :]).reshape(e, 24, 3, 3)
+    df = gamma.transpose(0, 2, 1)[:, None] @ dA - (dT @ b.transpose(0, 2, 1)[:, None]).transpose(0, 1, 3, 2) / V[:, :, :, None]
+    return df.reshape(e, 8, 3, 8, 3).transpose(0, 3, 4, 1, 2)

@@ -124,8 +124,8 @@ def shape_derivatives(p):
 def _reference_jacobians(X, points):
     """dX/dxi (e, m, 3, 3), its determinant (e, m) and dN/dX (e, m, 10, 3) at ``points``."""
     dN = shape_derivatives(points)                            # (m, 10, 3)
-    Jm = np.einsum("eki,mkj->emij", X, dN)
-    det = np.linalg.det(Jm)
+    Jm = np.tensordot(X, dN, axes=([1], [1])).transpose(0, 2, 1, 3)   # sum_k X_ki dN_mkj
+    det = np.einsum("...i,...i->...", Jm[..., 0, :], np.cross(Jm[..., 1, :], Jm[..., 2, :]))   # triple product
     return det, dN, Jm
 
 

@@ -48,6 +48,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from ccedi.fea.elements.assembly import assemble
 from ccedi.fea.elements.fastmath import FASTMATH
 from ccedi.fea.elements.hex8 import BULK_VISCOSITY_C0, BULK_VISCOSITY_C1, element_time_step
 from ccedi.fea.material import strain_energy_density
@@ -493,7 +494,8 @@ def averaged_tangent(x, conn, grad, *, weight, average, mu, lam):
     cs = np.einsum("egji,egkj->egki", Fi, grad)               # spatial gradients F^-T grad0 N_k
     # grad_k A grad_h = mu [(grad_k . grad_h) d_im + c_km c_hi]
     w_mu = mu * weight
-    Ke = np.einsum("eg,egkj,eghj->ekh", w_mu, grad, grad)[:, :, None, :, None] * np.eye(3)[None, None, :, None, :]
+    Ke = ((w_mu[:, :, None, None] * grad) @ grad.transpose(0, 1, 3, 2)).sum(axis=1)[:, :, None, :, None] \
+        * np.eye(3)[None, None, :, None, :]
     Ke += np.einsum("eg,egkm,eghi->ekihm", w_mu, cs, cs, optimize=True)
     wJ = weight * J
     H = np.einsum("eg,egki,eglm->ekilm", wJ, cs, cs, optimize=True)
@@ -506,9 +508,7 @@ def averaged_tangent(x, conn, grad, *, weight, average, mu, lam):
     pbar = average.T @ (lam * lnJ / Jbar)
     Ke += pbar[:, None, None, None, None] * H
     dofs = (3 * conn[:, :, None] + np.arange(3)).reshape(ne, 3 * nn)
-    rows = np.repeat(dofs, 3 * nn, axis=1).ravel()
-    cols = np.tile(dofs, (1, 3 * nn)).ravel()
-    K = sp.csr_matrix((Ke.reshape(ne, -1).ravel(), (rows, cols)), shape=(n3, n3))
+    K = assemble(Ke, conn, len(x))
     volume_gradient = sp.csr_matrix((a.ravel(), (np.repeat(np.arange(ne), 3 * nn), dofs.ravel())), shape=(ne, n3))
     G = average @ volume_gradient
     return (K + G.T @ sp.diags(lam * (1.0 - lnJ) / (Jbar**2 * ref)) @ G).tocsr()

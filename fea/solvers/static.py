@@ -138,11 +138,14 @@ CORRECTION_TOLERANCE = 1e-10
 gradients (:func:`_newton_correction`): far below the Newton tolerance, so the iterations
 are those of full Newton."""
 
-PRECONDITIONED_ITERATIONS = 12
+PRECONDITIONED_ITERATIONS = {"superlu": 12, "pardiso": 0}
 """Conjugate-gradient iterations allowed with the previous factors before the tangent is
-factorised anew (0: a factorisation every Newton iteration, as direct full Newton). On
-SM-C's tip stiffness 12 took 41 s (10 factorisations), 6 took 51 s, 20 took 47 s and
-direct full Newton 77 s (17), the stiffness the same to 2e-15."""
+factorised anew (0: a factorisation every Newton iteration, as direct full Newton), per
+sparse solver. Worth it where a factorisation costs many solves: with SuperLU on SM-C's
+tip stiffness 12 took 41 s (10 factorisations), 6 took 51 s, 20 took 47 s and direct full
+Newton 77 s (17), the stiffness the same to 2e-15. PARDISO factorises SM-C's tangent in
+about 15 solves' time, and direct full Newton was 2.4 x faster than 12 iterations of reuse
+(8.3 s against 20.1 s, benchmarks/static_speed.py)."""
 
 
 def static_solve(model: Model, f_ext, *, n_increments=2, tol=1e-7, max_iter=30, linear=False):
@@ -276,12 +279,13 @@ def _newton_correction(K, r, factors):
     """``K^-1 r`` by conjugate gradients preconditioned with ``factors`` (to
     :data:`CORRECTION_TOLERANCE`, in at most :data:`PRECONDITIONED_ITERATIONS`), else
     directly with new factors of K; returns (the correction, the factors used)."""
-    if factors is not None and PRECONDITIONED_ITERATIONS > 0:
-        step, info = spla.cg(K, r, rtol=CORRECTION_TOLERANCE, atol=0.0, maxiter=PRECONDITIONED_ITERATIONS,
+    iterations = 0 if factors is None else PRECONDITIONED_ITERATIONS[factors.solver]
+    if iterations > 0:
+        step, info = spla.cg(K, r, rtol=CORRECTION_TOLERANCE, atol=0.0, maxiter=iterations,
                              M=factors.operator())
         if info == 0:
             return step, factors
-    factors = Factorization(K)
+    factors = Factorization(K) if factors is None else factors.refactorized(K)
     return factors.solve(r), factors
 
 

@@ -37,6 +37,30 @@ def test_a_factorisation_solves_the_tangent(tangent, solver):
     assert np.abs(factors.operator().matvec(b[:, 1]) - x[:, 1]).max() <= 1e-12 * scale
 
 
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_an_indefinite_tangent_is_solved(tangent, solver):
+    """A Newton iterate away from equilibrium can have an indefinite tangent: the tangent
+    shifted between its 3rd and 4th eigenvalues (three negative) is solved as by a dense
+    solve."""
+    low = np.linalg.eigvalsh(tangent.toarray())[:4]
+    shifted = (tangent - 0.5 * (low[2] + low[3]) * sp.eye(tangent.shape[0])).tocsc()
+    b = np.random.default_rng(2).standard_normal(tangent.shape[0])
+    ref = np.linalg.solve(shifted.toarray(), b)
+    assert np.abs(Factorization(shifted, solver=solver).solve(b) - ref).max() <= 1e-8 * np.abs(ref).max()
+
+
+@pytest.mark.skipif(linear.pypardiso is None, reason="pypardiso (MKL) is not installed here")
+def test_pardiso_and_superlu_give_the_same_tip_stiffness(monkeypatch):
+    """The nonlinear tip stiffness (whose Newton iterates pass through indefinite tangents)
+    is the same with either library, within the Newton tolerance."""
+    model = cantilever_model(elliptical_cantilever(0.1, 3, 12), RUBBER)
+    results = {}
+    for solver in ("pardiso", "superlu"):
+        monkeypatch.setattr(linear, "SOLVER", solver)
+        results[solver] = tip_stiffness(model, (1.0, 2.0))
+    assert results["pardiso"] == pytest.approx(results["superlu"], rel=1e-7)
+
+
 def test_an_unknown_solver_or_a_rectangular_matrix_is_refused(tangent):
     with pytest.raises(ValueError, match="solver = 'umfpack'"):
         Factorization(tangent, solver="umfpack")
@@ -61,9 +85,10 @@ def test_reused_factors_give_full_newtons_stiffness_with_fewer_factorisations(ma
             super().__init__(K, solver)
 
     monkeypatch.setattr(static, "Factorization", Counted)
+    monkeypatch.setattr(linear, "SOLVER", "superlu")        # the reuse is SuperLU's strategy
     reused = tip_stiffness(model, (0.2, 0.4))
     n_reused = len(made)
-    monkeypatch.setattr(static, "PRECONDITIONED_ITERATIONS", 0)
+    monkeypatch.setattr(static, "PRECONDITIONED_ITERATIONS", {"superlu": 0})
     made.clear()
     full = tip_stiffness(model, (0.2, 0.4))
     assert reused == pytest.approx(full, rel=1e-9)
@@ -75,3 +100,18 @@ def test_the_modal_solve_is_repeatable_to_the_bit():
     a = natural_frequencies(model, n_modes=4, return_modes=True)
     b = natural_frequencies(model, n_modes=4, return_modes=True)
     assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
+
+
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_refactorized_factors_solve_the_new_matrix(tangent, solver):
+    """Factors of a matrix with the same pattern and other values (PARDISO: on the kept
+    analysis) solve it as a dense solve; the factors handed over can no longer solve."""
+    first = Factorization(tangent, solver=solver)
+    changed = (tangent + 0.3 * sp.diags(tangent.diagonal())).tocsc()
+    b = np.random.default_rng(3).standard_normal(tangent.shape[0])
+    second = first.refactorized(changed)
+    ref = np.linalg.solve(changed.toarray(), b)
+    assert np.abs(second.solve(b) - ref).max() <= 1e-9 * np.abs(ref).max()
+    if solver == "pardiso":
+        with pytest.raises(RuntimeError, match="handed over"):
+            first.solve(b)
