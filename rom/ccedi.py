@@ -107,13 +107,20 @@ class CriticalAlpha:
     reduced_alpha_cr_per_s: float | None = None
 
 
+NARROW_WIDENINGS = 6
+"""Widenings by the bracket's own width tried around the reduced model's alpha_cr before the
+full model's search starts afresh from it (:func:`critical_alpha_narrowed`)."""
+
+
 def critical_alpha_narrowed(full, reduced, alpha_guess, *, t_end_s, rtol=0.01, noise_band=1e-6, n_outputs=400,
                             runs_per_round=8):
     """alpha_cr of ``full`` with its bracket set by ``reduced`` first: the reduced model's
     alpha_cr (to rtol / 10, cheap) centres one round of ``runs_per_round`` full runs,
-    spaced 0.95 rtol apart, so that one batched pass brackets alpha_cr to within rtol
-    when the reduced model is that close (further rounds widen or narrow as
-    :func:`critical_alpha` does when it is not).
+    spaced 0.95 rtol apart, so that one pass brackets alpha_cr to within rtol when the
+    reduced model is that close. When it is a little off, the end that does not bracket
+    moves out by the bracket's own width, one full run at a time (up to
+    :data:`NARROW_WIDENINGS`), which brackets to within rtol at once; when it is far off,
+    the search starts afresh from the reduced model's value as :func:`critical_alpha`.
 
     Parameters
     ----------
@@ -150,21 +157,25 @@ def critical_alpha_narrowed(full, reduced, alpha_guess, *, t_end_s, rtol=0.01, n
     first = critical_alpha(reduced, alpha_guess, t_end_s, rtol=rtol / 10.0, noise_band=noise_band,
                            n_outputs=n_outputs)
     half = 0.95 * rtol * max(runs_per_round - 1, 1) / 2.0
-    crit = critical_alpha(full, first.alpha_cr_per_s, t_end_s, rtol=rtol, bracket=(1.0 - half, 1.0 + half),
-                          noise_band=noise_band, n_outputs=n_outputs, runs_per_round=runs_per_round)
+    common = dict(rtol=rtol, noise_band=noise_band, n_outputs=n_outputs, runs_per_round=runs_per_round)
+    try:                               # the ROM a little off: widen by the bracket's own width
+        crit = critical_alpha(full, first.alpha_cr_per_s, t_end_s, bracket=(1.0 - half, 1.0 + half),
+                              widen=(1.0 + half) / (1.0 - half), max_expand=NARROW_WIDENINGS, **common)
+    except InputError:                 # far off: the ROM's value is only a first guess
+        crit = critical_alpha(full, first.alpha_cr_per_s, t_end_s, **common)
     return CriticalAlpha(crit.alpha_cr_per_s, crit.bracket_per_s, crit.n_runs, crit.runs,
                          reduced_alpha_cr_per_s=first.alpha_cr_per_s)
 
 
 def critical_alpha(model, alpha_guess, t_end_s, *, rtol=0.01, bracket=(0.8, 1.1), noise_band=1e-6, max_expand=6,
-                   n_outputs=400, runs_per_round=1):
+                   n_outputs=400, runs_per_round=1, widen=1.5):
     """Critical mass-proportional coefficient alpha_cr [1/s] by bisection on "the
     simulated tip response oscillates" (:func:`ccedi.rom.damping.oscillates`: after its
     largest excursion the response crosses its final value, 0 after an impulse, by more
     than ``noise_band`` x that excursion).
 
     The search starts from the bracket ``alpha_guess * bracket`` (a good guess is
-    2 omega_1, the critical value of mode 1 alone), widens it by 1.5x until the low end
+    2 omega_1, the critical value of mode 1 alone), widens it by ``widen`` until the low end
     oscillates and the high end does not, then halves it until its width is below
     ``rtol`` x its upper end. The simulation must run long enough for a nearly critical
     response to cross zero (about 12 / omega_1 after the load ends).
@@ -189,6 +200,8 @@ def critical_alpha(model, alpha_guess, t_end_s, *, rtol=0.01, bracket=(0.8, 1.1)
         Output times of every run.
     runs_per_round : int, optional
         Runs evaluated together per round, >= 1.
+    widen : float, optional
+        Factor by which an end that does not bracket moves outwards, > 1.
 
     Returns
     -------
@@ -209,6 +222,8 @@ def critical_alpha(model, alpha_guess, t_end_s, *, rtol=0.01, bracket=(0.8, 1.1)
         raise InputError(f"rtol must be in (0, 1), got {rtol!r}")
     if not (isinstance(runs_per_round, (int, np.integer)) and runs_per_round >= 1):
         raise InputError(f"runs_per_round must be an integer >= 1, got {runs_per_round!r}")
+    if not (np.isfinite(widen) and widen > 1.0):
+        raise InputError(f"widen must be a factor > 1, got {widen!r}")
     runs = []
     seen = {}
 
@@ -231,13 +246,13 @@ def critical_alpha(model, alpha_guess, t_end_s, *, rtol=0.01, bracket=(0.8, 1.1)
     for _ in range(max_expand):
         if oscillating(lo)[0]:
             break
-        hi, lo = lo, lo / 1.5
+        hi, lo = lo, lo / widen
     else:
         raise InputError(f"no oscillating response down to alpha = {lo:.4g} 1/s: check the model and load")
     for _ in range(max_expand):
         if not oscillating(hi)[0]:
             break
-        lo, hi = hi, hi * 1.5
+        lo, hi = hi, hi * widen
     else:
         raise InputError(f"the response still oscillates at alpha = {hi:.4g} 1/s: run longer or widen the bracket")
     lo, hi = narrowed(lo, hi)

@@ -74,12 +74,12 @@ def finger_omega1(length_in=None, *, material=RUBBER, semi_axes_m=SEMI_AXES, mes
 
 
 def finger_alpha_cr(length_in=None, *, rtol=0.01, material=RUBBER, semi_axes_m=SEMI_AXES, model=None, n_outputs=400,
-                    mesh=None, runs_per_round=4):
+                    mesh=None, runs_per_round=2):
     """alpha_cr of the finger (SM-A of ``length_in``, or ``mesh``), starting from 2 omega_1.
 
     A model that runs several alphas in one batched pass (the full FE model,
     ``run_many``) is searched from the bracket its modal ROM gives
-    (:func:`ccedi.rom.ccedi.critical_alpha_narrowed`: one pass of ``runs_per_round`` runs
+    (:func:`ccedi.rom.ccedi.critical_alpha_narrowed`: one round of ``runs_per_round`` runs
     usually settles it); any other by bisection (:func:`ccedi.rom.ccedi.critical_alpha`).
 
     Parameters
@@ -101,10 +101,12 @@ def finger_alpha_cr(length_in=None, *, rtol=0.01, material=RUBBER, semi_axes_m=S
     mesh : ccedi.fea.mesh.Mesh, optional
         Any clamped finger mesh (node sets ``root`` and ``tip``) instead of SM-A.
     runs_per_round : int, optional
-        Full runs per batched round (default 4: one group of lanes, bracketing alpha_cr
-        to rtol when the ROM is within 1.4 % of the full model, whatever the machine's
-        load; further rounds follow when it is not); 1 for bisection on the full model
-        alone.
+        Full runs per round (default 2, 0.95 rtol apart around the ROM's alpha_cr: they
+        bracket alpha_cr to rtol when the ROM is within 0.47 % of the full model, as on
+        the paper's fingers, and each further run moves the missed end out by the
+        bracket's width; fewer than :data:`ccedi.fea.solvers.batch.BATCH_MIN_RUNS` runs go
+        one by one on every core, more in one batched pass); 1 for bisection on the full
+        model alone.
 
     Returns
     -------

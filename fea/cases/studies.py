@@ -10,7 +10,7 @@ from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import SEMI_AXES, sm_a, sm_b
 from ccedi.fea.mesh.gmsh_fingers import detailed_model, sm_c
 from ccedi.fea.model import cantilever_model, tip_pulse
-from ccedi.fea.solvers.batch import batch_refusal, run_batch
+from ccedi.fea.solvers.batch import BATCH_MIN_RUNS, batch_refusal, run_batch
 from ccedi.fea.solvers.explicit import TSSFAC, critical_time_step, run
 from ccedi.fea.solvers.modal import natural_frequencies
 from ccedi.fea.solvers.static import tip_stiffness
@@ -294,7 +294,9 @@ class FullImpulseModel:
     def run_many(self, alphas, t_end_s, n_outputs=400, *, progress=False):
         """Responses at several alphas, advanced together in one batched pass
         (:func:`ccedi.fea.solvers.batch.run_batch`; each the same as :meth:`run`), or run
-        by run when the models cannot be batched (:func:`ccedi.fea.solvers.batch.batch_refusal`).
+        by run when the models cannot be batched (:func:`ccedi.fea.solvers.batch.batch_refusal`)
+        or are fewer than :data:`ccedi.fea.solvers.batch.BATCH_MIN_RUNS` (one by one on every
+        core is then faster).
 
         Parameters
         ----------
@@ -320,7 +322,7 @@ class FullImpulseModel:
         """
         checked = [validate_run_args(alpha, t_end_s, n_outputs) for alpha in alphas]
         models = [self.model_factory(alpha) for alpha, _, _ in checked]
-        if batch_refusal(models) is not None:
+        if len(models) < BATCH_MIN_RUNS or batch_refusal(models) is not None:
             return [self.run(alpha, t_end_s, n_outputs) for alpha in alphas]
         _, t_end_s, n_outputs = checked[0]
         results = run_batch(models, t_end_s, n_outputs=n_outputs, progress=progress)
@@ -383,8 +385,9 @@ def _impulse_rows(alpha, res):
 def impulse_study(alphas=(70.0, 120.0, 160.0, 180.0, 200.0), *, scheduler="serial", t_end_s=0.2, n_outputs=400,
                   **finger):
     """Fig. 7 analogue: tip responses for several alpha [1/s] of
-    :func:`finger_impulse_model`: on this machine (``serial`` or ``local`` scheduler) in one
-    batched pass on its free cores (:meth:`FullImpulseModel.run_many`), else one run per
+    :func:`finger_impulse_model`: on this machine (``serial`` or ``local`` scheduler) through
+    :meth:`FullImpulseModel.run_many` (one batched pass on its free cores from four alphas
+    on, fewer one by one), else one run per
     alpha mapped through :func:`ccedi.distributed.map_runs` (a cluster's address). Returns (history, summaries): a long
     DataFrame with columns alpha_per_s, time_s, tip_uy_m, max_von_mises_Pa, reaction_y_N and
     a list of run summaries.

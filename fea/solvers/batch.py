@@ -358,6 +358,13 @@ def step_loop(lanes):
     return advance_lanes
 
 
+BATCH_MIN_RUNS = 4
+"""Fewest runs worth a batch. A group of 4 lanes costs what 4 runs cost, whether they are
+filled or not, on one core (70 ns per element and run in the kernel against 112 ns for the
+single-run kernel): fewer runs go faster one by one, each on every core (SM-A, 0.2 s: a
+single run on 2 threads 3.8 s, a group of 4 lanes on one 12.2 s; benchmarks/batch_speed.py)."""
+
+
 def batch_refusal(models):
     """Why the models cannot advance in one batch, or None when they can.
 

@@ -284,7 +284,7 @@ def _cmd_table1(args):
         check_section_fits(cfg, args.length_in, "--length-in")
     stiffness = not args.no_stiffness and cfg["study"]["table1_stiffness"]
     detailed = not args.no_detailed_model and cfg["study"]["detailed_model"]
-    print("table1: SM-A, SM-B and SM-C" + (" with their tip stiffness (nonlinear static solves, about 2.5 min here)"
+    print("table1: SM-A, SM-B and SM-C" + (" with their tip stiffness (nonlinear static solves, about 25 s here)"
                                            if stiffness else "")
           + ("" if not detailed else ", and the DM " + ("with its stiffness and first frequency (about "
                                                         "30 CPU-minutes more)" if args.detailed_model_solves
@@ -441,8 +441,9 @@ def add_parsers(sub):
                         "detailed_model = false in --config)")
     t.add_argument("--detailed-model-solves", action="store_true",
                    help="also solve the DM's tip stiffness and first frequency (nonlinear and modal solves at "
-                        "2.8 mm: about 30 CPU-minutes; without it the DM row has its nodes, elements and time step; "
-                        "ccedi table1 then takes about 2.5 min here, most of it SM-B's and SM-C's stiffness solves)")
+                        "2.8 mm: about 30 CPU-minutes, measured with SuperLU; without it the DM row has its nodes, elements "
+                        "and time step; ccedi table1 then takes about 25 s here, most of it SM-B's and SM-C's "
+                        "stiffness solves)")
     add_config_argument(t, IMPULSE_FINGER_KEYS + ("study.table1_stiffness", "study.detailed_model"))
     t.set_defaults(func=_cmd_table1)
     i = add_command(sub, "impulse", help="tip impulse response of the SM-A finger for several alpha "

@@ -11,14 +11,15 @@ from ccedi.fea.cases.studies import _impulse_run, impulse_study
 
 @pytest.mark.slow
 def test_alpha_sweep_local_cluster_equals_serial():
-    """Single runs on two Dask workers give, bit for bit, the sweep's one batched pass."""
-    alphas = (70.0, 180.0, 400.0)
+    """Single runs on two Dask workers give, bit for bit, the sweep's one batched pass (four
+    runs: fewer go one by one)."""
+    alphas = (70.0, 180.0, 250.0, 400.0)
     serial, summaries = impulse_study(alphas=alphas, scheduler="serial", length_in=3.0, t_end_s=0.02, n_outputs=40)
     runs = map_runs(partial(_impulse_run, finger={"length_in": 3.0}, t_end_s=0.02, n_outputs=40), alphas,
                     scheduler="local")
     local = pd.concat([h for h, _ in runs], ignore_index=True)
-    assert len(summaries) == 3 and summaries[0]["batch_runs"] == 3
-    assert list(local.alpha_per_s.unique()) == [70.0, 180.0, 400.0]
+    assert len(summaries) == 4 and summaries[0]["batch_runs"] == 4
+    assert list(local.alpha_per_s.unique()) == list(alphas)
     pd.testing.assert_frame_equal(local, serial, check_exact=True)
 
 

@@ -109,6 +109,34 @@ def test_reduced_model_sets_the_bracket_of_one_batched_round():
     assert full.batches == [8] and crit.n_runs == 8
 
 
+@pytest.mark.parametrize("off", [1.02, 0.98])
+def test_a_reduced_model_a_little_off_costs_a_run_or_two_more(off):
+    """Two full runs 0.95 rtol apart around a reduced model 2 % off miss alpha_cr; the end
+    that does not bracket moves out by the bracket's width, one run at a time, and the
+    bracket is within rtol with far fewer runs than bisection."""
+    full, reduced = BatchedSDOF(OMEGA), SDOF(off * OMEGA)
+    crit = critical_alpha_narrowed(full, reduced, 80.0, rtol=0.01, runs_per_round=2, **RUN)
+    truth = critical_alpha(SDOF(), 100.0, rtol=0.001, **RUN).alpha_cr_per_s
+    lo, hi = crit.bracket_per_s
+    assert lo <= truth <= hi and hi - lo <= 0.01 * hi
+    assert full.batches[0] == 2 and 3 <= crit.n_runs <= 5, crit.runs
+
+
+def test_a_reduced_model_far_off_only_starts_the_search():
+    """A reduced model 40 % off: the search starts afresh from its value and still finds
+    the full model's alpha_cr to rtol."""
+    full, reduced = BatchedSDOF(OMEGA), SDOF(1.4 * OMEGA)
+    crit = critical_alpha_narrowed(full, reduced, 80.0, rtol=0.01, runs_per_round=2, **RUN)
+    truth = critical_alpha(SDOF(), 100.0, rtol=0.001, **RUN).alpha_cr_per_s
+    lo, hi = crit.bracket_per_s
+    assert lo <= truth <= hi and hi - lo <= 0.01 * hi
+
+
+def test_widen_must_be_a_factor_above_one():
+    with pytest.raises(InputError, match="widen must be a factor > 1, got 1.0"):
+        critical_alpha(SDOF(), 100.0, widen=1.0, **RUN)
+
+
 def test_runs_per_round_must_be_a_positive_integer():
     with pytest.raises(InputError, match="runs_per_round must be an integer >= 1, got 0"):
         critical_alpha(SDOF(), 100.0, runs_per_round=0, **RUN)
