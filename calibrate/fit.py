@@ -10,7 +10,7 @@ and residual sum of squares RSS [m^2, or N^2 for a contact record]::
 Parameter uncertainty: the standard error from the Gauss-Newton covariance
 s^2 (J^T J)^-1, s^2 = RSS / (n - k), taken through the log/linear parameter map.
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -66,6 +66,11 @@ class Fit:
     correlation : dict
         {(p, q): correlation coefficient} of every pair of parameters p before q, from
         the same covariance [-].
+    unique_share : dict
+        Per parameter, the share of its signature (its column of the Jacobian of the
+        training residual) that the other parameters cannot mimic, ``1 - R^2`` of that
+        column regressed on the others [-]: 1 when no combination of them reproduces it,
+        0 when one does exactly (:func:`unique_shares`).
     """
 
     effects: tuple
@@ -78,6 +83,7 @@ class Fit:
     nrmse: float
     max_error_m: float
     correlation: dict
+    unique_share: dict = field(default_factory=dict)
 
     @property
     def n_parameters(self):
@@ -85,7 +91,7 @@ class Fit:
         return len(self.values)
 
 
-def fit(model, effects, *, start=None, extra_starts=()):
+def fit(model, effects, *, start=None, extra_starts=(), parent=None):
     """Fit the baseline plus ``effects`` to the training part of the record.
 
     Bounded least squares in the parameters' optimiser variables (log or scaled,
@@ -107,6 +113,12 @@ def fit(model, effects, *, start=None, extra_starts=()):
     extra_starts : iterable of dict, optional
         Further starting values tried (each merged over the base start); the best fit
         (lowest cost) is kept. Default none.
+    parent : Fit, optional
+        The fit this one extends (its effects a subset of ``effects``). When the starts
+        above end worse than it on the training samples (a local minimum, a stalled
+        optimiser), the fit restarts from it, the added effects where they vanish
+        (:meth:`ccedi.calibrate.effects.Parameter.absent_z`): a nested fit does not end
+        worse than its parent (beyond what an effect's bound leaves of it). Default None.
 
     Returns
     -------
@@ -130,14 +142,18 @@ def fit(model, effects, *, start=None, extra_starts=()):
     jac, fun = "2-point", residual
     if all(p.step is not None for p in params):
         jac, fun = _absolute_step_jacobian(residual, np.array([p.step for p in params]), lo, hi)
-    best = None
+    def solved(z0):
+        z0 = np.clip(z0, lo + 1e-9 * (hi - lo), hi - 1e-9 * (hi - lo))
+        return least_squares(fun, z0, jac=jac, bounds=(lo, hi), x_scale=1.0, diff_step=1e-4,
+                             max_nfev=60 * len(params), ftol=tol, xtol=tol)
+
     base = {p.name: x0 for p, x0 in spec} | (start or {})
-    for guess in [base] + [base | s for s in extra_starts]:
-        z0 = np.clip([p.to_z(guess[p.name]) for p in params], lo + 1e-9 * (hi - lo), hi - 1e-9 * (hi - lo))
-        res = least_squares(fun, z0, jac=jac, bounds=(lo, hi), x_scale=1.0, diff_step=1e-4,
-                            max_nfev=60 * len(params), ftol=tol, xtol=tol)
-        if best is None or res.cost < best.cost:
-            best = res
+    best = min((solved([p.to_z(guess[p.name]) for p in params]) for guess in [base] + [base | s for s in extra_starts]),
+               key=lambda res: res.cost)
+    if parent is not None and best.cost > 0.5 * float(np.sum((parent.prediction - y)[train] ** 2)):
+        z_parent = [p.to_z(parent.values[p.name]) if p.name in parent.values
+                    else (p.absent_z() if p.absent is not None else p.to_z(base[p.name])) for p in params]
+        best = min(best, solved(z_parent), key=lambda res: res.cost)
     return _scored(model, effects, params, best, train)
 
 
@@ -186,7 +202,41 @@ def _scored(model, effects, params, res, train):
     return Fit(effects=tuple(effects), values=v, stderr=stderr, prediction=pred,
                bic=float(n * np.log(rss / n) + k * np.log(n)),
                holdout_rms_m=float(np.sqrt(np.mean(err[~train] ** 2))), rms_m=rms,
-               nrmse=rms / float(np.ptp(y)), max_error_m=float(np.max(np.abs(err))), correlation=pairs)
+               nrmse=rms / float(np.ptp(y)), max_error_m=float(np.max(np.abs(err))), correlation=pairs,
+               unique_share=dict(zip((p.name for p in params), unique_shares(res.jac))))
+
+
+def unique_shares(jacobian):
+    """The share of each column of a Jacobian that the other columns cannot reproduce.
+
+    ``1 - R^2`` of column i regressed (least squares, no intercept) on the others:
+    ``|(I - P_others) J_i|^2 / |J_i|^2``, with ``P_others`` the projection on their span.
+    Scale-free (a column's units and the optimiser's variables do not matter).
+
+    Parameters
+    ----------
+    jacobian : numpy.ndarray
+        Sensitivities of the residual, shape (samples, parameters).
+
+    Returns
+    -------
+    list of float
+        Per column, in [0, 1]; 1 for a single column, 0 for a zero column.
+    """
+    J = np.asarray(jacobian, dtype=float)
+    shares = []
+    for i in range(J.shape[1]):
+        col, others = J[:, i], np.delete(J, i, axis=1)
+        norm = float(col @ col)
+        if norm == 0.0:
+            shares.append(0.0)
+            continue
+        if others.shape[1] == 0:
+            shares.append(1.0)
+            continue
+        left = col - others @ np.linalg.lstsq(others, col, rcond=None)[0]
+        shares.append(float(np.clip(left @ left / norm, 0.0, 1.0)))
+    return shares
 
 
 def fit_baseline(model):

@@ -79,6 +79,9 @@ AMBIGUITY_BIC = 6.0
 starts at 6 on Kass & Raftery's scale)."""
 AMBIGUITY_CORRELATION = 0.95
 """|correlation| of two effects' parameters fitted together beyond which they are ambiguous."""
+MIMIC_CORRELATION = 0.8
+"""|correlation| of a candidate's parameter with another of the same fit beyond which the
+report names that one as mimicking it (the candidates' identifiability)."""
 AMBIGUITY_JOINT_BIC = 30.0
 """The joint fit of the best two is made when the runner-up's BIC is within this of the best."""
 UNEXPLAINED_EXCESS = 0.1
@@ -270,7 +273,7 @@ def _ambiguity(model, current, best, runner, tried, sigma):
         return None
     corr = None
     if delta >= AMBIGUITY_BIC:
-        joint = fit(model, current.effects + (best, runner), start=fa.values | fb.values)
+        joint = fit(model, current.effects + (best, runner), start=fa.values | fb.values, parent=fa)
         pa = next(p for p in fa.values if p not in current.values)
         pb = next(p for p in fb.values if p not in current.values)
         corr = _correlation(joint, pa, pb)
@@ -423,7 +426,8 @@ def calibrate(exp: Experiment, *, candidates=None, progress=None, fea_correction
                 continue
             say(f"round {len(rounds) + 1}: {'+'.join(current.effects + (name,))}")
             start, extra = model.candidate_starts(name, current, evidence)
-            tried[name] = fit(model, current.effects + (name,), start=current.values | start, extra_starts=extra)
+            tried[name] = fit(model, current.effects + (name,), start=current.values | start, extra_starts=extra,
+                              parent=current)
         qualified = {k: f for k, f in tried.items() if f.holdout_rms_m < current.holdout_rms_m
                      and f.bic <= current.bic - BIC_MARGIN and excess_explained(current, f, sigma) >= EXPLAINED_FRACTION}
         ranked = sorted(qualified, key=lambda k: qualified[k].bic)
@@ -498,7 +502,9 @@ def summary(cal: Calibration):
         residual above the noise, with their parameters, NRMSE and RMS over the noise
         std), ``unexplained_residual`` (bool) and ``sparse_term`` (None, or the
         best sparse force term on the residual, :meth:`ccedi.calibrate.sparse.SparseTerm.summary`),
-        ``damping_kind`` (:func:`damping_kind_support`; None for an impulse record).
+        ``damping_kind`` (:func:`damping_kind_support`; None for an impulse record),
+        ``rounds`` (every round's candidates with their fitted parameters and scores,
+        accepted or not, and their identifiability, :func:`candidates_summary`).
     """
     found = []
     fin = cal.final
@@ -538,8 +544,40 @@ def summary(cal: Calibration):
                 "nrmse": cal.chain_baseline.nrmse, "params": cal.chain_baseline.values},
             "fea_check": cal.fea_check,
             "damping_kind": cal.damping_kind,
+            "rounds": [{"effects_before": list(r.start.effects), "added": r.added, "reason": r.reason,
+                        "candidates": candidates_summary(r)} for r in cal.rounds if r.candidates],
             "unexplained_residual": cal.unexplained_residual,
             "sparse_term": cal.unexplained.summary() if cal.unexplained is not None else None}
+
+
+def candidates_summary(round_: Round):
+    """Every candidate a round tried, accepted or not: its added parameters as fitted (with
+    standard errors), its scores against the round's start, and how identifiable each added
+    parameter is: the share of its signature the other parameters cannot mimic
+    (:attr:`ccedi.calibrate.fit.Fit.unique_share`) and the parameters it is correlated with
+    beyond :data:`MIMIC_CORRELATION`.
+
+    Parameters
+    ----------
+    round_ : Round
+        A round of :func:`calibrate`.
+
+    Returns
+    -------
+    dict
+        {effect: {"params", "stderr", "delta_bic", "holdout_rms_m", "nrmse",
+        "unique_share", "mimicked_by"}}, best BIC first.
+    """
+    out = {}
+    for name, f in sorted(round_.candidates.items(), key=lambda kv: kv[1].bic):
+        new = [p for p in f.values if p not in round_.start.values]
+        out[name] = {"params": {p: f.values[p] for p in new}, "stderr": {p: f.stderr[p] for p in new},
+                     "delta_bic": f.bic - round_.start.bic, "holdout_rms_m": f.holdout_rms_m, "nrmse": f.nrmse,
+                     "unique_share": {p: f.unique_share.get(p) for p in new},
+                     "mimicked_by": {p: sorted(((q, _correlation(f, p, q)) for q in f.values if q != p
+                                                and abs(_correlation(f, p, q)) >= MIMIC_CORRELATION),
+                                               key=lambda qc: -abs(qc[1])) for p in new}}
+    return out
 
 
 def _ambiguous_summary(amb):

@@ -73,6 +73,25 @@ def _adequacy_rows(a):
             f"| declared first periods covered [-] | {a['periods_covered']:.3g} (at least {a['min_periods']:g}) |"]
 
 
+def _candidate_lines(rounds, unit):
+    """Every round's candidates, accepted or not: fitted parameters, scores and how much of
+    each added parameter's signature the others cannot mimic."""
+    lines = []
+    for k, r in enumerate(rounds, start=1):
+        before = " + ".join(["baseline"] + r["effects_before"])
+        lines += [f"## Candidates of round {k} (on {before}; added: {r['added'] or 'none'})", "",
+                  f"| candidate | fitted | delta BIC | held-out RMS [{unit}] | NRMSE | share not mimicked [-] "
+                  "| mimicked by (correlation) |", "|---|---|---|---|---|---|---|"]
+        for name, c in r["candidates"].items():
+            fitted = ", ".join(f"{p} = {v:.4g} +- {c['stderr'][p]:.2g}" for p, v in c["params"].items())
+            shares = ", ".join(f"{c['unique_share'][p]:.2f}" for p in c["params"])
+            mimics = "; ".join(f"{q} ({corr:+.2f})" for p in c["params"] for q, corr in c["mimicked_by"][p]) or "-"
+            lines.append(f"| {name} | {fitted} | {c['delta_bic']:+.1f} | {c['holdout_rms_m']:.4g} | "
+                         f"{c['nrmse']:.4%} | {shares} | {mimics} |")
+        lines.append("")
+    return lines
+
+
 def _markdown(summary):
     b = summary["baseline"]
     a = summary["adequacy"]
@@ -108,6 +127,7 @@ def _markdown(summary):
                   for k, c in e["candidates"].items()]
         lines.append("")
     lines += [f"Stop: {summary['stop_reason']}.", ""]
+    lines += _candidate_lines(summary.get("rounds", []), unit)
     f = summary.get("fea_check")
     if f:
         lines += [f"The chain carried the smooth part of its discrepancy from one full FEA run at the baseline "
