@@ -25,7 +25,12 @@ models' common methods (``parameters``, ``predict``, ``baseline_starts``, ``asse
 2. Residual analysis (:mod:`ccedi.calibrate.residual`): signatures and suggested effects.
 3. Every catalogued effect not yet in the model is refitted together with it, from the
    current values and the model's starting values for it (``candidate_starts``: e.g. a
-   contact record's timing offset from its contact start and end errors).
+   contact record's timing offset from its contact start and end errors); when those
+   starts end worse than the current model, the fit restarts from the current model with
+   the effect where it vanishes (``parent`` of :func:`ccedi.calibrate.fit.fit`), so that a
+   candidate never scores worse than the model it extends for want of a start. Every
+   candidate is reported with its fitted parameters, scores and how identifiable its
+   parameters are (:func:`candidates_summary`), accepted or not.
 4. Selection (sigma below: the noise std and the base model's own error,
    ``model.model_error``, in quadrature; the latter is zero for the impulse model, and the
    contact chain's remaining discrepancy from the full FEA for a contact record): a candidate
