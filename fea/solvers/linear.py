@@ -27,6 +27,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from ccedi.errors import SolverError
+
 
 def _mkl_runtime():
     """Path of MKL's runtime library in this environment's lib folder, or None. pypardiso
@@ -46,6 +48,9 @@ except ImportError:                    # pragma: no cover - depends on the insta
 
 SOLVER_ENV = "CCEDI_SPARSE_SOLVER"
 """Environment variable that forces a solver: ``superlu`` or ``pardiso``."""
+
+SINGULAR = "the tangent stiffness is singular: a rigid-body motion is free (check the supports) or the finger buckles"
+"""What a factorisation of a singular matrix raises (:class:`ccedi.errors.SolverError`)."""
 
 SOLVERS = ("pardiso", "superlu")
 """The solvers known, the preferred first."""
@@ -77,6 +82,8 @@ class Factorization:
     ------
     ValueError
         ``K`` not square, or an unknown solver.
+    SolverError
+        ``K`` singular (:data:`SINGULAR`).
     """
 
     def __init__(self, K, solver=None):
@@ -90,11 +97,26 @@ class Factorization:
         if solver == "pardiso":
             self._upper = sp.triu(K, format="csr")
             self._pardiso = pypardiso.PyPardisoSolver(mtype=-2)
-            self._pardiso.factorize(self._upper)
             self._own_pardiso()
+            try:
+                self._pardiso.factorize(self._upper)
+            except ValueError as err:                    # an empty row: "Matrix A is singular"
+                raise SolverError(f"{SINGULAR} (PARDISO: {err})") from None
+            self._check_pivots()
         else:
-            self._lu = spla.splu(sp.csc_matrix(K), permc_spec="COLAMD", diag_pivot_thresh=0.0,
-                                 options={"SymmetricMode": True})
+            try:
+                self._lu = spla.splu(sp.csc_matrix(K), permc_spec="COLAMD", diag_pivot_thresh=0.0,
+                                     options={"SymmetricMode": True})
+            except RuntimeError as err:                  # "Factor is exactly singular"
+                raise SolverError(f"{SINGULAR} (SuperLU: {err})") from None
+
+    def _check_pivots(self):
+        """PARDISO replaces a pivot too small to divide by (a singular matrix) by a tiny
+        one and solves on: its solution is then meaningless, so perturbed pivots fail as
+        SuperLU's exactly singular factor does."""
+        perturbed = int(self._pardiso.iparm[13])
+        if perturbed:
+            raise SolverError(f"{SINGULAR} (PARDISO: {perturbed} pivot(s) perturbed)")
 
     def _own_pardiso(self):
         """MKL keeps a handle's memory until told: it is released when this object goes."""
@@ -116,6 +138,11 @@ class Factorization:
         Returns
         -------
         Factorization
+
+        Raises
+        ------
+        SolverError
+            ``K`` singular (:data:`SINGULAR`).
         """
         upper = sp.triu(K, format="csr") if self.solver == "pardiso" else None
         if (upper is None or self._pardiso is None or upper.shape != self._upper.shape
@@ -131,6 +158,7 @@ class Factorization:
                                      else upper.copy())
         new._pardiso.set_phase(22)                     # numerical factorisation on the kept analysis
         new._pardiso._call_pardiso(upper, np.zeros((upper.shape[0], 1)))
+        new._check_pivots()
         return new
 
     def solve(self, b):

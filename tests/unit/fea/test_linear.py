@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
+from ccedi.errors import SolverError
 from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import elliptical_cantilever
 from ccedi.fea.mesh.tet_mesh import box_cantilever, quadratic_tets, split_hexes
@@ -59,6 +60,21 @@ def test_pardiso_and_superlu_give_the_same_tip_stiffness(monkeypatch):
         monkeypatch.setattr(linear, "SOLVER", solver)
         results[solver] = tip_stiffness(model, (1.0, 2.0))
     assert results["pardiso"] == pytest.approx(results["superlu"], rel=1e-7)
+
+
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_a_singular_tangent_is_an_error_not_a_huge_solution(tangent, solver):
+    """A tangent with a free rigid-body motion (a DOF decoupled with zero stiffness): SuperLU
+    finds the factor singular, PARDISO perturbs the pivot and would solve on; both raise
+    the same SolverError, on a first factorisation and on a refactorisation."""
+    K = tangent.tolil()
+    K[:, 0] = 0.0
+    K[0, :] = 0.0
+    K = K.tocsc()
+    with pytest.raises(SolverError, match="singular.*check the supports"):
+        Factorization(K, solver=solver)
+    with pytest.raises(SolverError, match="singular"):
+        Factorization(tangent, solver=solver).refactorized(K)
 
 
 def test_an_unknown_solver_or_a_rectangular_matrix_is_refused(tangent):
