@@ -38,8 +38,8 @@ def _mkl_runtime():
     return found[0] if found else None
 
 
-if "PYPARDISO_MKL_RT" not in os.environ and _mkl_runtime() is not None:
-    os.environ["PYPARDISO_MKL_RT"] = _mkl_runtime()
+if "PYPARDISO_MKL_RT" not in os.environ and (_found := _mkl_runtime()) is not None:
+    os.environ["PYPARDISO_MKL_RT"] = _found
 
 try:                                   # optional: PARDISO when installed, else SuperLU
     import pypardiso
