@@ -35,6 +35,7 @@ from ccedi.fea.material import NeoHookean
 from ccedi.rom.contact_rom import DEFAULT_SEGMENTS, reduce_contact_model
 from ccedi.rom.sensor import DEFAULT_DAMPING_RATIO, DEFAULT_NATURAL_FREQUENCY_HZ, Transducer
 
+from .discrepancy import CHAIN_DISCREPANCY
 from .effects import CONTACT_CATALOGUE, ContactScales, Parameter
 from .experiment import Experiment
 from .fit import e_factor_bound
@@ -290,6 +291,29 @@ class DrumContactModel:
         if self.correction is None:
             return MODEL_ERROR_FRACTION * self.scales.peak_force_N
         return self._rough_error
+
+    def discrepancy_covariance(self, reading):
+        """Covariance of the chain's own error against the full FEA at the record's samples
+        [N^2]: :data:`ccedi.calibrate.discrepancy.CHAIN_DISCREPANCY` on the contact
+        envelope of ``reading``; once the chain carries the FEA's smooth correction
+        (:meth:`correct_at`), the same kernel scaled to the RMS of the rough rest measured
+        on this record's set-up.
+
+        Parameters
+        ----------
+        reading : numpy.ndarray
+            The model's reading at the record's samples [N].
+
+        Returns
+        -------
+        numpy.ndarray
+            Shape (n, n).
+        """
+        t = self.exp.time_s
+        cov = CHAIN_DISCREPANCY.covariance(t, reading)
+        if self.correction is None:
+            return cov
+        return cov * (self._rough_error**2 / max(float(np.mean(np.diag(cov))), 1e-300))
 
     def fea_force(self, v):
         """Magnitude of the full FEA's in-plane force on the object [N], at the FEA's own

@@ -220,8 +220,38 @@ def declared_sidecar(noise_std_N):
             "damping": DAMPING, "sensor": {"noise_std_N": noise_std_N}}
 
 
+def reading(truth: ContactTruth, fe: pd.DataFrame):
+    """The noiseless transducer reading of a record from its FE force: transducer, trigger
+    delay, offset and drift, sampled at SAMPLE_RATE_HZ.
+
+    Parameters
+    ----------
+    truth : ContactTruth
+        The record's truth (its transducer and timing effects).
+    fe : pandas.DataFrame
+        The FE force (:func:`fe_force`).
+
+    Returns
+    -------
+    t : numpy.ndarray
+        Sample times [s] (from 1 / SAMPLE_RATE_HZ).
+    y : numpy.ndarray
+        The reading [N].
+    """
+    t_fe, f_fe = fe.time_s.to_numpy(), fe.reaction_force_N.to_numpy()
+    bw = truth.effects.get("sensor_bandwidth", {})
+    sensor = Transducer(bw.get("sensor_hz", Transducer().natural_frequency_hz),
+                        bw.get("sensor_damping_ratio", Transducer().damping_ratio))
+    y_fe = sensor.measured(t_fe, f_fe)
+    t = np.arange(1, int(round(RECORD_S * SAMPLE_RATE_HZ)) + 1) / SAMPLE_RATE_HZ
+    delay = truth.effects.get("timing_offset", {}).get("trigger_delay_s", 0.0)
+    y = np.interp(t + delay, t_fe, y_fe, left=y_fe[0], right=y_fe[-1])
+    drift = truth.effects.get("sensor_offset_drift", {})
+    return t, y + drift.get("offset_N", 0.0) + drift.get("drift_N_s", 0.0) * t
+
+
 def record(truth: ContactTruth, fe: pd.DataFrame, seed):
-    """One record from its FE force: transducer, offset and drift, sampling, noise.
+    """One record from its FE force: the :func:`reading` plus white noise.
 
     Parameters
     ----------
@@ -239,16 +269,7 @@ def record(truth: ContactTruth, fe: pd.DataFrame, seed):
     meta : dict
         The sidecar.
     """
-    t_fe, f_fe = fe.time_s.to_numpy(), fe.reaction_force_N.to_numpy()
-    bw = truth.effects.get("sensor_bandwidth", {})
-    sensor = Transducer(bw.get("sensor_hz", Transducer().natural_frequency_hz),
-                        bw.get("sensor_damping_ratio", Transducer().damping_ratio))
-    y_fe = sensor.measured(t_fe, f_fe)
-    t = np.arange(1, int(round(RECORD_S * SAMPLE_RATE_HZ)) + 1) / SAMPLE_RATE_HZ
-    delay = truth.effects.get("timing_offset", {}).get("trigger_delay_s", 0.0)
-    y = np.interp(t + delay, t_fe, y_fe, left=y_fe[0], right=y_fe[-1])
-    drift = truth.effects.get("sensor_offset_drift", {})
-    y = y + drift.get("offset_N", 0.0) + drift.get("drift_N_s", 0.0) * t
+    t, y = reading(truth, fe)
     noise = NOISE_FRACTION * float(np.max(y))
     y = y + noise * np.random.default_rng(seed).standard_normal(len(t))
     return pd.DataFrame({"time_s": np.round(t, 9), "reaction_force_N": y}), declared_sidecar(noise)

@@ -170,6 +170,11 @@ class Experiment:
         return self.record.reaction_force_N if self.kind == "contact" else self.record.tip_displacement_m
 
     @property
+    def signal_unit(self):
+        """Unit of :attr:`signal`: "N" for a contact record, "m" for an impulse record."""
+        return "N" if self.kind == "contact" else "m"
+
+    @property
     def declared_noise(self):
         """Declared noise std of :attr:`signal` (its unit), or None."""
         return self.noise_std_N if self.kind == "contact" else self.noise_std_m

@@ -61,6 +61,21 @@ class CalibrationModel(Protocol):
             Each parameter with its starting value, the baseline's first.
         """
 
+    def discrepancy_covariance(self, reading):
+        """Covariance of the base model's own error at the record's samples, or None.
+
+        Parameters
+        ----------
+        reading : numpy.ndarray
+            The model's reading at the record's samples (the error's envelope).
+
+        Returns
+        -------
+        numpy.ndarray or None
+            Shape (n, n), in the record's unit squared; None when the base model is the
+            finger's own FE modes.
+        """
+
     def baseline_starts(self):
         """Starting points of the baseline fit: list of dict."""
 

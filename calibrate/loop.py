@@ -28,39 +28,47 @@ models' common methods (``parameters``, ``predict``, ``baseline_starts``, ``asse
    contact record's timing offset from its contact start and end errors); when those
    starts end worse than the current model, the fit restarts from the current model with
    the effect where it vanishes (``parent`` of :func:`ccedi.calibrate.fit.fit`), so that a
-   candidate never scores worse than the model it extends for want of a start. Every
-   candidate is reported with its fitted parameters, scores and how identifiable its
+   candidate never scores worse than the model it extends for want of a start. All of a
+   round's fits are made and scored under one noise model, the autoregressive noise of
+   the current model's residual (:func:`ccedi.calibrate.fit.under_own_noise`,
+   :mod:`ccedi.calibrate.likelihood`: the friction chatter of a contact record is
+   correlated over a few samples, and a white-noise score lets an effect that follows it
+   gain tens of BIC), the current model refitted under it. Every candidate is reported
+   with its fitted parameters, scores, posterior probability and how identifiable its
    parameters are (:func:`candidates_summary`), accepted or not.
-4. Selection (sigma below: the noise std and the base model's own error,
+4. Selection on evidence: the current model and every candidate are compared by their log
+   evidence (Laplace's approximation, uniform priors over the parameters' bounds) as
+   posterior probabilities with equal priors (:func:`posterior_probabilities`). The most
+   probable candidate is added when its probability reaches ``SELECT_PROBABILITY`` and it
+   explains at least ``EXPLAINED_FRACTION`` of the excess of the residual's mean square
+   over sigma^2 (RMS^2 - sigma^2; sigma: the noise std and the base model's own error,
    ``model.model_error``, in quadrature; the latter is zero for the impulse model, and the
-   contact chain's remaining discrepancy from the full FEA for a contact record): a candidate
-   qualifies if it lowers the training BIC by more than
-   ``BIC_MARGIN``, lowers the held-out RMS error and explains at least
-   ``EXPLAINED_FRACTION`` of the excess of the residual's mean square over the noise
-   variance (RMS^2 - sigma^2): an effect that leaves most of the misfit is not what is
-   missing. The qualifying candidate with the lowest BIC is added, and the search repeats.
-   The search stops when the residual is at the noise level (chi-square test:
-   RMS(r)^2 / sigma^2 <= 1 + ``NOISE_Z`` sqrt(2 / n)), when no candidate qualifies, or
+   contact chain's remaining discrepancy from the full FEA for a contact record): an effect
+   that leaves most of the misfit is not what is missing. The search repeats; it stops
+   when the residual is at the noise level (chi-square test:
+   RMS(r)^2 / sigma^2 <= 1 + ``NOISE_Z`` sqrt(2 / n)), when no candidate is selected, or
    after ``MAX_EFFECTS`` effects.
-5. Ambiguity: when the runner-up qualifies too and its BIC is within ``AMBIGUITY_BIC`` of
-   the best, or the two effects fitted together have parameters correlated beyond
-   ``AMBIGUITY_CORRELATION`` (the data cannot split the misfit between them), neither is
-   selected: both fits are reported with the measurement that would separate them
-   (:func:`separating_measurement`), and the search stops. The final model is then the
-   lower-BIC one, provisionally (its E and alpha are what the record supports either way),
-   but ``effects_found`` does not list it.
-6. No nearest effect: when the search stops (no candidate qualifies, or ``MAX_EFFECTS``
-   added) with effects added but the residual not at the noise level, the catalogue has
-   not explained the record: each effect may only be the nearest stand-in for physics it
-   lacks (on the bundled magnet record, cubic stiffening, then viscoelasticity, then root
-   compliance each removed 65-83 % of what was left, and E drifted 13 %). The effects are
-   then not accepted: the final model is the baseline, and the chain is reported as
-   ``rejected``.
+5. Ambiguity: when the two most probable candidates both explain the excess and reach
+   ``SELECT_PROBABILITY`` only together, or the best reaches it alone but the two fitted
+   together have parameters correlated beyond ``AMBIGUITY_CORRELATION`` (the data cannot
+   split the misfit between them; tried when twice their log-evidence difference is below
+   ``AMBIGUITY_JOINT_BIC``), neither is selected: both fits are reported with the
+   measurement that would separate them (:func:`separating_measurement`), and the search
+   stops. The final model is then the more probable one, provisionally (its E and alpha
+   are what the record supports either way), but ``effects_found`` does not list it.
+6. No nearest effect: when the search stops (no candidate selected, an ambiguity, or
+   ``MAX_EFFECTS`` added) with effects added but the residual not at the noise level, the
+   catalogue has not explained the record: each effect may only be the nearest stand-in
+   for physics it lacks (on the bundled magnet record, cubic stiffening and
+   viscoelasticity share the posterior and leave 1.59 sigma; an earlier search added
+   cubic stiffening, then viscoelasticity, then root compliance, each removing 65-83 % of
+   what was left, with E drifting 13 %). The effects are then not accepted: the final
+   model is the baseline, and the chain is reported as ``rejected``.
 7. Beyond the catalogue: when the search stops with the residual's RMS more than
    ``UNEXPLAINED_EXCESS`` above the noise, the result is flagged ``unexplained_residual``,
    with the best sparse force term found on the residual (:mod:`ccedi.calibrate.sparse`).
 """
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -68,27 +76,26 @@ from ccedi.errors import InputError
 
 from .adequacy import Adequacy
 from .experiment import Experiment
-from .fit import Fit, fit, fit_baseline
+from .fit import Fit, fit, fit_baseline, under_own_noise
 from .interface import CalibrationModel
 from .model import FingerModel
 from .residual import noise_std
 
-BIC_MARGIN = 10.0
-"""Minimum BIC decrease to add an effect ("very strong" evidence on Kass & Raftery's scale)."""
+SELECT_PROBABILITY = 0.9
+"""Posterior probability at which an effect is selected (or, shared by two, an ambiguous pair
+reported)."""
 NOISE_Z = 3.0
 MAX_EFFECTS = 3
 EXPLAINED_FRACTION = 0.5
 """Least fraction of the residual's excess mean square over the noise an effect must explain."""
-AMBIGUITY_BIC = 6.0
-"""BIC difference below which two qualifying effects are not told apart ("strong" evidence
-starts at 6 on Kass & Raftery's scale)."""
 AMBIGUITY_CORRELATION = 0.95
 """|correlation| of two effects' parameters fitted together beyond which they are ambiguous."""
 MIMIC_CORRELATION = 0.8
 """|correlation| of a candidate's parameter with another of the same fit beyond which the
 report names that one as mimicking it (the candidates' identifiability)."""
 AMBIGUITY_JOINT_BIC = 30.0
-"""The joint fit of the best two is made when the runner-up's BIC is within this of the best."""
+"""The joint fit of the best two is made when twice the runner-up's log evidence is within
+this of the best's (odds above e^-15)."""
 UNEXPLAINED_EXCESS = 0.1
 """Relative excess of the final residual RMS over the noise std that is flagged unexplained."""
 
@@ -112,6 +119,15 @@ class Round:
         The effect added, or None when the search stopped.
     reason : str
         Why it was added, or why the search stopped.
+    posterior : dict, optional
+        Posterior probability of each candidate and of the start (key None), from their
+        log evidence with equal priors (:func:`posterior_probabilities`); empty when no
+        candidate was tried.
+    explained : dict, optional
+        Per candidate, the fraction of the start's excess over the noise it removes
+        (:func:`excess_explained`) [-].
+    ambiguous : tuple of str, optional
+        The two candidates the round could not tell apart (module docstring, step 5), or ().
     """
 
     start: Fit
@@ -120,6 +136,9 @@ class Round:
     candidates: dict
     added: str | None
     reason: str
+    posterior: dict = field(default_factory=dict)
+    explained: dict = field(default_factory=dict)
+    ambiguous: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -267,18 +286,37 @@ def _correlation(f: Fit, p, q):
     return f.correlation.get((p, q), f.correlation.get((q, p), 0.0))
 
 
-def _ambiguity(model, current, best, runner, tried, sigma):
-    """The ambiguity record of the best two qualifying candidates, or None when the
+def posterior_probabilities(fits):
+    """Posterior probabilities of fitted models from their log evidence, equal priors.
+
+    Parameters
+    ----------
+    fits : dict
+        {key: Fit} of the models compared (fitted to one record under one noise model).
+
+    Returns
+    -------
+    dict
+        {key: posterior probability} [-], summing to 1.
+    """
+    keys = list(fits)
+    ln_z = np.array([fits[k].log_evidence for k in keys])
+    w = np.exp(ln_z - ln_z.max())
+    return dict(zip(keys, (w / w.sum()).tolist()))
+
+
+def _ambiguity(model, current, best, runner, tried, posterior):
+    """The ambiguity record of the two most probable candidates, or None when the
     evidence separates them (module docstring, step 5)."""
     if runner is None:
         return None
     fa, fb = tried[best], tried[runner]
-    delta = fb.bic - fa.bic
-    if delta >= AMBIGUITY_JOINT_BIC:
-        return None
     corr = None
-    if delta >= AMBIGUITY_BIC:
-        joint = fit(model, current.effects + (best, runner), start=fa.values | fb.values, parent=fa)
+    if posterior[best] < SELECT_PROBABILITY:
+        why = (f"posterior probability {posterior[best]:.2f} for {best} and {posterior[runner]:.2f} for {runner}: "
+               f"neither reaches {SELECT_PROBABILITY:g}, together {posterior[best] + posterior[runner]:.2f}")
+    elif 2.0 * (fa.log_evidence - fb.log_evidence) < AMBIGUITY_JOINT_BIC:
+        joint = fit(model, current.effects + (best, runner), start=fa.values | fb.values, parent=fa, noise=fa.noise)
         pa = next(p for p in fa.values if p not in current.values)
         pb = next(p for p in fb.values if p not in current.values)
         corr = _correlation(joint, pa, pb)
@@ -287,15 +325,11 @@ def _ambiguity(model, current, best, runner, tried, sigma):
         why = (f"{best} and {runner} fitted together: {pa} and {pb} correlated {corr:+.3f} (beyond "
                f"{AMBIGUITY_CORRELATION:g}); the record cannot split the misfit between them")
     else:
-        why = f"BIC of {runner} within {delta:.1f} of {best} (< {AMBIGUITY_BIC:g}): no strong evidence for either"
-    return {"effects": [best, runner], "fits": {best: fa, runner: fb}, "delta_bic": delta, "correlation": corr,
+        return None
+    return {"effects": [best, runner], "fits": {best: fa, runner: fb}, "delta_bic": fb.bic - fa.bic,
+            "delta_log_evidence": fa.log_evidence - fb.log_evidence,
+            "posterior": {best: posterior[best], runner: posterior[runner]}, "correlation": corr,
             "why": why, "separating_measurement": separating_measurement(model, fa, fb)}
-
-
-DAMPING_KIND_BIC = 10.0
-"""BIC difference above which a record is said to support one damping kind over the other
-("very strong" on Kass and Raftery's scale; the white-noise likelihood overstates it when
-the residuals are correlated, so a margin this wide)."""
 
 
 def damping_kind_support(exp: Experiment, baseline: Fit):
@@ -304,7 +338,9 @@ def damping_kind_support(exp: Experiment, baseline: Fit):
     baseline's E), the two compared by BIC. Under global damping the drag
     bends the finger back before contact and moves the contact start with alpha; under
     relative damping the finger reaches the object undeformed, so the record's contact
-    start and rise tell the two apart.
+    start and rise tell the two apart. Both are fitted under the baseline's noise model and
+    compared by their posterior probabilities (:func:`posterior_probabilities`): a kind is
+    supported when its probability reaches ``SELECT_PROBABILITY``.
 
     Parameters
     ----------
@@ -316,11 +352,11 @@ def damping_kind_support(exp: Experiment, baseline: Fit):
     Returns
     -------
     dict or None
-        ``declared``, ``supported`` ("global", "relative" or "either" when the BIC differs
-        by less than :data:`DAMPING_KIND_BIC`), ``delta_bic`` (the other kind's BIC minus
-        the declared one's) and per kind the baseline's ``nrmse``, ``bic`` and
-        ``alpha_per_s``; None for an impulse record (a clamped finger that does not
-        turn: the two kinds are the same).
+        ``declared``, ``supported`` ("global", "relative" or "either" when neither
+        reaches :data:`SELECT_PROBABILITY`), ``delta_log_evidence`` and ``delta_bic``
+        (the other kind's minus the declared one's) and per kind the baseline's
+        ``posterior``, ``nrmse``, ``bic`` and ``alpha_per_s``; None for an impulse record
+        (a clamped finger that does not turn: the two kinds are the same).
     """
     if exp.kind != "contact":
         return None
@@ -329,12 +365,14 @@ def damping_kind_support(exp: Experiment, baseline: Fit):
     e = baseline.values["E_factor"]                  # E is the finger's, whichever the damping: start there
     starts = [dict(v, E_factor=e) for v in model.baseline_starts() if v["E_factor"] == 1.0][::2]
     errors = [float(np.sum((model.predict(v) - exp.signal) ** 2)) for v in starts]
-    alt = fit(model, (), start=starts[int(np.argmin(errors))])
+    alt = fit(model, (), start=starts[int(np.argmin(errors))], noise=baseline.noise)
     fits = {exp.damping: baseline, other: alt}
-    delta = alt.bic - baseline.bic
-    supported = "either" if abs(delta) < DAMPING_KIND_BIC else (exp.damping if delta > 0 else other)
-    return {"declared": exp.damping, "supported": supported, "delta_bic": float(delta),
-            **{k: {"nrmse": f.nrmse, "bic": f.bic, "alpha_per_s": f.values["alpha_per_s"]} for k, f in fits.items()}}
+    posterior = posterior_probabilities(fits)
+    supported = next((k for k, p in posterior.items() if p >= SELECT_PROBABILITY), "either")
+    return {"declared": exp.damping, "supported": supported,
+            "delta_log_evidence": alt.log_evidence - baseline.log_evidence, "delta_bic": alt.bic - baseline.bic,
+            **{k: {"posterior": posterior[k], "nrmse": f.nrmse, "bic": f.bic, "alpha_per_s": f.values["alpha_per_s"]}
+               for k, f in fits.items()}}
 
 
 def calibration_model(exp: Experiment):
@@ -406,7 +444,7 @@ def calibrate(exp: Experiment, *, candidates=None, progress=None, fea_correction
     chain_baseline = None
     if fea_correction and model.correct_at(baseline.values) is not None:
         chain_baseline = baseline
-        current = baseline = fit(model, (), start=baseline.values)
+        current = baseline = fit(model, (), start=baseline.values, noise=baseline.noise)
     sigma = float(np.hypot(noise_std(exp), model.model_error))
     say("checking the declaration against the record's own first mode")
     adequacy = model.assess(baseline, sigma)
@@ -425,6 +463,8 @@ def calibrate(exp: Experiment, *, candidates=None, progress=None, fea_correction
         if len(current.effects) >= MAX_EFFECTS:
             rounds.append(Round(current, evidence, suggested, {}, None, f"{MAX_EFFECTS} effects added: stop"))
             break
+        if rounds:
+            current = under_own_noise(model, current)
         tried = {}
         for name in names:
             if name in current.effects:
@@ -432,40 +472,46 @@ def calibrate(exp: Experiment, *, candidates=None, progress=None, fea_correction
             say(f"round {len(rounds) + 1}: {'+'.join(current.effects + (name,))}")
             start, extra = model.candidate_starts(name, current, evidence)
             tried[name] = fit(model, current.effects + (name,), start=current.values | start, extra_starts=extra,
-                              parent=current)
-        qualified = {k: f for k, f in tried.items() if f.holdout_rms_m < current.holdout_rms_m
-                     and f.bic <= current.bic - BIC_MARGIN and excess_explained(current, f, sigma) >= EXPLAINED_FRACTION}
-        ranked = sorted(qualified, key=lambda k: qualified[k].bic)
-        if not ranked:
-            lower = {k: f for k, f in tried.items() if f.holdout_rms_m < current.holdout_rms_m}
-            best = min(lower, key=lambda k: lower[k].bic, default=None)
-            gain = "" if best is None else (f" (best: {best}, BIC {lower[best].bic - current.bic:+.1f}, explains "
-                                            f"{excess_explained(current, lower[best], sigma):.0%} of the excess over "
-                                            f"the noise)")
+                              parent=current, noise=current.noise)
+        posterior = posterior_probabilities({None: current} | tried)
+        ranked = sorted(tried, key=lambda k: -posterior[k])
+        explains = {k: excess_explained(current, tried[k], sigma) for k in ranked}
+        best = ranked[0] if ranked else None
+        runner = ranked[1] if len(ranked) > 1 else None
+        pair = best is not None and runner is not None and min(explains[best], explains[runner]) >= EXPLAINED_FRACTION
+        if best is None or explains[best] < EXPLAINED_FRACTION or (
+                posterior[best] < SELECT_PROBABILITY
+                and not (pair and posterior[best] + posterior[runner] >= SELECT_PROBABILITY)):
+            gain = "" if best is None else (f" (best: {best}, posterior {posterior[best]:.2f}, ln Z "
+                                            f"{tried[best].log_evidence - current.log_evidence:+.1f}, explains "
+                                            f"{explains[best]:.0%} of the excess over the noise; "
+                                            f"{'+'.join(current.effects) or 'the baseline'} {posterior[None]:.2f})")
             rounds.append(Round(current, evidence, suggested, tried, None,
-                                f"no candidate lowers BIC by {BIC_MARGIN:g} and the held-out error while explaining "
-                                f"{EXPLAINED_FRACTION:.0%} of the excess over the noise{gain}"))
+                                f"no candidate reaches posterior probability {SELECT_PROBABILITY:g} while explaining "
+                                f"{EXPLAINED_FRACTION:.0%} of the excess over the noise{gain}", posterior, explains))
             break
-        best = ranked[0]
-        ambiguous = _ambiguity(model, current, best, ranked[1] if len(ranked) > 1 else None, tried, sigma)
+        ambiguous = _ambiguity(model, current, best, runner if pair else None, tried, posterior)
         if ambiguous is not None:
-            rounds.append(Round(current, evidence, suggested, tried, None, "ambiguous: " + ambiguous["why"]))
+            rounds.append(Round(current, evidence, suggested, tried, None, "ambiguous: " + ambiguous["why"],
+                                posterior, explains, tuple(ambiguous["effects"])))
             current = tried[best]
             break
         rounds.append(Round(current, evidence, suggested, tried, best,
-                            f"BIC {tried[best].bic - current.bic:+.1f}, held-out RMS "
-                            f"{current.holdout_rms_m:.3g} -> {tried[best].holdout_rms_m:.3g} m, "
-                            f"{excess_explained(current, tried[best], sigma):.0%} of the excess over the noise"))
+                            f"posterior probability {posterior[best]:.3f} (ln Z {tried[best].log_evidence - current.log_evidence:+.1f}), "
+                            f"held-out RMS {current.holdout_rms_m:.3g} -> {tried[best].holdout_rms_m:.3g} "
+                            f"{model.exp.signal_unit}, {explains[best]:.0%} of the excess over the noise", posterior,
+                            explains))
         current = tried[best]
     if chain_baseline is not None and current.effects and not model.corrected_near(current.values):
         model.correct_at(current.values)
-        current = fit(model, current.effects, start=current.values)
+        current = fit(model, current.effects, start=current.values, noise=current.noise)
         sigma = float(np.hypot(noise_std(exp), model.model_error))
     rejected = None
-    if ambiguous is None and current.effects and not at_noise_level(current, sigma, n):
-        rejected, current = current, baseline
+    if current.effects and not at_noise_level(current, sigma, n):
+        stand_ins = "+".join(current.effects) if ambiguous is None else " or ".join(ambiguous["effects"])
+        rejected, current, ambiguous = current, baseline, None
         rounds.append(Round(baseline, rounds[0].evidence, [], {}, None,
-                            f"{'+'.join(rejected.effects)} leave the residual at {rejected.rms_m / sigma:.3f} sigma, "
+                            f"{stand_ins} leave the residual at {rejected.rms_m / sigma:.3f} sigma, "
                             f"not the noise level: the catalogue does not explain the record, no effect accepted"))
         if chain_baseline is not None:
             model.correct_at(baseline.values)
@@ -491,12 +537,14 @@ def summary(cal: Calibration):
     -------
     dict
         ``source``, ``model_adequate`` (bool) and ``adequacy`` (its evidence,
-        :meth:`ccedi.calibrate.adequacy.Adequacy.summary`), ``baseline`` (nrmse, max
-        error [m], parameters, standard errors),
+        :meth:`ccedi.calibrate.adequacy.Adequacy.summary`), ``signal_unit`` (the
+        record's: "m" for an impulse record, "N" for a contact record; every ``_m``
+        error field below is in it), ``baseline`` (nrmse, max error, parameters,
+        standard errors),
         ``effects_found`` (per effect added: parameters and standard errors as fitted in
         its round and in the final model, error after, why, residual evidence and the
-        candidates' scores), ``selected_effect``, final NRMSE, max error [m] and
-        parameters, ``kind`` (of the record), ``calibrated`` (E_Pa and alpha_per_s of the
+        candidates' scores), ``selected_effect``, final NRMSE, max error, parameters
+        and their standard errors (``final_stderr``), ``kind`` (of the record), ``calibrated`` (E_Pa and alpha_per_s of the
         final model and, for a contact record, ``drum``: the corrected [drum] keys; the
         inputs ``ccedi calibrate --write-config`` writes), ``model_error_std`` (the
         base model's own error std the stopping test allows besides the noise, record
@@ -525,9 +573,7 @@ def summary(cal: Calibration):
                       "max_error_after_m": f.max_error_m, "why": r.reason,
                       "suggested_by_residual": dict(r.suggested).get(r.added),
                       "evidence": r.evidence,
-                      "candidates": {k: {"delta_bic": c.bic - r.start.bic, "holdout_rms_m": c.holdout_rms_m,
-                                         "nrmse": c.nrmse} for k, c in sorted(r.candidates.items(),
-                                                                              key=lambda kv: kv[1].bic)}})
+                      "candidates": candidates_summary(r)})
     last = cal.rounds[-1]
     b = cal.baseline
     return {"source": cal.experiment.record.source,
@@ -536,6 +582,7 @@ def summary(cal: Calibration):
             "effects_found": found,
             "selected_effect": found[0]["name"] if found else None,
             "final_nrmse": fin.nrmse, "final_max_error_m": fin.max_error_m, "final_params": fin.values,
+            "final_stderr": fin.stderr, "signal_unit": cal.experiment.signal_unit,
             "kind": cal.experiment.kind,
             "calibrated": cal.model.calibrated(fin.values),
             "noise_floor_nrmse": cal.noise_floor_nrmse, "model_error_std": cal.model.model_error,
@@ -550,6 +597,7 @@ def summary(cal: Calibration):
             "fea_check": cal.fea_check,
             "damping_kind": cal.damping_kind,
             "rounds": [{"effects_before": list(r.start.effects), "added": r.added, "reason": r.reason,
+                        "posterior_of_start": r.posterior.get(None), "noise_model": r.start.noise.summary(),
                         "candidates": candidates_summary(r)} for r in cal.rounds if r.candidates],
             "unexplained_residual": cal.unexplained_residual,
             "sparse_term": cal.unexplained.summary() if cal.unexplained is not None else None}
@@ -557,7 +605,8 @@ def summary(cal: Calibration):
 
 def candidates_summary(round_: Round):
     """Every candidate a round tried, accepted or not: its added parameters as fitted (with
-    standard errors), its scores against the round's start, and how identifiable each added
+    standard errors), its scores against the round's start and its posterior probability
+    (:func:`posterior_probabilities`), and how identifiable each added
     parameter is: the share of its signature the other parameters cannot mimic
     (:attr:`ccedi.calibrate.fit.Fit.unique_share`) and the parameters it is correlated with
     beyond :data:`MIMIC_CORRELATION`.
@@ -570,14 +619,19 @@ def candidates_summary(round_: Round):
     Returns
     -------
     dict
-        {effect: {"params", "stderr", "delta_bic", "holdout_rms_m", "nrmse",
-        "unique_share", "mimicked_by"}}, best BIC first.
+        {effect: {"params", "stderr", "posterior", "delta_log_evidence", "delta_bic",
+        "holdout_rms_m", "nrmse", "explained", "verdict", "unique_share", "mimicked_by"}},
+        most probable first; ``verdict`` says in words why the candidate was or was not
+        selected (:func:`candidate_verdict`).
     """
     out = {}
-    for name, f in sorted(round_.candidates.items(), key=lambda kv: kv[1].bic):
+    for name, f in sorted(round_.candidates.items(), key=lambda kv: -kv[1].log_evidence):
         new = [p for p in f.values if p not in round_.start.values]
         out[name] = {"params": {p: f.values[p] for p in new}, "stderr": {p: f.stderr[p] for p in new},
+                     "posterior": round_.posterior.get(name),
+                     "delta_log_evidence": f.log_evidence - round_.start.log_evidence,
                      "delta_bic": f.bic - round_.start.bic, "holdout_rms_m": f.holdout_rms_m, "nrmse": f.nrmse,
+                     "explained": round_.explained.get(name), "verdict": candidate_verdict(round_, name),
                      "unique_share": {p: f.unique_share.get(p) for p in new},
                      "mimicked_by": {p: sorted(((q, _correlation(f, p, q)) for q in f.values if q != p
                                                 and abs(_correlation(f, p, q)) >= MIMIC_CORRELATION),
@@ -585,10 +639,41 @@ def candidates_summary(round_: Round):
     return out
 
 
+def candidate_verdict(round_: Round, name):
+    """Why a round's candidate was or was not selected, in words (module docstring, steps 4-5).
+
+    Parameters
+    ----------
+    round_ : Round
+        A round of :func:`calibrate` that tried candidates.
+    name : str
+        One of its candidates.
+
+    Returns
+    -------
+    str
+        "selected", or the first selection rule the candidate failed, with its figures.
+    """
+    if name == round_.added:
+        return "selected"
+    p, x = round_.posterior.get(name, 0.0), round_.explained.get(name, 0.0)
+    if x < EXPLAINED_FRACTION:
+        return f"explains {x:.0%} of the excess over the noise (at least {EXPLAINED_FRACTION:.0%} needed)"
+    rivals = {k: q for k, q in round_.posterior.items() if k != name}
+    rival = max(rivals, key=rivals.get, default=None)
+    beaten = "" if rival is None or rivals[rival] <= p else \
+        f"; {rival or 'the model without it'} is more probable ({rivals[rival]:.2f})"
+    if name in round_.ambiguous:
+        return f"not told apart from {next(k for k in round_.ambiguous if k != name)}: {round_.reason}"
+    if p < SELECT_PROBABILITY:
+        return f"posterior probability {p:.2f} (at least {SELECT_PROBABILITY:g} needed){beaten}"
+    return round_.reason
+
+
 def _ambiguous_summary(amb):
     """The JSON-ready ambiguity record (its fits as parameters and scores)."""
     if amb is None:
         return None
-    fits = {k: {"params": f.values, "stderr": f.stderr, "bic": f.bic, "nrmse": f.nrmse,
+    fits = {k: {"params": f.values, "stderr": f.stderr, "bic": f.bic, "log_evidence": f.log_evidence, "nrmse": f.nrmse,
                 "holdout_rms_m": f.holdout_rms_m} for k, f in amb["fits"].items()}
     return {k: v for k, v in amb.items() if k != "fits"} | {"fits": fits}

@@ -142,6 +142,21 @@ class FingerModel:
     """Standard deviation of the model's own error against the finger [m]: none beyond
     the noise (the FE modes are the finger's)."""
 
+    def discrepancy_covariance(self, reading):
+        """Covariance of the model's own error: none (the FE modes are the finger's).
+
+        Parameters
+        ----------
+        reading : numpy.ndarray
+            The model's reading at the record's samples [m] (unused).
+
+        Returns
+        -------
+        None
+            No discrepancy.
+        """
+        return None
+
     def __init__(self, exp: Experiment):
         f = exp.finger
         self.exp = exp

@@ -4,8 +4,10 @@ residual time series as CSV, and a markdown summary of the evidence.
 Files: ``fit.png`` (record, baseline and final model [mm] against time [s]),
 ``residual.png`` (residual [mm] against time [s], and its amplitude spectrum [mm] against
 frequency [Hz], before and after), ``residuals.csv`` (time_s, tip_displacement_m,
-baseline_m, final_m) and ``report.md`` (the model's adequacy with its evidence, the errors
-before and after, each effect added). A contact record's figures and columns are its
+baseline_m, final_m) and ``report.md`` (first the result: the calibrated finger, the effects
+found with their values or why none was, the error before and after; then the evidence:
+the model's adequacy, the damping kind, and every round's candidates with their scores,
+posterior probabilities and why each was or was not selected). A contact record's figures and columns are its
 reaction force [N] instead (``reaction_force_N``, ``baseline_N``, ``final_N``).
 """
 from pathlib import Path
@@ -74,21 +76,54 @@ def _adequacy_rows(a):
 
 
 def _candidate_lines(rounds, unit):
-    """Every round's candidates, accepted or not: fitted parameters, scores and how much of
-    each added parameter's signature the others cannot mimic."""
+    """Every round's candidates, accepted or not: fitted parameters, scores, why each was or
+    was not selected, and how much of each added parameter's signature the others cannot mimic."""
     lines = []
     for k, r in enumerate(rounds, start=1):
         before = " + ".join(["baseline"] + r["effects_before"])
+        start = r.get("posterior_of_start")
         lines += [f"## Candidates of round {k} (on {before}; added: {r['added'] or 'none'})", "",
-                  f"| candidate | fitted | delta BIC | held-out RMS [{unit}] | NRMSE | share not mimicked [-] "
-                  "| mimicked by (correlation) |", "|---|---|---|---|---|---|---|"]
+                  f"Posterior probability of {before} itself: {start:.3g}." if start is not None else "", "",
+                  f"| candidate | fitted | posterior [-] | delta ln Z [-] | held-out RMS [{unit}] | NRMSE [-] "
+                  "| excess explained [-] | verdict | share not mimicked [-] | mimicked by (correlation) |",
+                  "|---|---|---|---|---|---|---|---|---|---|"]
         for name, c in r["candidates"].items():
             fitted = ", ".join(f"{p} = {v:.4g} +- {c['stderr'][p]:.2g}" for p, v in c["params"].items())
             shares = ", ".join(f"{c['unique_share'][p]:.2f}" for p in c["params"])
             mimics = "; ".join(f"{q} ({corr:+.2f})" for p in c["params"] for q, corr in c["mimicked_by"][p]) or "-"
-            lines.append(f"| {name} | {fitted} | {c['delta_bic']:+.1f} | {c['holdout_rms_m']:.4g} | "
-                         f"{c['nrmse']:.4%} | {shares} | {mimics} |")
+            lines.append(f"| {name} | {fitted} | {c['posterior']:.3g} | {c['delta_log_evidence']:+.1f} | "
+                         f"{c['holdout_rms_m']:.4g} | {c['nrmse']:.4%} | {c['explained']:.0%} | {c['verdict']} | "
+                         f"{shares} | {mimics} |")
         lines.append("")
+    return lines
+
+
+def _result_lines(summary, unit):
+    """What the calibration concluded, first: the calibrated finger, the effects found with
+    their values, or why none was, and the error against the noise floor."""
+    fin = summary["final_params"]
+    cal = summary["calibrated"]
+    lines = ["## Result", "",
+             f"Calibrated finger: alpha = {cal['alpha_per_s']:.5g} 1/s +- {summary['final_stderr']['alpha_per_s']:.2g}, "
+             f"E = {cal['E_Pa']:.5g} Pa (declared x {fin['E_factor']:.4f} +- {summary['final_stderr']['E_factor']:.2g})."]
+    if summary["effects_found"]:
+        for e in summary["effects_found"]:
+            lines.append(f"- {e['name']}: " + ", ".join(f"{k} = {v:.5g} +- {e['stderr_final'][k]:.2g}"
+                                                          for k, v in e["params_final"].items())
+                         + f" (selected: {e['why']})")
+    elif summary.get("ambiguous"):
+        a = summary["ambiguous"]
+        lines.append(f"- ambiguous, neither added: {' or '.join(a['effects'])} ({a['why']}); separate them by "
+                     f"{a['separating_measurement']['measurement']}.")
+    else:
+        lines.append(f"- no effect added: {summary['stop_reason']}.")
+    if summary.get("rejected_effects"):
+        r = summary["rejected_effects"]
+        lines.append(f"- not accepted: {'+'.join(r['effects'])} leave the residual at {r['rms_over_noise']:.3f} sigma "
+                     "(the nearest catalogued stand-ins, not the missing physics).")
+    lines += ["", f"Error: NRMSE {summary['baseline']['nrmse']:.4%} (baseline) -> {summary['final_nrmse']:.4%} "
+              f"(final), noise floor {summary['noise_floor_nrmse']:.4%}; final max error "
+              f"{summary['final_max_error_m']:.4g} {unit}.", ""]
     return lines
 
 
@@ -96,11 +131,12 @@ def _markdown(summary):
     b = summary["baseline"]
     a = summary["adequacy"]
     unit = SIGNALS[summary.get("kind", "impulse")][2]
-    lines = [f"# Calibration of {summary['source']}", "",
+    lines = [f"# Calibration of {summary['source']}", "", *_result_lines(summary, unit),
+             "## Evidence", "",
              f"Model adequacy: {a['message']}.", "",
              "| evidence | value |", "|---|---|", *_adequacy_rows(a),
              "", f"Noise floor NRMSE {summary['noise_floor_nrmse']:.4%}.", "",
-             f"| model | NRMSE | max error [{unit}] |", "|---|---|---|"]
+             f"| model | NRMSE [-] | max error [{unit}] |", "|---|---|---|"]
     if summary.get("chain_baseline"):
         lines.append(f"| baseline, chain alone | {summary['chain_baseline']['nrmse']:.4%} | |")
     lines.append(f"| baseline | {b['nrmse']:.4%} | {b['max_error_m']:.4g} |")
@@ -113,19 +149,10 @@ def _markdown(summary):
         other = "relative" if kind["declared"] == "global" else "global"
         lines += [f"Damping kind: the record supports **{kind['supported']}** damping (declared {kind['declared']}; "
                   f"baseline NRMSE {kind[kind['declared']]['nrmse']:.4%} at alpha "
-                  f"{kind[kind['declared']]['alpha_per_s']:.4g} 1/s, with {other} damping "
-                  f"{kind[other]['nrmse']:.4%} at {kind[other]['alpha_per_s']:.4g} 1/s; BIC difference "
-                  f"{kind['delta_bic']:+.1f}).", ""]
-    if not summary["effects_found"]:
-        lines += ["No effect added: " + summary["stop_reason"] + ".", ""]
-    for e in summary["effects_found"]:
-        lines += [f"## {e['name']}", "",
-                  ", ".join(f"{k} = {v:.5g} +- {e['stderr'][k]:.2g}" for k, v in e["params"].items()), "",
-                  f"Selected: {e['why']}. Residual signature: {e['suggested_by_residual'] or 'not flagged'}.", "",
-                  f"| candidate | delta BIC | held-out RMS [{unit}] | NRMSE |", "|---|---|---|---|"]
-        lines += [f"| {k} | {c['delta_bic']:+.1f} | {c['holdout_rms_m']:.4g} | {c['nrmse']:.4%} |"
-                  for k, c in e["candidates"].items()]
-        lines.append("")
+                  f"{kind[kind['declared']]['alpha_per_s']:.4g} 1/s, posterior probability "
+                  f"{kind[kind['declared']]['posterior']:.3g}; with {other} damping "
+                  f"{kind[other]['nrmse']:.4%} at {kind[other]['alpha_per_s']:.4g} 1/s, "
+                  f"{kind[other]['posterior']:.3g}).", ""]
     lines += [f"Stop: {summary['stop_reason']}.", ""]
     lines += _candidate_lines(summary.get("rounds", []), unit)
     f = summary.get("fea_check")

@@ -535,7 +535,9 @@ def calibrated_config(result, record):
     """The calibrated inputs of a ``ccedi calibrate`` result as a TOML fragment that every
     ``--config`` command reads: ``[material]`` E_Pa (declared E x the final E factor), nu,
     rho_kg_m3 (as declared) and alpha_per_s (the final alpha), ``[finger]``
-    section_semi_axes_m (as declared); for a contact record ``[drum]`` (the declared set-up
+    section_semi_axes_m (as declared) and the record's finger length as
+    ``impulse_length_in`` (an impulse record) or ``contact_length_in`` (a contact record),
+    so that the studies run the calibrated finger; for a contact record ``[drum]`` (the declared set-up
     with the calibrated friction, drum speed, initial angle and object centre); the effects
     found, an ambiguity and an unexplained residual as comments.
 
@@ -571,7 +573,8 @@ def calibrated_config(result, record):
     if result.get("unexplained_residual"):
         lines.append(f"# unexplained residual: {result['sparse_term']['force']}")
     cfg = {"material": {"E_Pa": cal["E_Pa"], "nu": f.nu, "rho_kg_m3": f.rho_kg_m3, "alpha_per_s": cal["alpha_per_s"]},
-           "finger": {"section_semi_axes_m": list(f.semi_axes_m)}}
+           "finger": {"section_semi_axes_m": list(f.semi_axes_m),
+                      f"{record.kind}_length_in": round(m_to_inch(f.length_m), 6)}}
     if "drum" in cal:
         cfg["drum"] = dict(cal["drum"])
     for section, keys in cfg.items():

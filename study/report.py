@@ -321,18 +321,21 @@ def _calibrate(out):
                          r.get("model_adequate"), "NO: " + ", ".join(adequacy.get("failed_checks", []))),
                      "record f1 [Hz]": adequacy.get("record_first_frequency_hz"),
                      "declared f1 [Hz]": adequacy.get("declared_first_frequency_hz"),
+                     "alpha_per_s": r["final_params"].get("alpha_per_s"),
+                     "E factor": r["final_params"].get("E_factor"),
+                     "effects found": "; ".join(
+                         f"{e['name']} ({', '.join(f'{k} = {v:.4g}' for k, v in e['params_final'].items())})"
+                         for e in r["effects_found"]) or "none",
                      "baseline NRMSE": r["baseline"]["nrmse"],
-                     "alpha_per_s": r["baseline"]["params"].get("alpha_per_s"),
-                     "E factor": r["baseline"]["params"].get("E_factor"),
-                     "effects found": ", ".join(e["name"] for e in r["effects_found"]) or "none",
                      "final NRMSE": r["final_nrmse"], "noise floor NRMSE": r["noise_floor_nrmse"],
                      "wall_time_s": r.get("wall_time_s")})
         if (out / "calibrate" / path.stem / "fit.png").exists():
             figs.append(_figure(f"calibrate/{path.stem}/fit.png", f"Calibrated model against {path.stem}"))
     cols = [("record", "record"), ("model adequate", "model adequate"), ("record f1 [Hz]", "record f1 [Hz]"),
-            ("declared f1 [Hz]", "declared f1 [Hz]"), ("baseline NRMSE [-]", "baseline NRMSE"),
-            _col("alpha_per_s", "baseline alpha"), ("E factor [-]", "E factor"), ("effects found", "effects found"),
-            ("final NRMSE [-]", "final NRMSE"), ("noise floor NRMSE [-]", "noise floor NRMSE"), _col("wall_time_s")]
+            ("declared f1 [Hz]", "declared f1 [Hz]"), _col("alpha_per_s", "calibrated alpha"),
+            ("calibrated E factor [-]", "E factor"), ("effects found (SI units as named)", "effects found"),
+            ("baseline NRMSE [-]", "baseline NRMSE"), ("final NRMSE [-]", "final NRMSE"),
+            ("noise floor NRMSE [-]", "noise floor NRMSE"), _col("wall_time_s")]
     warning = (f"<p class='missing'>The declared finger cannot explain {len(inadequate)} record(s) "
                f"(model_adequate: false):</p><ul>{''.join(inadequate)}</ul>" if inadequate else "")
     return warning + _table(rows, cols) + "".join(figs)

@@ -105,16 +105,21 @@ def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=Non
     cal = calibrate(exp, candidates=effects, fea_correction=fea_correction,
                     progress=lambda message: print(f"calibrate: {message}", flush=True))
     result = summary(cal) | {"wall_time_s": time.perf_counter() - t0}
-    b = result["baseline"]
+    b, fin, err = result["baseline"], result["final_params"], result["final_stderr"]
+    found = "; ".join(f"{e['name']} (" + ", ".join(f"{k} = {v:.4g} +- {e['stderr_final'][k]:.2g}"
+                                                  for k, v in e["params_final"].items()) + ")"
+                      for e in result["effects_found"]) or "no effect added"
+    print(f"result: alpha = {fin['alpha_per_s']:.5g} +- {err['alpha_per_s']:.2g} 1/s, E = "
+          f"{result['calibrated']['E_Pa']:.5g} Pa (declared x {fin['E_factor']:.4f} +- {err['E_factor']:.2g}); {found}")
     if result["chain_baseline"]:
         c = result["chain_baseline"]
         print(f"chain baseline: NRMSE {c['nrmse']:.3%}, alpha = {c['params']['alpha_per_s']:.4g} 1/s, "
               f"E x {c['params']['E_factor']:.4f}; corrected by the full FEA there")
-    print(f"baseline: NRMSE {b['nrmse']:.3%}, alpha = {b['params']['alpha_per_s']:.4g} 1/s, "
-          f"E x {b['params']['E_factor']:.4f}")
+    print(f"baseline (the declared finger, before any effect): NRMSE {b['nrmse']:.3%}, alpha = "
+          f"{b['params']['alpha_per_s']:.4g} 1/s, E x {b['params']['E_factor']:.4f}")
     for e in result["effects_found"]:
         params = ", ".join(f"{k} = {v:.4g} +- {e['stderr'][k]:.2g}" for k, v in e["params"].items())
-        print(f"+ {e['name']} ({params}): NRMSE {e['nrmse_after']:.3%}")
+        print(f"+ {e['name']} as added ({params}): NRMSE {e['nrmse_after']:.3%}; {e['why']}")
     print(f"final NRMSE {result['final_nrmse']:.3%}, noise floor {result['noise_floor_nrmse']:.3%}; "
           f"{result['stop_reason']}")
     if result["ambiguous"]:

@@ -92,6 +92,9 @@ def test_write_config_is_read_back_by_every_config_command(tmp_path):
     assert cfg["material"]["alpha_per_s"] == pytest.approx(result["calibrated"]["alpha_per_s"], rel=1e-12)
     assert cfg["material"]["E_Pa"] != pytest.approx(6.1e6, rel=1e-3)       # the record's E is not the declared one
     assert drum_setup(cfg).finger_material.E == cfg["material"]["E_Pa"]
+    declared = json.loads((DATA / "control_high.json").read_text())["finger"]["length_in"]
+    assert cfg["finger"]["impulse_length_in"] == pytest.approx(declared, rel=1e-9)    # the record's finger, not 4.5 in
+    assert cfg["finger"]["impulse_length_in"] != pytest.approx(load(None)["finger"]["impulse_length_in"])
 
 
 @pytest.mark.slow

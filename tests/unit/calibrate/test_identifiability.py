@@ -58,6 +58,33 @@ def test_candidates_are_reported_when_none_is_accepted(control, tmp_path):
     assert "Candidates of round 1" in text and "tip_mass_kg = " in text and "share not mimicked" in text
 
 
+def test_every_candidate_says_why_it_was_not_selected(control):
+    """Posterior probabilities of the round's start and candidates sum to 1, and each
+    candidate's verdict names the rule it failed with its figure: here both explain almost
+    none of the friction record's excess over the noise."""
+    r = control[1]["rounds"][0]
+    total = r["posterior_of_start"] + sum(c["posterior"] for c in r["candidates"].values())
+    assert total == pytest.approx(1.0, abs=1e-12)
+    for c in r["candidates"].values():
+        assert c["explained"] < 0.5
+        assert c["verdict"].startswith(f"explains {c['explained']:.0%} of the excess over the noise")
+
+
+def test_the_report_leads_with_the_calibrated_finger(tmp_path):
+    """report.md opens with the result: the final alpha and E with their standard errors and
+    the effect found with its final value, before the evidence and the baseline."""
+    cal = calibrate(load_experiment(ROOT / "data" / "measured" / "time_delay_low.csv"),
+                    candidates=["time_delay", "sensor_offset_drift"])
+    s = summary(cal)
+    write_report(tmp_path, cal, s)
+    text = (tmp_path / "report.md").read_text()
+    result = text[text.index("## Result"):text.index("## Evidence")]
+    assert f"alpha = {s['final_params']['alpha_per_s']:.5g} 1/s" in result
+    assert f"x {s['final_params']['E_factor']:.4f}" in result
+    assert f"time_delay: delay_s = {s['effects_found'][0]['params_final']['delay_s']:.5g}" in result
+    assert text.index("## Result") < text.index("Baseline parameters")
+
+
 def test_a_small_tip_mass_is_mimicked_by_e(control):
     """A small tip mass lowers the frequency as a lower E does: almost all its signature is
     E's, and the report names E_factor as what mimics it."""
