@@ -12,9 +12,11 @@ records, false positives among the clean controls, the largest time. The chain R
 built and compiled before the timing; the 1-minute load average is recorded (the times
 scale with it on the shared 2-core machine).
 
-Run: ``.venv/bin/python validation/calibrate_contact.py [--contact face] [NAME ...]`` (every
-record of the manifest by default; ~2-4 min each); writes validation/calibrate_contact.json,
-or calibrate_contact_face.json with the chain's face contact
+Run: ``.venv/bin/python validation/calibrate_contact.py [--chain] [--contact face] [NAME ...]``
+(every record of the manifest by default; ~2-4 min each with the FEA correction, under a
+minute with the chain alone); writes validation/calibrate_contact.json, with ``--chain``
+(the chain alone, no FEA correction: ``ccedi calibrate``'s default)
+calibrate_contact_chain.json, or calibrate_contact_face.json with the chain's face contact
 (``ccedi.rom.contact_rom.DEFAULT_CONTACT`` set to "face" for the run).
 """
 import json
@@ -47,12 +49,17 @@ def main(args):
     import ccedi.rom.contact_rom as contact_rom
 
     out, names = OUT, list(args)
+    fea_correction = "--chain" not in names
+    if not fea_correction:
+        names.remove("--chain")
+        out = OUT.with_name("calibrate_contact_chain.json")
     if names[:1] == ["--contact"]:
         contact_rom.DEFAULT_CONTACT, names = names[1], names[2:]
         out = OUT.with_name(f"calibrate_contact_{contact_rom.DEFAULT_CONTACT}.json")
     manifest = json.loads((DATA / "manifest.json").read_text())["records"]
     names = names or list(manifest)
-    figures = {"contact_model": contact_rom.DEFAULT_CONTACT, "load_average_1min_before": round(os.getloadavg()[0], 1)}
+    figures = {"contact_model": contact_rom.DEFAULT_CONTACT, "fea_correction": fea_correction,
+               "load_average_1min_before": round(os.getloadavg()[0], 1)}
     first = load_experiment(DATA / f"{names[0]}.csv")
     model = calibration_model(first)
     model.predict({"alpha_per_s": 100.0, "E_factor": 1.0})              # build and compile
@@ -60,7 +67,7 @@ def main(args):
     for name in names:
         exp = load_experiment(DATA / f"{name}.csv")
         t0, c0 = time.perf_counter(), time.process_time()
-        result = summary(calibrate(exp, fea_correction=True))
+        result = summary(calibrate(exp, fea_correction=fea_correction))
         wall, cpu = time.perf_counter() - t0, time.process_time() - c0
         truth = manifest[name]
         selected, right = outcome(result, truth)
