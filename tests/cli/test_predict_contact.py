@@ -1,0 +1,64 @@
+"""``ccedi calibrate IMPULSE.csv --predict-contact CONTACT``: bad input refused in one line
+naming what was typed (nothing written), and the ``prediction`` block of the JSON and the
+report's table on a bundled impulse record with a bundled contact sidecar (the 8-in finger
+of both)."""
+import json
+import shutil
+
+import pytest
+from conftest import ROOT
+
+from ccedi.calibrate.prediction import FEATURES
+from ccedi.study.cli import main
+
+IMPULSE = ROOT / "data" / "measured" / "control_low.csv"
+CONTACT = ROOT / "data" / "contact" / "control_180.csv"
+
+
+def _run(capsys, *args):
+    code = main(["calibrate", *map(str, args)])
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+@pytest.mark.parametrize("case", ["suffix", "missing", "impulse as contact", "contact calibrated", "other finger",
+                                  "no sidecar"])
+def test_bad_prediction_input_is_one_line(case, tmp_path, capsys):
+    impulse, contact, words = IMPULSE, CONTACT.with_suffix(".json"), None
+    if case == "suffix":
+        contact, words = CONTACT.with_suffix(".txt"), "give a contact record CSV"
+    elif case == "missing":
+        contact, words = tmp_path / "nothing.json", "not found"
+    elif case == "impulse as contact":
+        contact, words = ROOT / "data" / "measured" / "control_high.csv", "sidecar kind is 'impulse'"
+    elif case == "contact calibrated":
+        impulse, contact, words = CONTACT, CONTACT, "is a contact record"
+    elif case == "other finger":
+        impulse, words = ROOT / "data" / "measured" / "control_fea_solid.csv", "length 0.1143 vs 0.2032"
+    else:
+        contact, words = tmp_path / "control_180.csv", "no sidecar"
+        shutil.copy(CONTACT, contact)
+    code, out, err = _run(capsys, impulse, "--json", tmp_path / "out.json", "--predict-contact", contact)
+    assert code == 1
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and words in lines[0] and "Traceback" not in err
+    assert not (tmp_path / "out.json").exists()
+
+
+def test_prediction_block_and_report(tmp_path, capsys):
+    """The bundled impulse record's finger is lightly damped (alpha ~3 1/s): its contact
+    set-up is predicted with intervals and no measured feature."""
+    code, out, _ = _run(capsys, IMPULSE, "--json", tmp_path / "out.json", "--report", tmp_path / "report",
+                        "--predict-contact", CONTACT.with_suffix(".json"))
+    assert code == 0
+    p = json.loads((tmp_path / "out.json").read_text())["prediction"]
+    assert p["recorded"] is False and p["all_inside"] is None
+    assert p["alpha_per_s"] == pytest.approx(json.loads((tmp_path / "out.json").read_text())["final_params"]
+                                             ["alpha_per_s"])
+    for name, unit in FEATURES.items():
+        f = p["features"][name]
+        lo, hi = f[f"interval_{unit}"]
+        assert lo < f[f"predicted_{unit}"] < hi and f[f"measured_{unit}"] is None and f["inside"] is None
+        assert f"predicted {f[f'predicted_{unit}']:.4g} {unit}" in out
+    assert "## Prediction of the contact record" in (tmp_path / "report" / "report.md").read_text()
+    assert (tmp_path / "report" / "prediction.png").is_file()
