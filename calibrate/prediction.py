@@ -13,8 +13,9 @@ contact load); its peak is the *filtered peak force* [N]; contact starts and end
 filtered reading first and last reaches :data:`CONTACT_FRACTION` of that peak (linear
 interpolation between samples) [s]; the duration is end minus start [s].
 
-The interval of each feature f is f_chain +- z sigma_f (z for :data:`INTERVAL_PROBABILITY`,
-two-sided normal), with three independent terms in quadrature::
+The predicted feature is the chain's, corrected by the chain's measured bias against the
+full FEA at the calibrated alpha (:func:`chain_error`); its interval is f +- z sigma_f (z for
+:data:`INTERVAL_PROBABILITY`, two-sided normal), with three independent terms in quadrature::
 
     sigma_f^2 = sigma_parameters^2 + sigma_chain^2 + sigma_noise^2
 
@@ -23,10 +24,12 @@ two-sided normal), with three independent terms in quadrature::
                     transform: the chain at the four symmetric sigma points
                     mean +- sqrt(2) L_k (L L^T the covariance), weights 1/4
   sigma_chain       the chain's own error against the full explicit FEA on the drum, per
-                    feature: the RMS of chain minus FEA (both read noise-free through the
-                    transducer, at the true E and alpha) over the bundled full-FEA contact
-                    runs, :data:`CHAIN_ERROR` (measured by validation/predict_contact.py;
-                    the bias is kept in the RMS, not corrected)
+                    feature: chain minus FEA (both read noise-free through the transducer,
+                    at the true E, alpha and set-up) on the ten bundled full-FEA contact
+                    runs, fitted by a straight line in ln alpha (validation/predict_contact.py,
+                    :data:`CHAIN_ERROR`); the line is the bias removed, sigma_chain the std
+                    of a new run about it (the residual std with the line's own
+                    uncertainty, growing away from the runs' alphas, 80-600 1/s)
   sigma_noise       the record's noise on its measured feature: the features of the
                     predicted reading with :data:`NOISE_DRAWS` draws of white noise of the
                     record's noise std (the sidecar's ``sensor.noise_std_N``, else estimated
@@ -72,19 +75,81 @@ SET_UP_SPAN_S = 1.5
 records' span, :data:`ccedi.calibrate.contact_synthetic.RECORD_S`)."""
 SET_UP_RATE_HZ = 1000.0
 """Sample rate [Hz] of those times (the bundled records')."""
-CHAIN_ERROR = {"contact_start_s": 1.485e-3, "contact_end_s": 1.172e-3, "contact_duration_s": 0.524e-3,
-               "filtered_peak_force_fraction": 0.02846}
-"""sigma_chain (module docstring): RMS of the chain's feature minus the full FEA's over the
-ten bundled full-FEA contact runs (alpha 80-600 1/s; friction, drum speed, object position
-and drum angle varied), validation/predict_contact.json ``chain_error.rms``: contact start,
-end and duration [s], filtered peak force as a fraction of the predicted peak [-]. Mostly
-bias: the chain touches 1.3 ms late and reads the peak 2.6 % low on average (``mean``), the
-largest at alpha 600 1/s (2.7 ms, 4.1 %)."""
+CHAIN_RUNS = {"runs": 10, "alpha_geometric_mean_per_s": 188.282, "sxx_ln_alpha": 4.09484}
+"""The full-FEA runs the chain's error was measured on (:data:`CHAIN_ERROR`): their number,
+the geometric mean of their alphas [1/s] and the sum of squares of ln alpha about its mean."""
+CHAIN_ERROR = {"contact_start_s": {"at_mean": 1.3459e-3, "per_ln_alpha": 0.9056e-3, "residual_std": 0.2665e-3},
+               "contact_end_s": {"at_mean": 1.1584e-3, "per_ln_alpha": 0.2146e-3, "residual_std": 0.1238e-3},
+               "contact_duration_s": {"at_mean": -0.1875e-3, "per_ln_alpha": -0.6910e-3, "residual_std": 0.2347e-3},
+               "filtered_peak_force_fraction": {"at_mean": -0.026483, "per_ln_alpha": -0.0010701,
+                                                "residual_std": 0.011643}}
+"""The chain's feature minus the full FEA's on the ten bundled full-FEA contact runs (alpha
+80-600 1/s; friction, drum speed, object position and drum angle varied), a straight line
+in ln alpha: the error at the runs' geometric-mean alpha, its slope per unit ln alpha and
+the residual std (8 dof); contact start, end and duration in s, the filtered peak force as
+chain / FEA - 1. From validation/predict_contact.json ``chain_error.regression``: the chain
+touches the object 1.3 ms late at alpha 188 1/s, 0.9 ms more per unit ln alpha, lifts off
+1.2 ms late, and reads the peak 2.6 % low, each within 0.27 ms and 1.2 % about the line."""
 FEATURES = {"contact_start_s": "s", "contact_end_s": "s", "contact_duration_s": "s", "filtered_peak_force_N": "N"}
 """The predicted features and their units."""
 FEATURE_NAMES = {"contact_start_s": "contact start", "contact_end_s": "contact end",
                  "contact_duration_s": "contact duration", "filtered_peak_force_N": "filtered peak force"}
 """The predicted features in words."""
+
+
+def chain_error(name, alpha_per_s):
+    """The chain's bias against the full FEA in a feature, and the std of a prediction about
+    it (:data:`CHAIN_ERROR`): the line b_0 + b_1 x, x = ln(alpha / alpha_g) with alpha_g the
+    runs' geometric-mean alpha, and s sqrt(1 + 1/n + x^2 / S_xx) (a new run's prediction
+    std of a least-squares line; s the residual std, n runs, S_xx their sum of squares of x).
+
+    Parameters
+    ----------
+    name : str
+        ``contact_start_s``, ``contact_end_s``, ``contact_duration_s`` (in s) or
+        ``filtered_peak_force_fraction`` (chain / FEA - 1).
+    alpha_per_s : float
+        Mass-proportional damping [1/s].
+
+    Returns
+    -------
+    bias : float
+        Chain minus FEA (s, or the fraction).
+    std : float
+        Its std for one prediction (same unit).
+    """
+    c, x = CHAIN_ERROR[name], float(np.log(alpha_per_s / CHAIN_RUNS["alpha_geometric_mean_per_s"]))
+    std = c["residual_std"] * np.sqrt(1.0 + 1.0 / CHAIN_RUNS["runs"] + x**2 / CHAIN_RUNS["sxx_ln_alpha"])
+    return c["at_mean"] + c["per_ln_alpha"] * x, float(std)
+
+
+def fea_equivalent(features, alpha_per_s):
+    """The chain's features with its bias against the full FEA removed (:func:`chain_error`).
+
+    Parameters
+    ----------
+    features : dict
+        The chain's :func:`contact_features`.
+    alpha_per_s : float
+        The alpha it ran at [1/s].
+
+    Returns
+    -------
+    corrected : dict
+        The features the full FEA is expected to show (times in s, peak in N).
+    std : dict
+        sigma_chain of each (same units).
+    """
+    corrected, std = {}, {}
+    for name, value in features.items():
+        if name == "filtered_peak_force_N":
+            bias, s = chain_error("filtered_peak_force_fraction", alpha_per_s)
+            corrected[name] = value / (1.0 + bias)
+            std[name] = s * corrected[name]
+        else:
+            bias, std[name] = chain_error(name, alpha_per_s)
+            corrected[name] = value - bias
+    return corrected, std
 
 
 def filtered_reading(time_s, reading_N):
@@ -230,7 +295,8 @@ class FeaturePrediction:
     name : str
         The feature (:data:`FEATURES`).
     predicted : float
-        The chain's feature at the calibrated values (unit of the feature).
+        The chain's feature at the calibrated values with its bias removed (unit of the
+        feature).
     std_parameters, std_chain, std_noise : float
         The three terms of its standard deviation.
     measured : float or None
@@ -426,18 +492,16 @@ def predict_contact(calibration, contact: Experiment, *, recorded=True):
         return model.predict({"E_factor": float(p[0]), "alpha_per_s": float(p[1])})
 
     centre = reading(mean)
-    predicted = contact_features(t, centre)
-    spread = [contact_features(t, reading(p)) for p in sigma_points(mean, cov)]
+    predicted, chain_std = fea_equivalent(contact_features(t, centre), mean[1])
+    spread = [fea_equivalent(contact_features(t, reading(p)), p[1])[0] for p in sigma_points(mean, cov)]
     sigma = noise_std(contact) if recorded else (contact.noise_std_N or 0.0)
     rng = np.random.default_rng(NOISE_SEED)
     noisy = [contact_features(t, centre + sigma * rng.standard_normal(len(t))) for _ in range(NOISE_DRAWS if sigma else 0)]
     measured = contact_features(t, contact.signal) if recorded else {}
     features = {}
     for k in FEATURES:
-        chain = (CHAIN_ERROR["filtered_peak_force_fraction"] * predicted[k] if k == "filtered_peak_force_N"
-                 else CHAIN_ERROR[k])
         features[k] = FeaturePrediction(name=k, predicted=predicted[k], std_parameters=float(np.std([s[k] for s in spread])),
-                                        std_chain=chain, std_noise=float(np.std([s[k] for s in noisy])) if noisy else 0.0,
+                                        std_chain=chain_std[k], std_noise=float(np.std([s[k] for s in noisy])) if noisy else 0.0,
                                         measured=measured.get(k))
     return ContactPrediction(contact=contact, recorded=recorded,
                              values={"E_factor": float(mean[0]), "alpha_per_s": float(mean[1])}, covariance=cov,
