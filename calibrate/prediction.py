@@ -37,9 +37,10 @@ full FEA at the calibrated alpha (:func:`chain_error`); its interval is f +- z s
                     a set-up without record declares no noise
 
 Not in the interval: the impulse model's own error (its fit's covariance assumes the modal
-model exact and the noise white) and any effect the contact record has that its sidecar
-does not declare (friction, drum speed, object position and transducer are taken as
-declared).
+model exact and the noise white), the effects the impulse calibration found (a tip mass, a
+compliant root...: the chain has none of them; the prediction names them), and any effect
+the contact record has that its sidecar does not declare (friction, drum speed, object
+position and transducer are taken as declared).
 """
 from dataclasses import dataclass
 from pathlib import Path
@@ -367,6 +368,8 @@ class ContactPrediction:
         {name: FeaturePrediction} of :data:`FEATURES`.
     noise_std_N : float
         The noise std of sigma_noise [N] (0: not included).
+    effects_not_carried : tuple of str
+        Effects of the impulse calibration's final model the chain does not have.
     """
 
     contact: Experiment
@@ -376,6 +379,7 @@ class ContactPrediction:
     reading_N: np.ndarray
     features: dict
     noise_std_N: float
+    effects_not_carried: tuple = ()
 
     def summary(self):
         """The JSON-ready prediction.
@@ -386,8 +390,8 @@ class ContactPrediction:
             ``contact_source``, ``recorded``, ``E_factor`` (over the contact sidecar's E),
             ``E_Pa``, ``alpha_per_s``, their ``stderr_E_factor``, ``stderr_alpha_per_s``,
             ``correlation``, ``interval_probability``, ``noise_std_N``, ``definitions`` (of
-            the features, in words), ``features`` ({name: :meth:`FeaturePrediction.summary`})
-            and ``all_inside`` (None without record).
+            the features, in words), ``features`` ({name: :meth:`FeaturePrediction.summary`}),
+            ``all_inside`` (None without record) and ``impulse_effects_not_carried``.
         """
         s = np.sqrt(np.diag(self.covariance))
         corr = float(self.covariance[0, 1] / (s[0] * s[1])) if s[0] * s[1] > 0 else 0.0
@@ -405,7 +409,8 @@ class ContactPrediction:
                                 "contact_end_s": f"last time it is at {CONTACT_FRACTION:.0%} of its peak",
                                 "contact_duration_s": "end minus start"},
                 "features": {k: f.summary() for k, f in self.features.items()},
-                "all_inside": None if not self.recorded else all(inside)}
+                "all_inside": None if not self.recorded else all(inside),
+                "impulse_effects_not_carried": list(self.effects_not_carried)}
 
 
 def impulse_parameters(fit):
@@ -505,4 +510,5 @@ def predict_contact(calibration, contact: Experiment, *, recorded=True):
                                         measured=measured.get(k))
     return ContactPrediction(contact=contact, recorded=recorded,
                              values={"E_factor": float(mean[0]), "alpha_per_s": float(mean[1])}, covariance=cov,
-                             reading_N=centre, features=features, noise_std_N=float(sigma))
+                             reading_N=centre, features=features, noise_std_N=float(sigma),
+                             effects_not_carried=tuple(calibration.final.effects))

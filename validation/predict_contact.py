@@ -18,7 +18,12 @@
    calibrated (:func:`ccedi.calibrate.loop.calibrate`), the contact record predicted from
    it (:func:`ccedi.calibrate.prediction.predict_contact`) and compared with its measured
    features. Acceptance per pair: start and duration within :data:`TIME_TOLERANCE_S`, the
-   filtered peak force within :data:`PEAK_TOLERANCE`, each inside its interval.
+   filtered peak force within :data:`PEAK_TOLERANCE`, each inside its interval. Beside it
+   (``bias_kept``), whether each measured feature would lie inside the interval of the
+   chain's own feature with its RMS error as sigma_chain (bias not removed).
+3. A mismatched pair (``mismatched``): the bundled lightly damped impulse record
+   data/measured/control_low (alpha ~3 1/s) predicting the bundled contact record
+   data/contact/control_180 (alpha 180 1/s): the intervals should not hold it.
 
 The FE runs of the pairs (~2-6 min of CPU each) are cached as
 ``validation/cache/predict_contact/NAME_fe.csv`` (delete to rerun), the generated records
@@ -149,6 +154,11 @@ def main():
         fea = prediction.contact_features(contact.time_s, fea_reading(contact.time_s, fe_run(name, truth)))
         f = p.features
         peak = f["filtered_peak_force_N"]
+        raw = prediction.contact_features(contact.time_s, p.reading_N)
+        z = (f["contact_start_s"].interval[1] - f["contact_start_s"].predicted) / f["contact_start_s"].std
+        half = {k: z * float(np.sqrt(f[k].std_parameters**2 + f[k].std_noise**2
+                                        + (err["rms"][k] if k != "filtered_peak_force_N" else
+                                           err["rms"]["filtered_peak_force_fraction"] * raw[k]) ** 2)) for k in f}
         accepted = {"start_within_s": abs(f["contact_start_s"].measured - f["contact_start_s"].predicted) <= TIME_TOLERANCE_S,
                     "duration_within_s": abs(f["contact_duration_s"].measured - f["contact_duration_s"].predicted)
                     <= TIME_TOLERANCE_S,
@@ -163,9 +173,16 @@ def main():
                        "prediction": p.summary(),
                        "peak_error_fraction": peak.measured / peak.predicted - 1.0,
                        "chain_at_truth_vs_fea": {"chain": chain, "fea": fea},
+                       "bias_kept": {k: {"predicted": raw[k], "half_width": half[k],
+                                         "inside": bool(abs(f[k].measured - raw[k]) <= half[k])} for k in f},
                        "accepted": accepted | {"all": all(accepted.values())}}
         print(name, json.dumps(pairs[name]["calibrated"]), json.dumps(accepted), flush=True)
     out["pairs"] = pairs
+    out["bias_kept_all_inside"] = all(x["inside"] for r in pairs.values() for x in r["bias_kept"].values())
+    cal = calibrate(load_experiment(HERE.parent / "data" / "measured" / "control_low.csv"))
+    contact, recorded = prediction.load_contact_setup(DATA / "control_180.csv")
+    out["mismatched"] = {"impulse": "data/measured/control_low.csv", "contact": "data/contact/control_180.csv",
+                         "prediction": prediction.predict_contact(cal, contact, recorded=recorded).summary()}
     out["pairs_accepted"] = sum(r["accepted"]["all"] for r in pairs.values())
     out["max_abs_start_error_s"] = max(abs(r["prediction"]["features"]["contact_start_s"]["error_s"])
                                       for r in pairs.values())

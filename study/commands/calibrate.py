@@ -203,3 +203,6 @@ def print_prediction(prediction):
         if f.measured is not None:
             line += f"; measured {f.measured:.4g} {unit}: {'inside' if f.inside else 'OUTSIDE'}"
         print(line)
+    if prediction.effects_not_carried:
+        print(f"  (the impulse record's {'+'.join(prediction.effects_not_carried)} is not in the contact chain: the "
+              "prediction is of the finger without it)")

@@ -91,7 +91,7 @@ def test_chain_bias_line_and_its_widening_std():
 
 def _calibration(E_factor, alpha, stderr_E, stderr_alpha):
     """A stand-in for an impulse Calibration of the bundled 8-in finger."""
-    final = SimpleNamespace(values={"E_factor": E_factor, "alpha_per_s": alpha},
+    final = SimpleNamespace(effects=(), values={"E_factor": E_factor, "alpha_per_s": alpha},
                             stderr={"E_factor": stderr_E, "alpha_per_s": stderr_alpha},
                             correlation={("alpha_per_s", "E_factor"): -0.2})
     return SimpleNamespace(experiment=load_experiment(ROOT / "data" / "measured" / "control_low.csv"), final=final)
