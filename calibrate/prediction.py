@@ -240,12 +240,12 @@ def load_contact_setup(path):
     """
     path = Path(path)
     if path.suffix.lower() not in (".csv", ".json"):
-        raise InputError(f"--predict-contact {path}: give a contact record CSV (its sidecar JSON beside it) or a "
+        raise InputError(f"contact set-up {path}: give a contact record CSV (its sidecar JSON beside it) or a "
                          "contact sidecar JSON alone")
     recorded = path.suffix.lower() == ".csv"
     sidecar = path.with_suffix(".json")
     if not path.is_file() or not sidecar.is_file():
-        raise InputError(f"--predict-contact {path}: {'not found' if not path.is_file() else f'no sidecar {sidecar} beside it'}")
+        raise InputError(f"contact set-up {path}: {'not found' if not path.is_file() else f'no sidecar {sidecar} beside it'}")
     if recorded:
         exp = load_experiment(path)
     else:
@@ -254,7 +254,7 @@ def load_contact_setup(path):
                                  reaction_force_N=np.zeros_like(t))
         exp = experiment_from(quiet, read_sidecar(sidecar), source=str(path), check_record=False)
     if exp.kind != "contact":
-        raise InputError(f"--predict-contact {path}: sidecar kind is {exp.kind!r}, a contact record or set-up "
+        raise InputError(f"contact set-up {path}: sidecar kind is {exp.kind!r}, a contact record or set-up "
                          "(kind \"contact\") is needed")
     return exp, recorded
 

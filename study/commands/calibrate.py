@@ -126,7 +126,10 @@ def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=Non
         if exp.kind != "impulse":
             raise InputError(f"--predict-contact: {csv} is a {exp.kind} record; a contact record is predicted from "
                              "an impulse record's calibration")
-        contact, recorded = load_contact_setup(predict_contact)
+        try:
+            contact, recorded = load_contact_setup(predict_contact)
+        except InputError as err:
+            raise InputError(f"--predict-contact: {err}") from None
         check_same_finger(exp, contact)
     cal = calibrate(exp, candidates=effects, fea_correction=fea_correction,
                     progress=lambda message: print(f"calibrate: {message}", flush=True))

@@ -125,6 +125,22 @@ def test_interval_widens_with_the_parameters_covariance(setup):
     assert exact.summary()["features"]["contact_start_s"]["predicted_s"] == exact.features["contact_start_s"].predicted
 
 
+def test_a_contact_sidecar_declaring_another_E_gets_the_same_modulus(setup, tmp_path):
+    """The contact sidecar declares twice the impulse record's E: the chain runs at half its
+    E factor, the same modulus, and predicts the same features."""
+    contact, _ = setup
+    sidecar = json.loads((ROOT / "data" / "contact" / "control_180.json").read_text())
+    sidecar["finger"]["E_Pa"] *= 2.0
+    (tmp_path / "stiff.json").write_text(json.dumps(sidecar))
+    stiff, _ = load_contact_setup(tmp_path / "stiff.json")
+    calibration = _calibration(0.97, 250.0, 0.0, 0.0)
+    a = predict_contact(calibration, contact, recorded=False)
+    b = predict_contact(calibration, stiff, recorded=False)
+    assert b.values["E_factor"] == pytest.approx(0.5 * a.values["E_factor"])
+    for name, f in a.features.items():
+        assert b.features[name].predicted == pytest.approx(f.predicted, rel=1e-3), name
+
+
 def test_a_contact_set_up_of_another_finger_is_refused(setup):
     contact, _ = setup
     impulse = load_experiment(ROOT / "data" / "measured" / "control_low.csv")
