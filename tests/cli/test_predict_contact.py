@@ -62,3 +62,20 @@ def test_prediction_block_and_report(tmp_path, capsys):
         assert f"predicted {f[f'predicted_{unit}']:.4g} {unit}" in out
     assert "## Prediction of the contact record" in (tmp_path / "report" / "report.md").read_text()
     assert (tmp_path / "report" / "prediction.png").is_file()
+
+
+def test_a_measured_contact_record_outside_the_prediction_is_said_so(tmp_path, capsys):
+    """The bundled impulse record (alpha ~3 1/s) against the bundled contact record of alpha
+    180 1/s: the measured contact start lies outside its interval, and the output, the JSON
+    and the report say so."""
+    code, out, _ = _run(capsys, IMPULSE, "--json", tmp_path / "out.json", "--report", tmp_path / "report",
+                        "--predict-contact", CONTACT)
+    assert code == 0
+    p = json.loads((tmp_path / "out.json").read_text())["prediction"]
+    start = p["features"]["contact_start_s"]
+    assert p["recorded"] is True and p["all_inside"] is False
+    assert start["inside"] is False and start["error_s"] > 0.05         # the lightly damped finger touches early
+    assert start["error_s"] == pytest.approx(start["measured_s"] - start["predicted_s"])
+    assert f"measured {start['measured_s']:.4g} s: OUTSIDE" in out
+    assert "| contact start [s] |" in (tmp_path / "report" / "report.md").read_text()
+    assert "**no**" in (tmp_path / "report" / "report.md").read_text()
