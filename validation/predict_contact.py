@@ -20,7 +20,9 @@
    features. Acceptance per pair: start and duration within :data:`TIME_TOLERANCE_S`, the
    filtered peak force within :data:`PEAK_TOLERANCE`, each inside its interval. Beside it
    (``bias_kept``), whether each measured feature would lie inside the interval of the
-   chain's own feature with its RMS error as sigma_chain (bias not removed).
+   chain's own feature with its RMS error as sigma_chain (bias not removed), and
+   (``without_selection_shift``) whether it would lie inside the interval without the term
+   for the effects the impulse calibration selected (its baseline taken as its final fit).
 3. A mismatched pair (``mismatched``): the bundled lightly damped impulse record
    data/measured/control_low (alpha ~3 1/s) predicting the bundled contact record
    data/contact/control_180 (alpha 180 1/s): the intervals should not hold it.
@@ -34,6 +36,7 @@ Run: ``.venv/bin/python validation/predict_contact.py``; writes validation/predi
 """
 import json
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -52,7 +55,9 @@ CACHE = HERE / "cache" / "predict_contact"
 OUT = Path(__file__).with_suffix(".json")
 PAIRS = {"pair_120": {"E_factor": 0.95, "alpha_per_s": 120.0},
          "pair_250": {"E_factor": 1.04, "alpha_per_s": 250.0},
-         "pair_450": {"E_factor": 0.97, "alpha_per_s": 450.0}}
+         "pair_450": {"E_factor": 0.97, "alpha_per_s": 450.0},
+         "pair_90": {"E_factor": 1.02, "alpha_per_s": 90.0},
+         "pair_600": {"E_factor": 0.96, "alpha_per_s": 600.0}}
 """The pairs' truths: E factor [-] and alpha [1/s] (alpha within the bundled contact set's
 80-600 1/s; the impulse records then show no first-mode frequency, but their decay still
 identifies alpha and E)."""
@@ -150,6 +155,7 @@ def main():
         cal = calibrate(load_experiment(impulse_csv))
         contact, recorded = prediction.load_contact_setup(contact_csv)
         p = prediction.predict_contact(cal, contact, recorded=recorded)
+        unshifted = prediction.predict_contact(replace(cal, baseline=cal.final), contact, recorded=recorded)
         chain = prediction.contact_features(contact.time_s, DrumContactModel(contact).predict(truth))
         fea = prediction.contact_features(contact.time_s, fea_reading(contact.time_s, fe_run(name, truth)))
         f = p.features
@@ -170,9 +176,15 @@ def main():
                                       "stderr_E_factor": cal.final.stderr["E_factor"],
                                       "alpha_per_s": cal.final.values["alpha_per_s"],
                                       "stderr_alpha_per_s": cal.final.stderr["alpha_per_s"]},
+                       "baseline": {"E_factor": cal.baseline.values["E_factor"],
+                                    "stderr_E_factor": cal.baseline.stderr["E_factor"],
+                                    "alpha_per_s": cal.baseline.values["alpha_per_s"],
+                                    "stderr_alpha_per_s": cal.baseline.stderr["alpha_per_s"],
+                                    "rms_over_noise": cal.baseline.rms_m / cal.noise_std_m},
                        "prediction": p.summary(),
                        "peak_error_fraction": peak.measured / peak.predicted - 1.0,
                        "chain_at_truth_vs_fea": {"chain": chain, "fea": fea},
+                       "without_selection_shift": {k: x.inside for k, x in unshifted.features.items()},
                        "bias_kept": {k: {"predicted": raw[k], "half_width": half[k],
                                          "inside": bool(abs(f[k].measured - raw[k]) <= half[k])} for k in f},
                        "accepted": accepted | {"all": all(accepted.values())}}

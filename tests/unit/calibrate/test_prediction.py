@@ -89,12 +89,16 @@ def test_chain_bias_line_and_its_widening_std():
         chain_error("filtered_peak_force_fraction", mid)[1] * corrected["filtered_peak_force_N"])
 
 
-def _calibration(E_factor, alpha, stderr_E, stderr_alpha):
-    """A stand-in for an impulse Calibration of the bundled 8-in finger."""
+def _calibration(E_factor, alpha, stderr_E, stderr_alpha, baseline_E_factor=None):
+    """A stand-in for an impulse Calibration of the bundled 8-in finger (its baseline at
+    ``baseline_E_factor``: an effect was added that moved E; default the final fit)."""
     final = SimpleNamespace(effects=(), values={"E_factor": E_factor, "alpha_per_s": alpha},
                             stderr={"E_factor": stderr_E, "alpha_per_s": stderr_alpha},
                             correlation={("alpha_per_s", "E_factor"): -0.2})
-    return SimpleNamespace(experiment=load_experiment(ROOT / "data" / "measured" / "control_low.csv"), final=final)
+    baseline = final if baseline_E_factor is None else SimpleNamespace(
+        values={"E_factor": baseline_E_factor, "alpha_per_s": alpha}, stderr=final.stderr, correlation={})
+    return SimpleNamespace(experiment=load_experiment(ROOT / "data" / "measured" / "control_low.csv"), final=final,
+                           baseline=baseline)
 
 
 @pytest.fixture(scope="module")
@@ -122,6 +126,10 @@ def test_interval_widens_with_the_parameters_covariance(setup):
         assert exact.features[name].measured is None and exact.features[name].inside is None
         assert exact.features[name].std_chain == pytest.approx(chain_std[name])
     assert loose.features["filtered_peak_force_N"].std_noise > 0.0      # the sidecar declares the noise
+    shifted = predict_contact(_calibration(0.97, 250.0, 0.0, 0.0, baseline_E_factor=1.02), contact, recorded=False)
+    assert shifted.summary()["selection_shift_E_factor"] == pytest.approx(-0.05)
+    assert shifted.features["filtered_peak_force_N"].predicted == exact.features["filtered_peak_force_N"].predicted
+    assert shifted.features["filtered_peak_force_N"].std_parameters > 0.01 * exact.features["filtered_peak_force_N"].predicted
     assert exact.summary()["features"]["contact_start_s"]["predicted_s"] == exact.features["contact_start_s"].predicted
 
 
