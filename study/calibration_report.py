@@ -104,6 +104,10 @@ def _prediction_lines(p):
              f"(correlation {p['correlation']:+.2f}); intervals {p['interval_probability']:.0%}, from the parameters' "
              f"covariance, the chain's error against the full FEA and the record's noise "
              f"({p['noise_std_N']:.3g} N std).", "",
+             *([f"The standard errors include the shift of E and alpha from the baseline fit to the final one "
+                f"(E x {p['selection_shift_E_factor']:+.4f}, alpha {p['selection_shift_alpha_per_s']:+.4g} 1/s): the "
+                f"effects selected ({', '.join(p['impulse_effects_not_carried'])}) are not in the contact chain.", ""]
+               if p["impulse_effects_not_carried"] else []),
              "Features: " + "; ".join(f"{k}: {v}" for k, v in p["definitions"].items()) + ".", "",
              "| feature | predicted | interval | measured | inside |", "|---|---|---|---|---|"]
     for name, f in p["features"].items():

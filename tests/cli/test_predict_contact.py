@@ -45,11 +45,13 @@ def test_bad_prediction_input_is_one_line(case, tmp_path, capsys):
     assert not (tmp_path / "out.json").exists()
 
 
-def test_prediction_block_and_report(tmp_path, capsys):
-    """The bundled impulse record's finger is lightly damped (alpha ~3 1/s): its contact
-    set-up is predicted with intervals and no measured feature."""
-    code, out, _ = _run(capsys, IMPULSE, "--json", tmp_path / "out.json", "--report", tmp_path / "report",
-                        "--predict-contact", CONTACT.with_suffix(".json"))
+@pytest.mark.parametrize("record, effects", [("control_low", []), ("time_delay_high", ["time_delay"])])
+def test_prediction_block_and_report(record, effects, tmp_path, capsys):
+    """The bundled impulse records' finger is lightly damped (alpha ~3 1/s): its contact
+    set-up is predicted with intervals and no measured feature; an effect the impulse
+    calibration selected is named as not carried, and its shift of E and alpha is given."""
+    code, out, _ = _run(capsys, IMPULSE.with_name(f"{record}.csv"), "--json", tmp_path / "out.json", "--report",
+                        tmp_path / "report", "--predict-contact", CONTACT.with_suffix(".json"))
     assert code == 0
     p = json.loads((tmp_path / "out.json").read_text())["prediction"]
     assert p["recorded"] is False and p["all_inside"] is None
@@ -60,7 +62,12 @@ def test_prediction_block_and_report(tmp_path, capsys):
         lo, hi = f[f"interval_{unit}"]
         assert lo < f[f"predicted_{unit}"] < hi and f[f"measured_{unit}"] is None and f["inside"] is None
         assert f"predicted {f[f'predicted_{unit}']:.4g} {unit}" in out
-    assert "## Prediction of the contact record" in (tmp_path / "report" / "report.md").read_text()
+    report = (tmp_path / "report" / "report.md").read_text()
+    assert "## Prediction of the contact record" in report
+    assert p["impulse_effects_not_carried"] == effects
+    assert ("is not in the contact chain" in out) == bool(effects)
+    assert ("are not in the contact chain" in report) == bool(effects)
+    assert (p["selection_shift_E_factor"] != 0.0) == bool(effects)
     assert (tmp_path / "report" / "prediction.png").is_file()
 
 
