@@ -96,7 +96,9 @@ in ln alpha: the error at the runs' geometric-mean alpha, its slope per unit ln 
 the residual std (8 dof); contact start, end and duration in s, the filtered peak force as
 chain / FEA - 1. From validation/predict_contact.json ``chain_error.regression``: the chain
 touches the object 1.3 ms late at alpha 188 1/s, 0.9 ms more per unit ln alpha, lifts off
-1.2 ms late, and reads the peak 2.6 % low, each within 0.27 ms and 1.2 % about the line."""
+1.2 ms late, and reads the peak 2.6 % low, each within 0.27 ms and 1.2 % about the line.
+All ten runs are of the declared 8-in finger with global damping: another finger, or
+relative damping, is predicted with the same line, not measured there."""
 FEATURES = {"contact_start_s": "s", "contact_end_s": "s", "contact_duration_s": "s", "filtered_peak_force_N": "N"}
 """The predicted features and their units."""
 FEATURE_NAMES = {"contact_start_s": "contact start", "contact_end_s": "contact end",
