@@ -291,6 +291,30 @@ def load_experiment(csv_path, meta_path=None):
     meta_path = Path(meta_path) if meta_path else csv_path.with_suffix(".json")
     if not csv_path.is_file():
         raise InputError(f"measured record not found: {csv_path}")
+    sidecar = read_sidecar(meta_path)
+    required = CONTACT_COLUMNS if sidecar.get("kind") == "contact" else REQUIRED_COLUMNS
+    return experiment_from(load_response(csv_path, required=required), sidecar, source=str(meta_path))
+
+
+def read_sidecar(meta_path):
+    """Read a JSON sidecar (not yet validated: :func:`experiment_from` does that).
+
+    Parameters
+    ----------
+    meta_path : str or pathlib.Path
+        The sidecar.
+
+    Returns
+    -------
+    dict
+        The parsed JSON object.
+
+    Raises
+    ------
+    InputError
+        If the file is missing, not valid JSON or not a JSON object.
+    """
+    meta_path = Path(meta_path)
     if not meta_path.is_file():
         raise InputError(f"sidecar not found: {meta_path} (give --meta, or put DATA.json beside DATA.csv)")
     try:
@@ -301,8 +325,7 @@ def load_experiment(csv_path, meta_path=None):
         raise InputError(f"{meta_path}: not valid JSON ({one_line(err)})") from None
     if not isinstance(sidecar, dict):
         raise InputError(f"{meta_path}: the sidecar must be a JSON object")
-    required = CONTACT_COLUMNS if sidecar.get("kind") == "contact" else REQUIRED_COLUMNS
-    return experiment_from(load_response(csv_path, required=required), sidecar, source=str(meta_path))
+    return sidecar
 
 
 DRUM_QUANTITIES = {"drum_radius_m": "drum_radius_m", "omega_rad_s": "omega_rad_s", "theta0_rad": "angle_rad",
@@ -349,7 +372,7 @@ def parse_drum(drum, source):
     return out
 
 
-def experiment_from(record: MeasuredResponse, sidecar, source="<sidecar>"):
+def experiment_from(record: MeasuredResponse, sidecar, source="<sidecar>", *, check_record=True):
     """Validate a sidecar and a record together (module docstring) into an :class:`Experiment`.
 
     Parameters
@@ -360,6 +383,10 @@ def experiment_from(record: MeasuredResponse, sidecar, source="<sidecar>"):
         The parsed sidecar JSON.
     source : str, optional
         Name of the sidecar in error messages. Default ``"<sidecar>"``.
+    check_record : bool, optional
+        Check the record's plausibility (:func:`check_plausible`); False for a set-up
+        with no record yet (``record`` then only carries the times a prediction is made
+        at). Default True.
 
     Returns
     -------
@@ -405,7 +432,8 @@ def experiment_from(record: MeasuredResponse, sidecar, source="<sidecar>"):
                     required=False, default=DEFAULT_E_TOLERANCE)
     exp = Experiment(kind=kind, finger=finger, force_N=force, duration_s=duration, start_s=start, alpha_per_s=alpha,
                      noise_std_m=noise, E_tolerance=tol, record=record, drum=drum, damping=damping, noise_std_N=noise_N)
-    check_plausible(exp)
+    if check_record:
+        check_plausible(exp)
     return exp
 
 

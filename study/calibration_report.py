@@ -5,10 +5,14 @@ Files: ``fit.png`` (record, baseline and final model [mm] against time [s]),
 ``residual.png`` (residual [mm] against time [s], and its amplitude spectrum [mm] against
 frequency [Hz], before and after), ``residuals.csv`` (time_s, tip_displacement_m,
 baseline_m, final_m) and ``report.md`` (first the result: the calibrated finger, the effects
-found with their values or why none was, the error before and after; then the evidence:
-the model's adequacy, the damping kind, and every round's candidates with their scores,
-posterior probabilities and why each was or was not selected). A contact record's figures and columns are its
-reaction force [N] instead (``reaction_force_N``, ``baseline_N``, ``final_N``).
+found with their values or why none was, the error before and after, and the contact
+prediction when there is one; then the evidence: the model's adequacy, the damping kind,
+and every round's candidates with their scores, posterior probabilities and why each was
+or was not selected). A contact record's figures and columns are its reaction force [N]
+instead (``reaction_force_N``, ``baseline_N``, ``final_N``). With a contact prediction
+(``ccedi calibrate --predict-contact``), ``report.md`` gets the table "Prediction of the
+contact record" and ``prediction.png`` shows the predicted filtered reading [N] against
+time [s], with the record's when there is one.
 """
 from pathlib import Path
 
@@ -20,6 +24,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from ccedi.calibrate.loop import Calibration  # noqa: E402
+from ccedi.calibrate.prediction import FEATURE_NAMES, FEATURES, filtered_reading  # noqa: E402
 from ccedi.outputs import write_csv, write_figure, write_text  # noqa: E402
 
 SIGNALS = {"impulse": ("tip displacement", "tip_displacement_m", "m", 1e3, "mm"),
@@ -127,11 +132,57 @@ def _result_lines(summary, unit):
     return lines
 
 
+def _prediction_lines(p):
+    """The table "Prediction of the contact record" of a prediction's summary."""
+    lines = ["## Prediction of the contact record", "",
+             f"{p['contact_source']} predicted from this record's E x {p['E_factor']:.4f} (of the contact sidecar's E, "
+             f"+- {p['stderr_E_factor']:.2g}) and alpha {p['alpha_per_s']:.4g} +- {p['stderr_alpha_per_s']:.2g} 1/s "
+             f"(correlation {p['correlation']:+.2f}); intervals {p['interval_probability']:.0%}, from the parameters' "
+             f"covariance, the chain's error against the full FEA and the record's noise "
+             f"({p['noise_std_N']:.3g} N std).", "",
+             *([f"The standard errors include the shift of E and alpha from the baseline fit to the final one "
+                f"(E x {p['selection_shift_E_factor']:+.4f}, alpha {p['selection_shift_alpha_per_s']:+.4g} 1/s): the "
+                f"effects selected ({', '.join(p['impulse_effects_not_carried'])}) are not in the contact chain.", ""]
+               if p["impulse_effects_not_carried"] else []),
+             "Features: " + "; ".join(f"{k}: {v}" for k, v in p["definitions"].items()) + ".", "",
+             "| feature | predicted | interval | measured | inside |", "|---|---|---|---|---|"]
+    for name, f in p["features"].items():
+        u = FEATURES[name]
+        lo, hi = f[f"interval_{u}"]
+        measured = "-" if f[f"measured_{u}"] is None else f"{f[f'measured_{u}']:.4g}"
+        inside = "-" if f["inside"] is None else ("yes" if f["inside"] else "**no**")
+        lines.append(f"| {FEATURE_NAMES[name]} [{u}] | {f[f'predicted_{u}']:.4g} | {lo:.4g}..{hi:.4g} | {measured} | "
+                     f"{inside} |")
+    return lines + [""]
+
+
+def _prediction_figure(prediction):
+    """Predicted filtered reading against the record's (when there is one)."""
+    t = prediction.contact.time_s
+    fig, ax = plt.subplots(figsize=(7.5, 4.0))
+    if prediction.recorded:
+        y = prediction.contact.signal
+        ax.plot(t, y, ".", ms=2, color="0.7", label="record")
+        ax.plot(t, filtered_reading(t, y), "-", lw=1.0, color="k", label="record, filtered")
+    f = prediction.features
+    ax.plot(t, filtered_reading(t, prediction.reading_N), "--", lw=1.2, color="C3", label="predicted, filtered")
+    for name in ("contact_start_s", "contact_end_s"):
+        ax.axvspan(*f[name].interval, color="C3", alpha=0.2, lw=0)
+    lo, hi = f["filtered_peak_force_N"].interval
+    ax.axhspan(lo, hi, color="C3", alpha=0.2, lw=0, label="predicted intervals")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("reaction force [N]")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
 def _markdown(summary):
     b = summary["baseline"]
     a = summary["adequacy"]
     unit = SIGNALS[summary.get("kind", "impulse")][2]
     lines = [f"# Calibration of {summary['source']}", "", *_result_lines(summary, unit),
+             *(_prediction_lines(summary["prediction"]) if summary.get("prediction") else []),
              "## Evidence", "",
              f"Model adequacy: {a['message']}.", "",
              "| evidence | value |", "|---|---|", *_adequacy_rows(a),
@@ -165,7 +216,7 @@ def _markdown(summary):
     return "\n".join(lines)
 
 
-def write_report(out_dir, cal: Calibration, summary):
+def write_report(out_dir, cal: Calibration, summary, *, prediction=None):
     """Write the calibration report files (module docstring) into ``out_dir``.
 
     Parameters
@@ -175,12 +226,16 @@ def write_report(out_dir, cal: Calibration, summary):
     cal : Calibration
         The calibration result (figures and residual series).
     summary : dict
-        Its JSON summary (:func:`ccedi.calibrate.loop.summary`), for ``report.md``.
+        Its JSON summary (:func:`ccedi.calibrate.loop.summary`), for ``report.md``, with
+        the ``prediction`` block when there is one.
+    prediction : ccedi.calibrate.prediction.ContactPrediction, optional
+        A contact prediction from this calibration: ``prediction.png``. Default None.
 
     Returns
     -------
     list of pathlib.Path
-        The paths of ``fit.png``, ``residual.png``, ``residuals.csv`` and ``report.md``.
+        The paths of ``fit.png``, ``residual.png``, ``residuals.csv``, ``report.md`` and,
+        with a prediction, ``prediction.png``.
     """
     out = Path(out_dir)
     fit_fig, res_fig = _figures(cal)
@@ -190,4 +245,6 @@ def write_report(out_dir, cal: Calibration, summary):
                           f"baseline_{unit}": cal.baseline.prediction, f"final_{unit}": cal.final.prediction})
     paths = [write_figure(out / "fit.png", fit_fig), write_figure(out / "residual.png", res_fig),
              write_csv(out / "residuals.csv", frame), write_text(out / "report.md", md)]
+    if prediction is not None:
+        paths.append(write_figure(out / "prediction.png", _prediction_figure(prediction)))
     return paths

@@ -1,7 +1,13 @@
 """``ccedi calibrate`` (:mod:`ccedi.calibrate`): close the loop on a measured record.
 
   calibrate DATA.csv [--meta DATA.json] --json OUT.json [--report DIR] [--effects NAME ...]
-            [--write-config OUT.toml] [--fea-correction]
+            [--write-config OUT.toml] [--fea-correction] [--predict-contact CONTACT.csv|CONTACT.json]
+
+``--predict-contact`` predicts the same finger's contact record from the impulse record's
+calibrated E and alpha (:mod:`ccedi.calibrate.prediction`): contact start, end, duration and
+filtered peak force, each with its 95 % interval, against the record's own when a record
+(CSV with its sidecar) is given, not only its sidecar; the JSON gets a ``prediction`` block
+and the report a table and ``prediction.png``.
 
 ``--write-config`` writes the calibrated inputs (:func:`ccedi.study.config.calibrated_config`)
 as a TOML fragment that ``ccedi study --config`` and every other ``--config`` command read.
@@ -14,7 +20,7 @@ then :class:`ccedi.errors.ModelInadequate` gives exit status 3.
 """
 # Imports inside functions: building the parser imports no library, so that `ccedi --help`
 # answers at once (tests/conventions/test_layout.py); each command loads what it runs.
-from ccedi.errors import ModelInadequate
+from ccedi.errors import InputError, ModelInadequate
 from ccedi.study.commands.arguments import add_command, add_output_argument
 
 
@@ -43,17 +49,23 @@ def add_parsers(sub):
     c.add_argument("--fea-correction", action="store_true",
                    help="contact record: correct the reduced chain by one or two full explicit FE runs (~2 minutes "
                         "each) and check the result against the full FEA")
+    c.add_argument("--predict-contact", metavar="CONTACT",
+                   help="impulse record: predict the same finger's contact record from the calibrated E and alpha "
+                        "(contact start, duration, filtered peak force with 95 %% intervals); CONTACT.csv (a contact "
+                        "record, its sidecar beside it: measured against predicted) or CONTACT.json (a contact "
+                        "sidecar alone: no record yet)")
     c.set_defaults(func=cmd_calibrate)
 
 
 def cmd_calibrate(args):
     """``ccedi calibrate``: :func:`write_calibration` of the parsed arguments."""
     write_calibration(args.csv, args.json, report_dir=args.report, meta=args.meta, effects=args.effects,
-                      config_path=args.write_config, fea_correction=args.fea_correction)
+                      config_path=args.write_config, fea_correction=args.fea_correction,
+                      predict_contact=args.predict_contact)
 
 
 def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=None, config_path=None,
-                      fea_correction=False):
+                      fea_correction=False, predict_contact=None):
     """Calibrate the declared finger on one measured impulse or contact record and write the result.
 
     Parameters
@@ -76,6 +88,11 @@ def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=Non
     fea_correction : bool, optional
         Correct a contact record's chain by the full FEA at the baseline and check the
         final model with it (:func:`ccedi.calibrate.loop.calibrate`). Default False.
+    predict_contact : str or Path, optional
+        A contact record CSV (sidecar beside it) or a contact sidecar JSON of the impulse
+        record's finger: its features are predicted from the calibration
+        (:func:`ccedi.calibrate.prediction.predict_contact`; not when the declared model
+        is inadequate). Default None.
 
     Returns
     -------
@@ -86,7 +103,8 @@ def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=Non
     ------
     ccedi.errors.InputError
         The record or its sidecar is invalid, or an effect is not in the record kind's
-        catalogue (nothing is written).
+        catalogue, or the contact set-up to predict is invalid, not of a contact record,
+        of another finger, or given with a contact record to calibrate (nothing is written).
     ccedi.errors.ModelInadequate
         The declared finger cannot explain the record: raised after the JSON (with
         ``model_adequate: false``) and the report are written; its message is one line
@@ -96,12 +114,23 @@ def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=Non
 
     from ccedi.calibrate.experiment import load_experiment
     from ccedi.calibrate.loop import calibrate, summary
+    from ccedi.calibrate.prediction import check_same_finger, load_contact_setup
+    from ccedi.calibrate.prediction import predict_contact as predict
     from ccedi.outputs import write_json, write_text
     from ccedi.study.calibration_report import write_report
     from ccedi.study.config import calibrated_config
 
     t0 = time.perf_counter()
     exp = load_experiment(csv, meta)
+    if predict_contact is not None:
+        if exp.kind != "impulse":
+            raise InputError(f"--predict-contact: {csv} is a {exp.kind} record; a contact record is predicted from "
+                             "an impulse record's calibration")
+        try:
+            contact, recorded = load_contact_setup(predict_contact)
+        except InputError as err:
+            raise InputError(f"--predict-contact: {err}") from None
+        check_same_finger(exp, contact)
     cal = calibrate(exp, candidates=effects, fea_correction=fea_correction,
                     progress=lambda message: print(f"calibrate: {message}", flush=True))
     result = summary(cal) | {"wall_time_s": time.perf_counter() - t0}
@@ -137,9 +166,17 @@ def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=Non
     if result["unexplained_residual"]:
         s = result["sparse_term"]
         print(f"unexplained residual: best sparse term {s['force']} removes {s['error_reduction']:.0%} of it")
+    prediction = None
+    if predict_contact is not None:
+        if result["model_adequate"]:
+            prediction = predict(cal, contact, recorded=recorded)
+            print_prediction(prediction)
+        else:
+            print(f"no contact prediction: {result['adequacy']['message']}")
+        result["prediction"] = None if prediction is None else prediction.summary()
     config_text = calibrated_config(result, exp) if config_path and result["model_adequate"] else None
     if report_dir:
-        for path in write_report(report_dir, cal, result):
+        for path in write_report(report_dir, cal, result, prediction=prediction):
             print(f"wrote {path}")
     write_json(json_path, result)
     print(f"wrote {json_path}")
@@ -150,3 +187,30 @@ def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=Non
         raise ModelInadequate(f"{csv}: {result['adequacy']['message']} (no effect added; {json_path} has "
                               f"model_adequate: false and the evidence)")
     return result
+
+
+def print_prediction(prediction):
+    """Print a contact prediction, one line per feature: predicted value, interval, unit and,
+    with a record, the measured value and whether it lies inside.
+
+    Parameters
+    ----------
+    prediction : ccedi.calibrate.prediction.ContactPrediction
+        The prediction.
+    """
+    from ccedi.calibrate.prediction import FEATURE_NAMES, FEATURES, INTERVAL_PROBABILITY
+
+    v = prediction.values
+    print(f"contact prediction ({prediction.contact.record.source}) at E x {v['E_factor']:.4f} of its declared E, "
+          f"alpha = {v['alpha_per_s']:.4g} 1/s:")
+    for name, f in prediction.features.items():
+        unit = FEATURES[name]
+        lo, hi = f.interval
+        line = (f"  {FEATURE_NAMES[name]}: predicted {f.predicted:.4g} {unit} ({INTERVAL_PROBABILITY:.0%} interval "
+                f"{lo:.4g}..{hi:.4g} {unit})")
+        if f.measured is not None:
+            line += f"; measured {f.measured:.4g} {unit}: {'inside' if f.inside else 'OUTSIDE'}"
+        print(line)
+    if prediction.effects_not_carried:
+        print(f"  (the impulse record's {'+'.join(prediction.effects_not_carried)} is not in the contact chain: the "
+              "prediction is of the finger without it)")
