@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares
 
-from .likelihood import MAX_AR_ORDER, WHITE, estimate_noise, laplace_log_evidence, rough_part
+from .likelihood import MAX_AR_ORDER, WHITE, NoiseModel, estimate_noise, laplace_log_evidence, rough_part
 
 N_BLOCKS = 20
 QUIET_LEVEL = 0.01
@@ -72,6 +72,10 @@ class Fit:
         ln Z, Laplace's approximation with uniform priors over the parameters' bounds [-].
     noise : ccedi.calibrate.likelihood.NoiseModel
         The noise model the fit was made and scored under.
+    chi_square : float
+        Mean square of its standardised innovations on the training samples [-]: about 1
+        when the residual is what the noise model (noise and the base model's
+        discrepancy) allows; nan under a noise model of unknown scale.
     holdout_rms_m : float
         RMS error on the held-out samples [m].
     rms_m : float
@@ -97,6 +101,7 @@ class Fit:
     bic: float
     log_evidence: float
     noise: object
+    chi_square: float
     holdout_rms_m: float
     rms_m: float
     nrmse: float
@@ -226,7 +231,7 @@ def _scored(model, effects, params, res, train, noise):
     return Fit(effects=tuple(effects), values=v, stderr=stderr, prediction=pred,
                bic=float(n * np.log(rss / n) + k * np.log(n)),
                log_evidence=laplace_log_evidence(e, res.jac, np.array([np.ptp(p.z_bounds()) for p in params])),
-               noise=noise,
+               noise=noise, chi_square=rss / n if np.isfinite(noise.innovation_std) else float("nan"),
                holdout_rms_m=float(np.sqrt(np.mean(err[~train] ** 2))), rms_m=rms,
                nrmse=rms / float(np.ptp(y)), max_error_m=float(np.max(np.abs(err))), correlation=pairs,
                unique_share=dict(zip((p.name for p in params), unique_shares(res.jac))))
@@ -302,7 +307,8 @@ def under_own_noise(model, fitted):
     reading and at the record's own (smoothed) one (off contact: not the chatter, which the discrepancy carries), when
     there are at least ``QUIET_SAMPLES`` training samples there: the few hundred samples
     off contact do not resolve an AR model (on drum_speed_fast's white noise the
-    deconvolution found order 5, low-frequency gain 0.54).
+    deconvolution found order 5, low-frequency gain 0.54). White noise takes the std the
+    sidecar declares, when it declares one.
 
     Parameters
     ----------
@@ -325,7 +331,10 @@ def under_own_noise(model, fitted):
         on_record = model.discrepancy_covariance(y - rough_part(y, dt))      # where the record itself is in contact
         quiet = scored & _quiet(discrepancy) & _quiet(on_record)
         scored, max_order = (quiet, 0) if quiet.sum() >= QUIET_SAMPLES else (scored, max_order)
-    noise = estimate_noise(fitted.prediction - y, scored, dt, max_order=max_order).with_discrepancy(discrepancy)
+    noise = estimate_noise(fitted.prediction - y, scored, dt, max_order=max_order)
+    if noise.order == 0 and model.exp.declared_noise is not None:
+        noise = NoiseModel(noise.ar, float(model.exp.declared_noise))           # the sensor's, as declared
+    noise = noise.with_discrepancy(discrepancy)
     if noise.same_as(fitted.noise):
         return fitted
     return fit(model, fitted.effects, start=fitted.values, noise=noise)

@@ -91,10 +91,12 @@ class NoiseModel:
         return len(self.ar)
 
     def innovations(self, residual, mask):
-        """The whitened residual on the scored samples.
+        """The whitened residual on the scored samples, standardised: unit variance when the
+        noise model is right.
 
-        Without a discrepancy, e_t on the samples of ``mask`` whose p predecessors are in
-        it; with one, L^-1 r on the samples of ``mask``.
+        Without a discrepancy, e_t / innovation_std on the samples of ``mask`` whose p
+        predecessors are in it (e_t itself when the std is not known, :data:`WHITE`); with
+        one, L^-1 r on the samples of ``mask``.
 
         Parameters
         ----------
@@ -116,7 +118,7 @@ class NoiseModel:
         idx = np.flatnonzero(valid)
         for k, phi in enumerate(self.ar, start=1):
             e -= phi * r[idx - k]
-        return e
+        return e / self.innovation_std if np.isfinite(self.innovation_std) and self.innovation_std > 0.0 else e
 
     def covariance(self, n):
         """The AR noise's covariance over n consecutive samples (the residual's unit squared).

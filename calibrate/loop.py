@@ -76,7 +76,7 @@ from ccedi.errors import InputError
 
 from .adequacy import Adequacy
 from .experiment import Experiment
-from .fit import Fit, fit, fit_baseline, under_own_noise
+from .fit import Fit, fit, fit_baseline, holdout_mask, under_own_noise
 from .interface import CalibrationModel
 from .model import FingerModel
 from .residual import noise_std
@@ -214,44 +214,54 @@ class Calibration:
 
 
 def at_noise_level(f: Fit, sigma, n):
-    """Whether a fit's residual is explained by noise (chi-square test, module docstring).
+    """Whether a fit's residual is explained by the noise (chi-square test, module docstring).
 
-    RMS(r)^2 / sigma^2 <= 1 + NOISE_Z sqrt(2 / n).
+    chi^2 <= 1 + NOISE_Z sqrt(2 / m), chi^2 the mean square of the fit's standardised
+    innovations (:attr:`ccedi.calibrate.fit.Fit.chi_square`, m of them: the residual
+    measured against the noise and the base model's discrepancy together; m the training
+    samples); under a noise model of unknown scale, RMS(r)^2 / sigma^2 over the n samples.
 
     Parameters
     ----------
     f : Fit
-        The fit (its full-record RMS error is used).
+        The fit.
     sigma : float
-        Noise standard deviation [m].
+        Noise standard deviation [m], used without a chi-square.
     n : int
-        Number of samples.
+        Number of samples of the record.
 
     Returns
     -------
     bool
         True at the noise level.
     """
+    if np.isfinite(f.chi_square):
+        return f.chi_square <= 1.0 + NOISE_Z * np.sqrt(2.0 / int(np.sum(~holdout_mask(n))))
     return (f.rms_m / sigma) ** 2 <= 1.0 + NOISE_Z * np.sqrt(2.0 / n)
 
 
 def excess_explained(current: Fit, candidate: Fit, sigma):
-    """Fraction of the residual's excess mean square over the noise a candidate removes.
+    """Fraction of the current residual's excess over the noise a candidate removes.
 
-    (RMS_current^2 - RMS_candidate^2) / (RMS_current^2 - sigma^2).
+    (chi^2_current - chi^2_candidate) / (chi^2_current - 1) in the standardised innovations
+    of their common noise model; without one, (RMS_current^2 - RMS_candidate^2) /
+    (RMS_current^2 - sigma^2).
 
     Parameters
     ----------
     current, candidate : Fit
         The model before and after adding the candidate.
     sigma : float
-        Noise standard deviation [m].
+        Noise standard deviation [m], used without a chi-square.
 
     Returns
     -------
     float
         The fraction [-] (1 when the current residual is already at or below the noise).
     """
+    if np.isfinite(current.chi_square) and np.isfinite(candidate.chi_square):
+        excess = current.chi_square - 1.0
+        return 1.0 if excess <= 0.0 else (current.chi_square - candidate.chi_square) / excess
     excess = current.rms_m**2 - sigma**2
     return 1.0 if excess <= 0.0 else (current.rms_m**2 - candidate.rms_m**2) / excess
 
