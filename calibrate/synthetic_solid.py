@@ -22,8 +22,10 @@ finite elements where they can be:
 The solid is the linear FE solid (tangent stiffness at the reference, HRZ lumped mass),
 reduced to its lowest ``N_GEN_MODES`` modes of every kind and integrated by Newmark with
 the nonlinear forces on the nodes (:func:`ccedi.calibrate.synthetic.solid_response`). The
-full explicit 3-D run is not used: on SM-C at 8 in the stable step is about 2 us, so a 2 s
-record takes a million steps of 13428 nodes, hours on two cores.
+full explicit 3-D run is not used: on SM-C at 8 in the stable step is 1.88 us (manifest
+``mesh.explicit_stable_step_s``), so a 2 s record takes a million steps of 13428 nodes:
+the explicit run of :func:`ccedi.fea.cases.studies.finger_impulse_model` on this mesh took
+61 s for 11 ms on the shared two cores (after compiling), about 3 hours per record.
 
 Records are sampled at ``SAMPLE_RATE_HZ`` for 2 s, the displacement is written to
 ``DISPLACEMENT_RESOLUTION_M`` (far below the noise), and seeded white noise of 1 % of the
@@ -50,6 +52,7 @@ from ccedi.fea.material import RUBBER
 from ccedi.fea.mesh import Mesh
 from ccedi.fea.mesh.gmsh_fingers import SM_C_ELEMENT_LENGTH, sm_c
 from ccedi.fea.model import Model, cantilever_model
+from ccedi.fea.solvers.explicit import critical_time_step
 from ccedi.fea.solvers.static import tangent_stiffness
 from ccedi.outputs import write_csv, write_json
 
@@ -251,7 +254,7 @@ def write_solid_set(out_dir, names=None):
         "generator": f"ccedi.calibrate.synthetic_solid (linear FE solid, SM-C tet10 {1e3 * ELEMENT_SIZE_M:g} mm, "
                      f"{N_GEN_MODES} modes, Newmark)",
         "mesh": {"element_type": model.mesh.element_type, "nodes": model.mesh.n_nodes,
-                 "elements": model.mesh.n_elements},
+                 "elements": model.mesh.n_elements, "explicit_stable_step_s": critical_time_step(model)},
         "E_factor_is": "true E over the declared E", "sample_rate_hz": SAMPLE_RATE_HZ,
         "noise_fraction": NOISE_FRACTION, "generation_time_s": elapsed, "records": manifest})
 
