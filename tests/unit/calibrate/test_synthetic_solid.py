@@ -122,3 +122,21 @@ def test_the_soft_root_layer_lowers_the_tip_stiffness_by_less_than_bending_theor
     inertia = ellipse_section_properties()[1]
     beam = (1.0 / (ratio * RUBBER.E) - 1.0 / RUBBER.E) * (length**3 - (length - h) ** 3) / 3.0 / inertia
     assert 0.5 * beam < soft - clean < beam
+
+
+@pytest.mark.parametrize("name", ["tip_mass_low", "tip_mass_high", "root_compliance_high"])
+def test_the_records_own_first_mode_starts_the_frequency_lowering_effect_near_the_truth(name):
+    """The start of the tip mass (or root) candidate that gives the declared finger the
+    record's first mode: E within 2 % of the truth, the tip mass within 10 % (the
+    generator's is spread over SM-C's tip face, the calibration's a point on SM-A's)."""
+    truth = MANIFEST[name]
+    effect = next(iter(truth["effects"]))
+    start = FingerModel(load_experiment(DATA / f"{name}.csv")).first_mode_start(effect)
+    assert start["E_factor"] == pytest.approx(truth["E_factor"], rel=0.02)
+    if effect == "tip_mass":
+        assert start["tip_mass_kg"] == pytest.approx(truth["effects"]["tip_mass"]["tip_mass_kg"], rel=0.1)
+
+
+def test_a_clean_record_starts_no_frequency_lowering_effect():
+    model = FingerModel(load_experiment(DATA / "control_declared.csv"))
+    assert model.first_mode_start("tip_mass") == {} and model.first_mode_start("root_compliance") == {}
