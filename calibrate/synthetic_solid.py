@@ -213,7 +213,8 @@ def write_solid_set(out_dir, names=None):
     manifest.json.
 
     Deterministic; prints one line per record. The manifest keeps the time of the last
-    full run (``generation_time_s``) when only some records are written.
+    full run (``generation_time_s``) when only some records are written into a folder
+    that has one.
 
     Parameters
     ----------
@@ -248,7 +249,7 @@ def write_solid_set(out_dir, names=None):
         print(f"{name}: E x {truth.E_factor:.3f} (declared x {declared:g}), alpha {truth.alpha_per_s:.2f} 1/s, "
               f"{truth.effects}", flush=True)
     elapsed = time.perf_counter() - start
-    if names is not None:
+    if names is not None and (out_dir / "manifest.json").is_file():
         elapsed = json.loads((out_dir / "manifest.json").read_text())["generation_time_s"]
     write_json(out_dir / "manifest.json", {
         "generator": f"ccedi.calibrate.synthetic_solid (linear FE solid, SM-C tet10 {1e3 * ELEMENT_SIZE_M:g} mm, "
