@@ -135,6 +135,10 @@ class SolidSystem:
         y displacement of every node per mode (n_nodes, n) [1/sqrt(kg)].
     drag_length_m : numpy.ndarray
         Each node's share of the finger length, m_node L / m_finger (n_nodes,) [m].
+    relaxing : numpy.ndarray
+        The stiffness of the part of the solid that relaxes when it is viscoelastic, in the
+        modal coordinates, phi^T K_v phi (n, n) [rad^2/s^2]: diag(omega^2) when the whole
+        finger is viscoelastic.
     """
 
     omega_rad_s: np.ndarray
@@ -142,25 +146,20 @@ class SolidSystem:
     weight: np.ndarray
     node_y: np.ndarray
     drag_length_m: np.ndarray
+    relaxing: np.ndarray
 
 
 @lru_cache(maxsize=2)
 def _solid(length_m):
-    """(model, K full [N/m], lumped masses [kg], tip nodes, tip weights) of the SM-A finger at
-    the declared E."""
-    mesh = sm_a(length_m=length_m)
-    model = cantilever_model(mesh, RUBBER)
-    tip = mesh.node_sets["tip"]
-    return model, tangent_stiffness(model).tocsr(), model.mass, tip, face_node_weights(mesh, tip)
+    """(model, K full [N/m]) of the SM-A finger at the declared E."""
+    model = cantilever_model(sm_a(length_m=length_m), RUBBER)
+    return model, tangent_stiffness(model).tocsr()
 
 
 @lru_cache(maxsize=16)
 def solid_system(length_m, E_factor, *, tip_mass_kg=0.0, root_stiffness=None):
-    """Modes of the FE solid at E x ``E_factor`` with a tip mass and a compliant root built in.
-
-    The tip mass is spread over the tip-face nodes by their area weights (all three
-    directions); a compliant root frees the root face to rotate rigidly about its x axis
-    (u_z = -(y - y_root) theta on the root nodes) against a spring k_r on theta.
+    """Modes of the SM-A FE solid at E x ``E_factor`` with a tip mass and a compliant root
+    built in (:func:`modal_system`).
 
     Parameters
     ----------
@@ -178,7 +177,40 @@ def solid_system(length_m, E_factor, *, tip_mass_kg=0.0, root_stiffness=None):
     SolidSystem
         The lowest N_GEN_MODES modes, mass-normalised.
     """
-    model, K_full, mass, tip, w_tip = _solid(length_m)
+    model, K_full = _solid(length_m)
+    return modal_system(model, E_factor * K_full, tip_mass_kg=tip_mass_kg, root_stiffness=root_stiffness)
+
+
+def modal_system(model, stiffness, *, tip_mass_kg=0.0, root_stiffness=None, relaxing=None):
+    """Modes of a clamped FE solid of stiffness ``stiffness`` with a tip mass and a
+    compliant root built in.
+
+    The tip mass is spread over the tip-face nodes by their area weights (all three
+    directions); a compliant root frees the root face to rotate rigidly about its x axis
+    (u_z = -(y - y_root) theta on the root nodes) against a spring k_r on theta.
+
+    Parameters
+    ----------
+    model : ccedi.fea.model.Model
+        The finger (mesh with node sets ``root`` and ``tip``, lumped masses, clamped root).
+    stiffness : scipy.sparse.spmatrix
+        Its stiffness, unconstrained (3 n_nodes, 3 n_nodes) [N/m].
+    tip_mass_kg : float, optional
+        Tip mass [kg]. Default 0.
+    root_stiffness : float or None, optional
+        Root rotational stiffness [N m/rad]; None: clamped. Default None.
+    relaxing : scipy.sparse.spmatrix or None, optional
+        The stiffness of the part that relaxes when viscoelastic (3 n_nodes, 3 n_nodes)
+        [N/m]; None: the whole ``stiffness``. Default None.
+
+    Returns
+    -------
+    SolidSystem
+        The lowest N_GEN_MODES modes, mass-normalised.
+    """
+    mesh, mass = model.mesh, model.mass
+    tip = mesh.node_sets["tip"]
+    w_tip = face_node_weights(mesh, tip)
     n_nodes = len(mass)
     m = mass.copy()
     m[tip] += tip_mass_kg * w_tip
@@ -187,10 +219,10 @@ def solid_system(length_m, E_factor, *, tip_mass_kg=0.0, root_stiffness=None):
     T[free, np.arange(len(free))] = 1.0
     if root_stiffness is not None:
         root = model.fixed_nodes
-        y = model.mesh.nodes[root, 1]
+        y = mesh.nodes[root, 1]
         T[3 * root + 2, len(free)] = -(y - y.mean())[:, None]
     T = T.tocsr()
-    K = (T.T @ (E_factor * K_full) @ T).tocsc()
+    K = (T.T @ stiffness @ T).tocsc()
     if root_stiffness is not None:
         K[-1, -1] += root_stiffness
     M = (T.T @ sp.diags(np.repeat(m, 3)) @ T).tocsc()
@@ -198,12 +230,13 @@ def solid_system(length_m, E_factor, *, tip_mass_kg=0.0, root_stiffness=None):
     order = np.argsort(w2)
     phi = T @ vec[:, order]
     node_y = phi[1::3]
-    length = float(np.ptp(model.mesh.nodes[:, 2]))
+    length = float(np.ptp(mesh.nodes[:, 2]))
+    relax = np.diag(w2[order]) if relaxing is None else phi.T @ (relaxing @ phi)
     return SolidSystem(omega_rad_s=np.sqrt(w2[order]), tip=w_tip @ node_y[tip], weight=m @ node_y, node_y=node_y,
-                       drag_length_m=mass * length / mass.sum())
+                       drag_length_m=mass * length / mass.sum(), relaxing=relax)
 
 
-def solid_response(truth: Truth, length_m, t_end_s=RECORD_S):
+def solid_response(truth: Truth, length_m, t_end_s=RECORD_S, *, system=None):
     """Tip displacement of the FE solid with the truth's physical effects (module docstring).
 
     Newmark average acceleration in the system's modal coordinates with step DT_S, from
@@ -218,6 +251,11 @@ def solid_response(truth: Truth, length_m, t_end_s=RECORD_S):
         Finger length [m].
     t_end_s : float, optional
         Record length [s]. Default RECORD_S (2 s).
+    system : SolidSystem or None, optional
+        The modes of the solid with the truth's tip mass, root and viscoelastic part built
+        in (another mesh, :mod:`ccedi.calibrate.synthetic_solid`); None: the SM-A solid of
+        ``length_m`` at the truth's E, tip mass and root stiffness (:func:`solid_system`).
+        Default None.
 
     Returns
     -------
@@ -229,7 +267,7 @@ def solid_response(truth: Truth, length_m, t_end_s=RECORD_S):
     fx = truth.effects
     root = fx.get("root_compliance", {}).get("root_stiffness_N_m_rad")
     m_tip = fx.get("tip_mass", {}).get("tip_mass_kg", 0.0)
-    s = solid_system(length_m, truth.E_factor, tip_mass_kg=m_tip, root_stiffness=root)
+    s = solid_system(length_m, truth.E_factor, tip_mass_kg=m_tip, root_stiffness=root) if system is None else system
     w2, b = s.omega_rad_s**2, s.tip
     beta = fx.get("stiffness_damping", {}).get("beta_s", 0.0)
     c = truth.alpha_per_s + beta * w2
@@ -241,7 +279,7 @@ def solid_response(truth: Truth, length_m, t_end_s=RECORD_S):
     magnet = fx.get("magnet_attraction", {})
     f_m, gap = magnet.get("magnet_force_N", 0.0), magnet.get("gap_m", 1.0)
     weight = fx.get("gravity", {}).get("gravity_m_s2", 0.0) * s.weight
-    q = weight / (w2 * (1.0 - g_ve))                          # relaxed static sag
+    q = np.linalg.solve(np.diag(w2) - g_ve * s.relaxing, weight)   # relaxed static sag
     for _ in range(200 if f_m else 0):                         # pulled equilibrium of the magnet
         q = (weight + b * f_m * (gap / (gap - b @ q)) ** 2) / w2
     w0 = float(b @ q) if f_m else 0.0
@@ -256,7 +294,7 @@ def solid_response(truth: Truth, length_m, t_end_s=RECORD_S):
         f_tip -= friction * np.tanh(du / FRICTION_SLIP_M_S) + cubic * u**3
         if f_m:
             f_tip += f_m * (gap / (gap - u)) ** 2
-        f = weight + g_ve * w2 * z + b * f_tip
+        f = weight + g_ve * (s.relaxing @ z) + b * f_tip
         if drag.any():
             vy = s.node_y @ v
             f = f - s.node_y.T @ (drag * np.abs(vy) * vy)
@@ -317,7 +355,7 @@ def declared_finger():
             "E_Pa": RUBBER.E, "nu": RUBBER.nu, "rho_kg_m3": RUBBER.rho}
 
 
-def record(truth: Truth, seed):
+def record(truth: Truth, seed, *, system=None, sample_rate_hz=SAMPLE_RATE_HZ):
     """One synthetic record of the declared finger: FE solid, sensor, decimation, noise.
 
     Parameters
@@ -326,6 +364,11 @@ def record(truth: Truth, seed):
         What the record contains.
     seed : int
         Seed of the white measurement noise.
+    system : SolidSystem or None, optional
+        The solid's modes with the truth's linear effects built in (:func:`solid_response`);
+        None: the SM-A solid. Default None.
+    sample_rate_hz : float, optional
+        Sampling rate of the record [Hz], dividing 1 / DT_S. Default SAMPLE_RATE_HZ.
 
     Returns
     -------
@@ -334,9 +377,9 @@ def record(truth: Truth, seed):
     meta : dict
         The JSON sidecar (kind, declared finger, load, sensor noise std [m]).
     """
-    t_fine, w = solid_response(truth, inch_to_m(LENGTH_IN))
+    t_fine, w = solid_response(truth, inch_to_m(LENGTH_IN), system=system)
     y_fine = sensor(t_fine, w, truth.effects)
-    every = int(round(1.0 / (SAMPLE_RATE_HZ * DT_S)))
+    every = int(round(1.0 / (sample_rate_hz * DT_S)))
     t, y = t_fine[::every], y_fine[::every]
     noise = NOISE_FRACTION * float(np.ptp(y))
     y = y + noise * np.random.default_rng(seed).standard_normal(len(t))

@@ -1,5 +1,5 @@
 """``ccedi calibrate`` refuses a declared finger that cannot explain the record: a wrong
-length, an E off by a factor of two or more, a record too short to show the declared first
+length, an E off by a factor of 1.5 or more, a record too short to show the declared first
 mode, a load that presses E onto its bound, or, on a record too damped to show a frequency, E pressed
 onto its bound. Each
 case ends with one line on stderr naming the failed check and the record's own first-mode
@@ -56,6 +56,7 @@ def _declared(meta, **finger):
 WRONG = {
     "length 4.5 in for the 8-in finger": (lambda f, m: (f, _declared(m, length_in=4.5)), ["frequency"]),
     "E x 2": (lambda f, m: (f, _declared(m, E_Pa=2.0 * m["finger"]["E_Pa"])), ["frequency"]),
+    "E x 1.5": (lambda f, m: (f, _declared(m, E_Pa=1.5 * m["finger"]["E_Pa"])), ["frequency"]),
     "E x 0.5": (lambda f, m: (f, _declared(m, E_Pa=0.5 * m["finger"]["E_Pa"])), ["frequency"]),
     "E x 10": (lambda f, m: (f, _declared(m, E_Pa=10.0 * m["finger"]["E_Pa"])), ["frequency"]),
     "shorter than one period": (lambda f, m: (f[f.time_s <= 0.2], m), ["record_length", "frequency"]),
