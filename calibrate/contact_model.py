@@ -35,7 +35,6 @@ from ccedi.fea.material import NeoHookean
 from ccedi.rom.contact_rom import DEFAULT_SEGMENTS, reduce_contact_model
 from ccedi.rom.sensor import DEFAULT_DAMPING_RATIO, DEFAULT_NATURAL_FREQUENCY_HZ, Transducer
 
-from .discrepancy import CHAIN_DISCREPANCY
 from .effects import CONTACT_CATALOGUE, ContactScales, Parameter
 from .experiment import Experiment
 from .fit import e_factor_bound
@@ -255,6 +254,14 @@ class DrumContactModel:
     """
 
     catalogue = CONTACT_CATALOGUE
+    discrepancy = None
+    """The chain's discrepancy from the full FEA carried in the likelihood
+    (:meth:`discrepancy_covariance`): None, white of std :attr:`model_error`; or a
+    :class:`ccedi.calibrate.discrepancy.DiscrepancyKernel`, e.g. the measured
+    :data:`ccedi.calibrate.discrepancy.CHAIN_DISCREPANCY`. White by default: with the
+    measured kernel the chain's bias is as large as the catalogue's effects and hides them
+    (the right effect in 4 of the 13 bundled effect records against 8 of 13 white,
+    validation/calibrate_contact_chain_discrepancy.json and calibrate_contact_chain.json)."""
     fit_tolerance = 1e-4
     """Relative change of the cost (or of the variables) that ends a fit: a BIC margin of
     10 on ~1000 samples is a 1 % change of the residual sum of squares."""
@@ -294,7 +301,7 @@ class DrumContactModel:
 
     def discrepancy_covariance(self, reading):
         """Covariance of the chain's own error against the full FEA at the record's samples
-        [N^2]: :data:`ccedi.calibrate.discrepancy.CHAIN_DISCREPANCY` on the contact
+        [N^2]: :attr:`discrepancy` on the contact
         envelope of ``reading``; once the chain carries the FEA's smooth correction
         (:meth:`correct_at`), the same kernel scaled to the RMS of the rough rest measured
         on this record's set-up.
@@ -307,10 +314,12 @@ class DrumContactModel:
         Returns
         -------
         numpy.ndarray
-            Shape (n, n).
+            Shape (n, n); when :attr:`discrepancy` is None, white: :attr:`model_error`
+            squared on the diagonal.
         """
-        t = self.exp.time_s
-        cov = CHAIN_DISCREPANCY.covariance(t, reading)
+        if self.discrepancy is None:
+            return np.diag(np.full(len(self.exp.time_s), self.model_error**2))
+        cov = self.discrepancy.covariance(self.exp.time_s, reading)
         if self.correction is None:
             return cov
         return cov * (self._rough_error**2 / max(float(np.mean(np.diag(cov))), 1e-300))

@@ -307,8 +307,10 @@ def under_own_noise(model, fitted):
     reading and at the record's own (smoothed) one (off contact: not the chatter, which the discrepancy carries), when
     there are at least ``QUIET_SAMPLES`` training samples there: the few hundred samples
     off contact do not resolve an AR model (on drum_speed_fast's white noise the
-    deconvolution found order 5, low-frequency gain 0.54). White noise takes the std the
-    sidecar declares, when it declares one.
+    deconvolution found order 5, low-frequency gain 0.54). When the sidecar declares the
+    noise std, the noise keeps the estimate's correlation and takes that std: estimated on
+    the residual, the std would take in what the model misses and the chi-square tests of
+    the loop would pass it.
 
     Parameters
     ----------
@@ -332,8 +334,9 @@ def under_own_noise(model, fitted):
         quiet = scored & _quiet(discrepancy) & _quiet(on_record)
         scored, max_order = (quiet, 0) if quiet.sum() >= QUIET_SAMPLES else (scored, max_order)
     noise = estimate_noise(fitted.prediction - y, scored, dt, max_order=max_order)
-    if noise.order == 0 and model.exp.declared_noise is not None:
-        noise = NoiseModel(noise.ar, float(model.exp.declared_noise))           # the sensor's, as declared
+    if model.exp.declared_noise is not None:            # the sensor's std as declared, the estimate's correlation
+        unit = NoiseModel(noise.ar, 1.0).covariance(1)[0, 0]
+        noise = NoiseModel(noise.ar, float(model.exp.declared_noise) / float(np.sqrt(unit)))
     noise = noise.with_discrepancy(discrepancy)
     if noise.same_as(fitted.noise):
         return fitted

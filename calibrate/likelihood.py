@@ -239,7 +239,11 @@ def estimate_noise(residual, mask, dt, max_order=MAX_AR_ORDER):
     it with the trend): parsimony takes it as white there. The AR(q) coefficients follow
     from gamma(0 .. q) by the Yule-Walker equations (Levinson-Durbin). Estimating on x
     as if it were the noise would take the trend removal's own dip at low frequencies for
-    the noise's.
+    the noise's. A model with more power at high frequencies than at low ones (sum of the
+    coefficients below 0) is not a sensor's noise but what is left of a large smooth
+    residual near the trend's reach (sensor_offset_drift_high's baseline: order 5, every
+    coefficient -0.25 to -0.30, which weighted the smooth rest 2.35 x): white noise is
+    taken instead.
 
     Parameters
     ----------
@@ -286,6 +290,8 @@ def estimate_noise(residual, mask, dt, max_order=MAX_AR_ORDER):
     if order == 0:
         return NoiseModel(np.zeros(0), float(np.sqrt(gamma[0])))
     phi, variance = _yule_walker(gamma)
+    if phi.sum() < 0.0:                              # more power at high frequencies than white: not a sensor's
+        return NoiseModel(np.zeros(0), float(np.sqrt(gamma[0])))
     return NoiseModel(phi, float(np.sqrt(variance)))
 
 

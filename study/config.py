@@ -170,7 +170,7 @@ SCHEMA = {
                                                        "data/measured/control_fea_solid.csv"],
                                 "measured impulse records to close the loop on (CSV with a JSON sidecar; relative to "
                                 "this file)", True),
-        "design_calibration_record": Key(str, "-", None, None, "data/contact/friction_high.csv",
+        "design_calibration_record": Key(str, "-", None, None, "data/contact/friction_low.csv",
                                          "measured record (impulse or contact, CSV with a JSON sidecar; relative to "
                                          "this file) whose calibrated inputs the design is re-run with, beside the "
                                          "declared model's design (empty: none)"),

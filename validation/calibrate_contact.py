@@ -12,11 +12,14 @@ records, false positives among the clean controls, the largest time. The chain R
 built and compiled before the timing; the 1-minute load average is recorded (the times
 scale with it on the shared 2-core machine).
 
-Run: ``.venv/bin/python validation/calibrate_contact.py [--chain] [--contact face] [NAME ...]``
+Run: ``.venv/bin/python validation/calibrate_contact.py [--chain] [--discrepancy] [--contact face] [NAME ...]``
 (every record of the manifest by default; ~2-4 min each with the FEA correction, under a
 minute with the chain alone); writes validation/calibrate_contact.json, with ``--chain``
 (the chain alone, no FEA correction: ``ccedi calibrate``'s default)
-calibrate_contact_chain.json, or calibrate_contact_face.json with the chain's face contact
+calibrate_contact_chain.json, with ``--discrepancy`` (the chain's measured discrepancy from
+the FEA, :data:`ccedi.calibrate.discrepancy.CHAIN_DISCREPANCY`, carried in the likelihood
+instead of the white model error) ..._discrepancy.json, or calibrate_contact_face.json with
+the chain's face contact
 (``ccedi.rom.contact_rom.DEFAULT_CONTACT`` set to "face" for the run).
 """
 import json
@@ -25,6 +28,8 @@ import sys
 import time
 from pathlib import Path
 
+from ccedi.calibrate.contact_model import DrumContactModel
+from ccedi.calibrate.discrepancy import CHAIN_DISCREPANCY
 from ccedi.calibrate.experiment import load_experiment
 from ccedi.calibrate.loop import calibrate, calibration_model, summary
 from ccedi.outputs import report_figures
@@ -53,12 +58,17 @@ def main(args):
     if not fea_correction:
         names.remove("--chain")
         out = OUT.with_name("calibrate_contact_chain.json")
+    if "--discrepancy" in names:
+        names.remove("--discrepancy")
+        DrumContactModel.discrepancy = CHAIN_DISCREPANCY
+        out = out.with_name(out.stem + "_discrepancy.json")
     if names[:1] == ["--contact"]:
         contact_rom.DEFAULT_CONTACT, names = names[1], names[2:]
         out = OUT.with_name(f"calibrate_contact_{contact_rom.DEFAULT_CONTACT}.json")
     manifest = json.loads((DATA / "manifest.json").read_text())["records"]
     names = names or list(manifest)
     figures = {"contact_model": contact_rom.DEFAULT_CONTACT, "fea_correction": fea_correction,
+               "discrepancy": None if DrumContactModel.discrepancy is None else DrumContactModel.discrepancy.summary(),
                "load_average_1min_before": round(os.getloadavg()[0], 1)}
     first = load_experiment(DATA / f"{names[0]}.csv")
     model = calibration_model(first)

@@ -119,7 +119,7 @@ def test_the_study_design_is_rerun_with_the_calibrated_inputs(tmp_path):
     from ccedi.study.config import validate
     from ccedi.study.report import write_index
 
-    record = ROOT / "data" / "contact" / "friction_high.csv"
+    record = ROOT / "data" / "contact" / "friction_low.csv"
     cfg = validate({"study": {"calibration_fea_correction": False}})
     options = DesignOptions(grid=(4, 4), validation_runs=1, pareto_points=4, starts=1, fea_check=False)
     out = tmp_path / "design"
@@ -131,4 +131,4 @@ def test_the_study_design_is_rerun_with_the_calibrated_inputs(tmp_path):
     assert calibrated["finger_material"]["E_Pa"] == pytest.approx(cal["E_Pa"], rel=1e-12)
     assert declared["drum"]["friction"] == cfg["drum"]["friction"] != pytest.approx(cal["drum"]["friction"], rel=0.05)
     page = write_index(tmp_path).read_text()
-    assert "Design with the calibrated inputs" in page and "friction_high.csv: optimum" in page
+    assert "Design with the calibrated inputs" in page and "friction_low.csv: optimum" in page
