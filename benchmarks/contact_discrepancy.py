@@ -75,7 +75,7 @@ def on_envelope(run):
 def fit_kernel(runs, start, max_evaluations=500):
     """The maximum-likelihood kernel over ``runs`` (each on its envelope)."""
     def cost(z):
-        return -sum(log_likelihood(kernel_of(z), *r)[0] for r in runs)
+        return -sum(log_likelihood(kernel_of(z), time_s=r[0], reading=r[1], discrepancy=r[2])[0] for r in runs)
 
     res = minimize(cost, z_of(start), method="Nelder-Mead",
                    options={"xatol": 1e-3, "fatol": 0.1, "maxfev": max_evaluations})
@@ -98,8 +98,8 @@ def main():
         per_run[name] = {"rms_N": float(np.sqrt(np.mean(d**2))), "rms_over_noise": float(np.sqrt(np.mean(d**2)) / noise),
                          "rms_in_contact_N": float(np.sqrt(np.mean(r[2] ** 2))),
                          "max_abs_N": float(np.max(np.abs(d))), "peak_reading_N": float(np.max(chain)),
-                         "chi2_per_sample": log_likelihood(kernel, *r)[1],
-                         "held_out_chi2_per_sample": log_likelihood(left_out, *r)[1],
+                         "chi2_per_sample": log_likelihood(kernel, time_s=r[0], reading=r[1], discrepancy=r[2])[1],
+                         "held_out_chi2_per_sample": log_likelihood(left_out, time_s=r[0], reading=r[1], discrepancy=r[2])[1],
                          "held_out_kernel": left_out.summary()}
         print(f"{name:22s} RMS {per_run[name]['rms_N']:.3f} N ({per_run[name]['rms_over_noise']:.2f} noise std), "
               f"chi2/n {per_run[name]['chi2_per_sample']:.2f}, held out {per_run[name]['held_out_chi2_per_sample']:.2f}",

@@ -102,8 +102,14 @@ class DiscrepancyKernel:
                                  factor * self.timing_std_s, self.timing_length_s)
 
     def summary(self):
-        """JSON-ready: ``amplitudes_of_peak`` [-], ``length_scales_s``, ``timing_std_s`` and
-        ``timing_length_s`` [s]."""
+        """The kernel, JSON-ready.
+
+        Returns
+        -------
+        dict
+            ``amplitudes_of_peak`` [-], ``length_scales_s``, ``timing_std_s`` and
+            ``timing_length_s`` [s].
+        """
         return {"amplitudes_of_peak": list(self.amplitudes), "length_scales_s": list(self.length_scales_s),
                 "timing_std_s": self.timing_std_s, "timing_length_s": self.timing_length_s}
 
@@ -147,7 +153,7 @@ def contact_envelope(time_s, reading):
     return maximum_filter1d(contact, size=2 * int(round(ENVELOPE_WIDENING_S / dt)) + 1)
 
 
-def log_likelihood(kernel: DiscrepancyKernel, time_s, reading, discrepancy):
+def log_likelihood(kernel: DiscrepancyKernel, *, time_s, reading, discrepancy):
     """Gaussian log-likelihood of a measured discrepancy under a kernel (with the NUGGET).
 
     Parameters

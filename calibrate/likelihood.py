@@ -78,6 +78,8 @@ class NoiseModel:
         residual's unit squared (:mod:`ccedi.calibrate.discrepancy`). With it, the
         innovations are L^-1 r, L L^T the training samples' covariance (the AR noise's
         and the discrepancy's). Default None.
+    _factors : dict, optional
+        Cache of the covariance's Cholesky factors by scored-sample mask (filled on use).
     """
 
     ar: np.ndarray
@@ -185,8 +187,14 @@ class NoiseModel:
                                 atol=NOISE_SAME * float(np.max(np.abs(self.discrepancy)) or 1.0)))
 
     def summary(self):
-        """JSON-ready: ``order``, ``ar``, ``innovation_std`` (the residual's unit) and
-        ``discrepancy_rms`` (the discrepancy's RMS std over the record, or None)."""
+        """The noise model, JSON-ready.
+
+        Returns
+        -------
+        dict
+            ``order``, ``ar``, ``innovation_std`` (the residual's unit) and
+            ``discrepancy_rms`` (the discrepancy's RMS std over the record, or None).
+        """
         return {"order": self.order, "ar": [float(a) for a in self.ar], "innovation_std": self.innovation_std,
                 "discrepancy_rms": None if self.discrepancy is None
                 else float(np.sqrt(np.mean(np.diag(self.discrepancy))))}
@@ -225,7 +233,7 @@ def rough_part(residual, dt):
     return r - savgol_filter(r, _trend_window(dt, len(r)), 2)
 
 
-def estimate_noise(residual, mask, dt, max_order=MAX_AR_ORDER):
+def estimate_noise(residual, mask, dt, *, max_order=MAX_AR_ORDER):
     """The autoregressive noise model of a residual (module docstring).
 
     The rough part x = h * r (h = delta - g, g the trend's Savitzky-Golay kernel) of

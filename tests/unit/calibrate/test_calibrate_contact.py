@@ -110,11 +110,13 @@ def test_timing_start_from_the_residual_is_near_the_truth(model):
     """The timing-offset start from the contact start and end errors (no fit) lands
     within 25 % of an injected 0.03 rad on a chain-made record."""
     from ccedi.calibrate.fit import Fit
+    from ccedi.calibrate.likelihood import WHITE
     v = {"alpha_per_s": 200.0, "E_factor": 1.0}
     exp = _experiment(model.predict(v | {"theta0_offset_rad": 0.03}))
     m = DrumContactModel(exp)
     pred = m.predict(v)
-    current = Fit((), v, {}, pred, 0.0, 0.0, 0.0, 0.0, 0.0, {})
+    current = Fit(effects=(), values=v, stderr={}, prediction=pred, bic=0.0, log_evidence=0.0, noise=WHITE,
+                  chi_square=float("nan"), holdout_rms_m=0.0, rms_m=0.0, nrmse=0.0, max_error_m=0.0, correlation={})
     start, _ = m.candidate_starts("timing_offset", current, m.analyse(current, 0.3))
     assert start["theta0_offset_rad"] == pytest.approx(0.03, rel=0.25)
 

@@ -62,9 +62,9 @@ def test_a_fitted_amplitude_recovers_the_drawn_one():
 
     def cost(log_a):
         k = DiscrepancyKernel(amplitudes=(np.exp(log_a),), length_scales_s=(0.02,))
-        return -sum(log_likelihood(k, T[keep], READING[keep], d)[0] for d in draws)
+        return -sum(log_likelihood(k, time_s=T[keep], reading=READING[keep], discrepancy=d)[0] for d in draws)
 
     a = float(np.exp(minimize_scalar(cost, bounds=(np.log(0.003), np.log(0.3)), method="bounded").x))
     assert a == pytest.approx(0.03, rel=0.1)
-    chi2 = np.mean([log_likelihood(true, T[keep], READING[keep], d)[1] for d in draws])
+    chi2 = np.mean([log_likelihood(true, time_s=T[keep], reading=READING[keep], discrepancy=d)[1] for d in draws])
     assert chi2 == pytest.approx(1.0, abs=0.1)
