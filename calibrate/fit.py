@@ -24,6 +24,9 @@ from scipy.optimize import least_squares
 from .likelihood import MAX_AR_ORDER, WHITE, NoiseModel, estimate_noise, laplace_log_evidence, rough_part
 
 N_BLOCKS = 20
+ROUGH_EXCESS = 0.1
+"""Relative excess of the rough part's std over the declared noise std beyond which its
+correlation is not taken for the noise's."""
 QUIET_LEVEL = 0.01
 """A sample is off the discrepancy's support where its variance is below this fraction of
 the largest (the timing term follows the smoothed record's noise a little)."""
@@ -310,7 +313,11 @@ def under_own_noise(model, fitted):
     deconvolution found order 5, low-frequency gain 0.54). When the sidecar declares the
     noise std, the noise keeps the estimate's correlation and takes that std: estimated on
     the residual, the std would take in what the model misses and the chi-square tests of
-    the loop would pass it.
+    the loop would pass it. Where the rough part's std exceeds what the noise and the base
+    model's own error allow (the declared std and the discrepancy's RMS std in quadrature)
+    by more than ``ROUGH_EXCESS``, the rough part holds misfit, not only noise (a higher
+    mode the model places wrong: root_compliance_low of the solid set, order 5 with phi_1
+    0.56), and the declared noise is taken white.
 
     Parameters
     ----------
@@ -335,8 +342,11 @@ def under_own_noise(model, fitted):
         scored, max_order = (quiet, 0) if quiet.sum() >= QUIET_SAMPLES else (scored, max_order)
     noise = estimate_noise(fitted.prediction - y, scored, dt, max_order=max_order)
     if model.exp.declared_noise is not None:            # the sensor's std as declared, the estimate's correlation
-        unit = NoiseModel(noise.ar, 1.0).covariance(1)[0, 0]
-        noise = NoiseModel(noise.ar, float(model.exp.declared_noise) / float(np.sqrt(unit)))
+        declared = float(model.exp.declared_noise)
+        allowed = declared if discrepancy is None else float(np.hypot(declared, np.sqrt(np.mean(np.diag(discrepancy)))))
+        process_std = noise.innovation_std * float(np.sqrt(NoiseModel(noise.ar, 1.0).covariance(1)[0, 0]))
+        ar = noise.ar if process_std <= (1.0 + ROUGH_EXCESS) * allowed else np.zeros(0)
+        noise = NoiseModel(ar, declared / float(np.sqrt(NoiseModel(ar, 1.0).covariance(1)[0, 0])))
     noise = noise.with_discrepancy(discrepancy)
     if noise.same_as(fitted.noise):
         return fitted
