@@ -118,6 +118,27 @@ def declared_setup(exp: Experiment):
                      finger_semi_axes_m=tuple(f.semi_axes_m))
 
 
+def zero_phase_lowpass(time_s, y, corner_hz):
+    """A signal low-passed without phase lag: 2nd-order Butterworth, forward and back.
+
+    Parameters
+    ----------
+    time_s : numpy.ndarray
+        Uniform sample times [s] (the rate is their median interval's inverse).
+    y : numpy.ndarray
+        The signal at ``time_s``.
+    corner_hz : float
+        Corner frequency [Hz].
+
+    Returns
+    -------
+    numpy.ndarray
+        The low-passed signal, in ``y``'s unit.
+    """
+    sos = butter(2, corner_hz, fs=1.0 / float(np.median(np.diff(time_s))), output="sos")
+    return sosfiltfilt(sos, y)
+
+
 def radially_offset(center_m, offset_m):
     """An object centre moved along the line from the drum axis through it.
 
@@ -435,9 +456,8 @@ class DrumContactModel:
         self._forces.clear()
         fe = self._at_record_times(t_fe, f_fe)
         t = self.exp.time_s
-        sos = butter(2, CORRECTION_BAND_HZ, fs=1.0 / float(np.median(np.diff(t))), output="sos")
         chain = self.force(w)
-        self.correction = sosfiltfilt(sos, fe - chain)
+        self.correction = zero_phase_lowpass(t, fe - chain, CORRECTION_BAND_HZ)
         self.corrected_at = dict(w)
         self._forces.clear()
         rough = self._at_record_times(t_fe, f_fe, w) - self.transducer(w).measured(t, chain + self.correction)

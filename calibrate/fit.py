@@ -344,9 +344,8 @@ def under_own_noise(model, fitted):
     if model.exp.declared_noise is not None:            # the sensor's std as declared, the estimate's correlation
         declared = float(model.exp.declared_noise)
         allowed = declared if discrepancy is None else float(np.hypot(declared, np.sqrt(np.mean(np.diag(discrepancy)))))
-        process_std = noise.innovation_std * float(np.sqrt(NoiseModel(noise.ar, 1.0).covariance(1)[0, 0]))
-        ar = noise.ar if process_std <= (1.0 + ROUGH_EXCESS) * allowed else np.zeros(0)
-        noise = NoiseModel(ar, declared / float(np.sqrt(NoiseModel(ar, 1.0).covariance(1)[0, 0])))
+        ar = noise.ar if np.sqrt(noise.process_variance()) <= (1.0 + ROUGH_EXCESS) * allowed else np.zeros(0)
+        noise = NoiseModel(ar, declared / np.sqrt(NoiseModel(ar, 1.0).process_variance()))
     noise = noise.with_discrepancy(discrepancy)
     if noise.same_as(fitted.noise):
         return fitted

@@ -139,6 +139,17 @@ class NoiseModel:
         gamma = self.innovation_std**2 * np.array([psi[:AR_MEMORY - k] @ psi[k:] for k in range(min(n, AR_MEMORY))])
         return toeplitz(np.r_[gamma, np.zeros(max(n - AR_MEMORY, 0))])
 
+    def process_variance(self):
+        """The AR noise's variance gamma(0) (the residual's unit squared): innovation_std^2
+        times sum psi_k^2, psi its impulse response.
+
+        Returns
+        -------
+        float
+            gamma(0).
+        """
+        return float(self.covariance(1)[0, 0])
+
     def _cholesky(self, mask):
         key = np.asarray(mask, dtype=bool).tobytes()
         if key not in self._factors:

@@ -52,13 +52,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from scipy.signal import butter, sosfiltfilt
 from scipy.stats import norm
 
 from ccedi.errors import InputError
 from ccedi.rom.measurement import MeasuredResponse
 
-from .contact_model import DrumContactModel
+from .contact_model import DrumContactModel, zero_phase_lowpass
 from .experiment import Experiment, experiment_from, load_experiment, read_sidecar
 from .residual import noise_std
 
@@ -176,8 +175,7 @@ def filtered_reading(time_s, reading_N):
     numpy.ndarray
         The zero-phase low-passed reading at ``time_s`` [N].
     """
-    sos = butter(2, FEATURE_BAND_HZ, fs=1.0 / float(np.median(np.diff(time_s))), output="sos")
-    return sosfiltfilt(sos, reading_N)
+    return zero_phase_lowpass(time_s, reading_N, FEATURE_BAND_HZ)
 
 
 def _level_time(t, y, k, level):
