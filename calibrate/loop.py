@@ -40,13 +40,13 @@ models' common methods (``parameters``, ``predict``, ``baseline_starts``, ``asse
    evidence (Laplace's approximation, uniform priors over the parameters' bounds) as
    posterior probabilities with equal priors (:func:`posterior_probabilities`). The most
    probable candidate is added when its probability reaches ``SELECT_PROBABILITY`` and it
-   explains at least ``EXPLAINED_FRACTION`` of the excess of the residual's mean square
-   over sigma^2 (RMS^2 - sigma^2; sigma: the noise std and the base model's own error,
-   ``model.model_error``, in quadrature; the latter is zero for the impulse model, and the
-   contact chain's remaining discrepancy from the full FEA for a contact record): an effect
-   that leaves most of the misfit is not what is missing. The search repeats; it stops
-   when the residual is at the noise level (chi-square test:
-   RMS(r)^2 / sigma^2 <= 1 + ``NOISE_Z`` sqrt(2 / n)), when no candidate is selected, or
+   explains at least ``EXPLAINED_FRACTION`` of the excess of the chi-square of the
+   current model's standardised innovations over 1 (:func:`excess_explained`; the noise
+   model carries the sensor noise and the base model's own error, ``model.model_error``
+   or its discrepancy: zero for the impulse model, the contact chain's error against the
+   full FEA for a contact record): an effect that leaves most of the misfit is not what
+   is missing. The search repeats; it stops when the residual is at the noise level
+   (:func:`at_noise_level`: chi^2 <= 1 + ``NOISE_Z`` sqrt(2 / m)), when no candidate is selected, or
    after ``MAX_EFFECTS`` effects.
 5. Ambiguity: when the two most probable candidates both explain the excess and reach
    ``SELECT_PROBABILITY`` only together, or the best reaches it alone but the two fitted
