@@ -46,6 +46,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from scipy.signal import lfilter
 
 from ccedi.fea.contact.drum import DrumSetup, FullContactModel
 from ccedi.fea.material import RUBBER, NeoHookean
@@ -84,12 +85,16 @@ class ContactTruth:
         {effect name: {parameter: value}} (parameters as the catalogue names them).
     fe_run : str or None, optional
         Name of the record whose FE run this one reuses (the transducer effects), or None.
+    damping : str, optional
+        The mass-damping kind the FE run is made with, "global" or "relative" (the
+        sidecar declares it). Default :data:`DAMPING`.
     """
 
     E_factor: float
     alpha_per_s: float
     effects: dict = field(default_factory=dict)
     fe_run: str | None = None
+    damping: str = DAMPING
 
 
 def declared_setup():
@@ -103,13 +108,17 @@ def declared_setup():
     return DrumSetup()
 
 
-def true_setup(truth: ContactTruth):
+def true_setup(truth: ContactTruth, mesh=None):
     """The set-up the FE run of a record is made with (module docstring).
 
     Parameters
     ----------
     truth : ContactTruth
         The record's truth.
+    mesh : dict, optional
+        ``finger_section_elements`` / ``finger_elements_along`` of the generated finger
+        other than the declared SM-A's (a generator whose discretisation differs from the
+        one the calibration's chain is reduced from). Default None: SM-A.
 
     Returns
     -------
@@ -124,7 +133,8 @@ def true_setup(truth: ContactTruth):
                    theta0_rad=s.theta0_rad + e.get("timing_offset", {}).get("theta0_offset_rad", 0.0),
                    contact_damping_ratio=e.get("contact_damping", {}).get("contact_damping_ratio", 0.0),
                    object_center_m=radially_offset(s.object_center_m,
-                                                   e.get("object_offset", {}).get("object_radial_offset_m", 0.0)))
+                                                   e.get("object_offset", {}).get("object_radial_offset_m", 0.0)),
+                   **(mesh or {}))
 
 
 def bundled_set():
@@ -176,33 +186,37 @@ def bundled_set():
     return out
 
 
-def fe_force(truth: ContactTruth):
+def fe_force(truth: ContactTruth, mesh=None):
     """The full FEA's reaction force of a record (module docstring).
 
     Parameters
     ----------
     truth : ContactTruth
-        The record's truth (its physical effects).
+        The record's truth (its physical effects and damping kind).
+    mesh : dict, optional
+        The generated finger's element counts (:func:`true_setup`). Default None: SM-A.
 
     Returns
     -------
     pandas.DataFrame
         ``time_s`` [s] (0.5 ms outputs from 0) and ``reaction_force_N`` [N].
     """
-    res = FullContactModel(true_setup(truth), object_stress=False).run(truth.alpha_per_s, damping=DAMPING,
-                                                                       t_end_s=RECORD_S, n_outputs=FE_OUTPUTS)
+    res = FullContactModel(true_setup(truth, mesh), object_stress=False).run(
+        truth.alpha_per_s, damping=truth.damping, t_end_s=RECORD_S, n_outputs=FE_OUTPUTS)
     h = res.history
     return pd.DataFrame({"time_s": np.concatenate([[0.0], h.time_s.to_numpy()]),
                          "reaction_force_N": np.concatenate([[0.0], h.reaction_force_N.to_numpy()])})
 
 
-def declared_sidecar(noise_std_N):
+def declared_sidecar(noise_std_N, damping=DAMPING):
     """The sidecar of a bundled record.
 
     Parameters
     ----------
     noise_std_N : float
         Transducer noise std [N].
+    damping : str, optional
+        The declared mass-damping kind. Default :data:`DAMPING`.
 
     Returns
     -------
@@ -217,7 +231,7 @@ def declared_sidecar(noise_std_N):
             "drum": {"drum_radius_m": s.drum_radius_m, "omega_rad_s": s.omega_rad_s, "theta0_rad": s.theta0_rad,
                      "object_center_m": list(s.object_center_m), "object_semi_axes_m": list(s.object_semi_axes_m),
                      "friction": s.friction},
-            "damping": DAMPING, "sensor": {"noise_std_N": noise_std_N}}
+            "damping": damping, "sensor": {"noise_std_N": noise_std_N}}
 
 
 def reading(truth: ContactTruth, fe: pd.DataFrame):
@@ -250,29 +264,40 @@ def reading(truth: ContactTruth, fe: pd.DataFrame):
     return t, y + drift.get("offset_N", 0.0) + drift.get("drift_N_s", 0.0) * t
 
 
-def record(truth: ContactTruth, fe: pd.DataFrame, seed):
-    """One record from its FE force: the :func:`reading` plus white noise.
+def record(truth: ContactTruth, fe: pd.DataFrame, seed, *, noise_fraction=NOISE_FRACTION, noise_ar=0.0):
+    """One record from its FE force: the :func:`reading` plus noise, white or
+    first-order autoregressive (coloured).
 
     Parameters
     ----------
     truth : ContactTruth
-        The record's truth (its transducer effects).
+        The record's truth (its transducer effects and damping kind).
     fe : pandas.DataFrame
         The FE force (:func:`fe_force`).
     seed : int
-        Seed of the white noise.
+        Seed of the noise.
+    noise_fraction : float, optional
+        The noise's std over the reading's peak. Default :data:`NOISE_FRACTION`.
+    noise_ar : float, optional
+        Lag-1 coefficient phi of the AR(1) noise e_k = phi e_(k-1) + sqrt(1 - phi^2) w_k
+        (stationary, of the stated std), in [0, 1). Default 0: white.
 
     Returns
     -------
     frame : pandas.DataFrame
         ``time_s`` [s] (from 1 / SAMPLE_RATE_HZ) and ``reaction_force_N`` [N].
     meta : dict
-        The sidecar.
+        The sidecar (the noise's std declared, the truth's damping kind).
     """
     t, y = reading(truth, fe)
-    noise = NOISE_FRACTION * float(np.max(y))
-    y = y + noise * np.random.default_rng(seed).standard_normal(len(t))
-    return pd.DataFrame({"time_s": np.round(t, 9), "reaction_force_N": y}), declared_sidecar(noise)
+    noise = noise_fraction * float(np.max(y))
+    w = np.random.default_rng(seed).standard_normal(len(t))
+    e = w
+    if noise_ar:                                       # e_0 = w_0: stationary from the first sample
+        rest = lfilter([1.0], [1.0, -noise_ar], np.sqrt(1.0 - noise_ar**2) * w[1:], zi=[noise_ar * w[0]])[0]
+        e = np.concatenate([w[:1], rest])
+    y = y + noise * e
+    return pd.DataFrame({"time_s": np.round(t, 9), "reaction_force_N": y}), declared_sidecar(noise, truth.damping)
 
 
 def write_bundled_set(out_dir, cached_only=False):
@@ -294,13 +319,7 @@ def write_bundled_set(out_dir, cached_only=False):
         cache = out_dir / "fe" / f"{run}.csv"
         if cached_only and not cache.is_file():
             continue
-        if cache.is_file():
-            fe = pd.read_csv(cache)
-        else:
-            t0 = time.perf_counter()
-            fe = fe_force(truth)
-            write_csv(cache, fe)
-            print(f"{run}: full FEA {time.perf_counter() - t0:.0f} s", flush=True)
+        fe = cached_fe_force(cache, truth)
         frame, meta = record(truth, fe, seed=3000 + i)
         write_csv(out_dir / f"{name}.csv", frame)
         write_json(out_dir / f"{name}.json", meta)
@@ -317,6 +336,33 @@ def _write_manifest(out_dir, manifest):
                      "8-in SM-A finger, 0.5 ms outputs; transducer ccedi.rom.sensor.Transducer)",
         "noise_fraction_of_peak": NOISE_FRACTION, "sample_rate_hz": SAMPLE_RATE_HZ, "damping": DAMPING,
         "records": manifest})
+
+
+def cached_fe_force(cache, truth: ContactTruth, mesh=None):
+    """The FE force of a record, read from ``cache`` (a CSV) when there, else run
+    (:func:`fe_force`, one line printed with its wall time) and written there.
+
+    Parameters
+    ----------
+    cache : pathlib.Path
+        The run's CSV (time_s, reaction_force_N).
+    truth : ContactTruth
+        The record's truth.
+    mesh : dict, optional
+        The generated finger's element counts (:func:`true_setup`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        The FE force.
+    """
+    if cache.is_file():
+        return pd.read_csv(cache)
+    t0 = time.perf_counter()
+    fe = fe_force(truth, mesh)
+    write_csv(cache, fe)
+    print(f"{cache.stem}: full FEA {time.perf_counter() - t0:.0f} s", flush=True)
+    return fe
 
 
 if __name__ == "__main__":

@@ -13,7 +13,12 @@ models' common methods (``parameters``, ``predict``, ``baseline_starts``, ``asse
    Adequacy (:mod:`ccedi.calibrate.adequacy`): the record's own first frequency against the
    declared finger's, E_factor against its bounds, the record's length against the declared
    first period. If the declared finger cannot explain the record, the loop stops here:
-   no effect is added to cover a wrong declaration. A reduced base model is then corrected
+   no effect is added to cover a wrong declaration. For a contact record the damping
+   kind is a structural choice made from the record (:func:`damping_kind_support`): the
+   baseline is fitted with global and with relative mass damping, and when the other kind
+   than the declared reaches posterior probability ``SELECT_PROBABILITY`` the loop goes on
+   with it (the contact start and rise follow the finger's lag, which the kinds set
+   differently). A reduced base model is then corrected
    by its full model at the baseline point and refitted (``model.correct_at``: for a contact
    record one full explicit FE run on the drum; the chain carries the smooth part of its
    discrepancy from it, and the rough rest, measured on this record's set-up, becomes the
@@ -342,15 +347,43 @@ def _ambiguity(model, current, best, runner, tried, posterior):
             "why": why, "separating_measurement": separating_measurement(model, fa, fb)}
 
 
-def damping_kind_support(exp: Experiment, baseline: Fit):
-    """Which mass-damping kind a contact record supports: the baseline (alpha, E) fitted
-    with the other kind as well (from the best of every other alpha start at the
-    baseline's E), the two compared by BIC. Under global damping the drag
-    bends the finger back before contact and moves the contact start with alpha; under
-    relative damping the finger reaches the object undeformed, so the record's contact
-    start and rise tell the two apart. Both are fitted under the baseline's noise model and
-    compared by their posterior probabilities (:func:`posterior_probabilities`): a kind is
-    supported when its probability reaches ``SELECT_PROBABILITY``.
+def damping_kind_fits(exp: Experiment, model, baseline: Fit):
+    """The baseline (alpha, E) fitted with both mass-damping kinds: the declared kind's is
+    ``baseline``; the other's starts from the best of every other alpha start at the
+    baseline's E (E is the finger's, whichever the damping) and is fitted under the
+    baseline's noise model.
+
+    Parameters
+    ----------
+    exp : Experiment
+        A contact experiment (its sidecar's ``damping`` is the declared kind).
+    model : CalibrationModel
+        Its calibration model.
+    baseline : Fit
+        The baseline fitted with the declared kind.
+
+    Returns
+    -------
+    dict
+        {kind: (calibration model, baseline fit)} for "global" and "relative".
+    """
+    other = "relative" if exp.damping == "global" else "global"
+    alt_model = calibration_model(replace(exp, damping=other))
+    e = baseline.values["E_factor"]
+    starts = [dict(v, E_factor=e) for v in alt_model.baseline_starts() if v["E_factor"] == 1.0][::2]
+    errors = [float(np.sum((alt_model.predict(v) - exp.signal) ** 2)) for v in starts]
+    alt = fit(alt_model, (), start=starts[int(np.argmin(errors))], noise=baseline.noise)
+    return {exp.damping: (model, baseline), other: (alt_model, alt)}
+
+
+def damping_kind_support(exp: Experiment, baseline: Fit, fits=None):
+    """Which mass-damping kind a contact record supports, a structural choice made from
+    the record: under global damping the drag bends the finger back before contact and
+    moves the contact start with alpha; under relative damping the finger reaches the
+    object undeformed, so the record's contact start and rise tell the two apart. The
+    baseline fitted with each kind (:func:`damping_kind_fits`) are compared by their
+    posterior probabilities (:func:`posterior_probabilities`): a kind is supported when its
+    probability reaches ``SELECT_PROBABILITY``, and :func:`calibrate` then goes on with it.
 
     Parameters
     ----------
@@ -358,31 +391,33 @@ def damping_kind_support(exp: Experiment, baseline: Fit):
         The experiment (its sidecar's ``damping`` is the declared kind).
     baseline : Fit
         The baseline fitted with the declared kind.
+    fits : dict, optional
+        :func:`damping_kind_fits` of the record, if made already.
 
     Returns
     -------
     dict or None
         ``declared``, ``supported`` ("global", "relative" or "either" when neither
-        reaches :data:`SELECT_PROBABILITY`), ``delta_log_evidence`` and ``delta_bic``
-        (the other kind's minus the declared one's) and per kind the baseline's
-        ``posterior``, ``nrmse``, ``bic`` and ``alpha_per_s``; None for an impulse record
-        (a clamped finger that does not turn: the two kinds are the same).
+        reaches :data:`SELECT_PROBABILITY`), ``used`` (the kind the calibration goes on
+        with: the supported one, else the declared), ``delta_log_evidence`` and
+        ``delta_bic`` (the other kind's minus the declared one's) and per kind the
+        baseline's ``posterior``, ``nrmse``, ``bic`` and ``alpha_per_s``; None for an
+        impulse record (a clamped finger that does not turn: the two kinds are the same).
     """
     if exp.kind != "contact":
         return None
+    if fits is None:
+        fits = damping_kind_fits(exp, calibration_model(exp), baseline)
     other = "relative" if exp.damping == "global" else "global"
-    model = calibration_model(replace(exp, damping=other))
-    e = baseline.values["E_factor"]                  # E is the finger's, whichever the damping: start there
-    starts = [dict(v, E_factor=e) for v in model.baseline_starts() if v["E_factor"] == 1.0][::2]
-    errors = [float(np.sum((model.predict(v) - exp.signal) ** 2)) for v in starts]
-    alt = fit(model, (), start=starts[int(np.argmin(errors))], noise=baseline.noise)
-    fits = {exp.damping: baseline, other: alt}
-    posterior = posterior_probabilities(fits)
+    by_kind = {k: f for k, (_, f) in fits.items()}
+    posterior = posterior_probabilities(by_kind)
     supported = next((k for k, p in posterior.items() if p >= SELECT_PROBABILITY), "either")
+    alt = by_kind[other]
     return {"declared": exp.damping, "supported": supported,
+            "used": exp.damping if supported == "either" else supported,
             "delta_log_evidence": alt.log_evidence - baseline.log_evidence, "delta_bic": alt.bic - baseline.bic,
             **{k: {"posterior": posterior[k], "nrmse": f.nrmse, "bic": f.bic, "alpha_per_s": f.values["alpha_per_s"]}
-               for k, f in fits.items()}}
+               for k, f in by_kind.items()}}
 
 
 def calibration_model(exp: Experiment):
@@ -450,7 +485,16 @@ def calibrate(exp: Experiment, *, candidates=None, progress=None, fea_correction
     say = progress or (lambda message: None)
     say(f"{n} samples over {exp.time_s[-1] - exp.time_s[0]:.4g} s; fitting the declared finger's alpha and E")
     current = baseline = fit_baseline(model)
-    kind = damping_kind_support(exp, baseline)
+    kind = None
+    if exp.kind == "contact":
+        say("fitting the baseline with the other damping kind")
+        kinds = damping_kind_fits(exp, model, baseline)
+        kind = damping_kind_support(exp, baseline, kinds)
+        if kind["used"] != exp.damping:
+            say(f"the record supports {kind['used']} damping (declared {exp.damping}): going on with it")
+            exp = replace(exp, damping=kind["used"])
+            model, baseline = kinds[kind["used"]]
+            current = baseline
     chain_baseline = None
     if fea_correction and model.correct_at(baseline.values) is not None:
         chain_baseline = baseline

@@ -203,7 +203,7 @@ def _markdown(summary):
                   f"{kind[kind['declared']]['alpha_per_s']:.4g} 1/s, posterior probability "
                   f"{kind[kind['declared']]['posterior']:.3g}; with {other} damping "
                   f"{kind[other]['nrmse']:.4%} at {kind[other]['alpha_per_s']:.4g} 1/s, "
-                  f"{kind[other]['posterior']:.3g}).", ""]
+                  f"{kind[other]['posterior']:.3g}); calibrated with **{kind['used']}** damping.", ""]
     lines += [f"Stop: {summary['stop_reason']}.", ""]
     lines += _candidate_lines(summary.get("rounds", []), unit)
     f = summary.get("fea_check")

@@ -26,11 +26,10 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
-
 from ccedi.calibrate.experiment import load_experiment
 from ccedi.calibrate.loop import calibrate, summary
 from ccedi.outputs import report_figures
+from ccedi.statistics import wilson_interval
 
 DATA = Path(__file__).parents[1] / "data" / "measured_solid"
 OUT = Path(__file__).with_suffix(".json")
@@ -38,18 +37,6 @@ E_WITHIN = 0.02
 """E counts as recovered within this relative error [-]."""
 STIFFNESS_EFFECTS = {"tip_mass", "root_compliance", "viscoelastic"}
 """Effects that change the finger's stiffness or inertia (E_factor absorbs part of them)."""
-Z_95 = 1.959964
-"""Standard normal quantile of a two-sided 95 % interval."""
-
-
-def wilson_interval(successes, n):
-    """Wilson score 95 % interval of a proportion (lower, upper), both in [0, 1]."""
-    p = successes / n
-    centre = (p + Z_95**2 / (2 * n)) / (1 + Z_95**2 / n)
-    half = Z_95 * np.sqrt(p * (1 - p) / n + Z_95**2 / (4 * n**2)) / (1 + Z_95**2 / n)
-    return float(centre - half), float(centre + half)
-
-
 def row(name, truth, result, wall_s):
     """The per-record outcome (module docstring)."""
     a = result["adequacy"]

@@ -178,18 +178,24 @@ def test_the_fea_correction_carries_the_smooth_discrepancy_and_counts_the_rest_a
 
 def test_a_contact_record_tells_which_damping_kind_it_supports():
     """A record made by the chain with relative damping (alpha 180 1/s, 100 Hz transducer,
-    0.3 N noise) and declared global: the calibration says relative, with the alpha the
+    0.3 N noise) and declared global: the calibration says relative and goes on with it
+    (the damping kind is a structural choice made from the record), with the alpha the
     record was made with; the same record declared relative says relative too."""
     from ccedi.calibrate.fit import fit_baseline
-    from ccedi.calibrate.loop import calibration_model, damping_kind_support
+    from ccedi.calibrate.loop import calibrate, calibration_model, damping_kind_support
 
     exp = _experiment(np.full_like(T, 5.0))
     rom = ReducedContactModel(declared_setup(exp))
     force = Transducer().measured(T, np.hypot(*rom.reaction_force(180.0, T, damping="relative").T))
     noisy = force + np.random.default_rng(3).normal(0.0, 0.3, len(T))
-    for declared in ("global", "relative"):
-        sidecar = declared_sidecar(0.3) | {"damping": declared}
-        record = _experiment(noisy, sidecar=sidecar)
-        support = damping_kind_support(record, fit_baseline(calibration_model(record)))
-        assert support["declared"] == declared and support["supported"] == "relative"
-        assert support["relative"]["alpha_per_s"] == pytest.approx(180.0, rel=0.05)
+    wrong = _experiment(noisy, sidecar=declared_sidecar(0.3) | {"damping": "global"})
+    cal = calibrate(wrong, candidates=())
+    assert cal.damping_kind["declared"] == "global" and cal.damping_kind["supported"] == "relative"
+    assert cal.experiment.damping == "relative" and cal.damping_kind["used"] == "relative"
+    assert cal.final.values["alpha_per_s"] == pytest.approx(180.0, rel=0.05)
+    right = _experiment(noisy, sidecar=declared_sidecar(0.3) | {"damping": "relative"})
+    support = damping_kind_support(right, fit_baseline(calibration_model(right)))
+    assert support["declared"] == "relative" and support["supported"] == support["used"] == "relative"
+    assert support["relative"]["alpha_per_s"] == pytest.approx(180.0, rel=0.05)
+
+
