@@ -283,6 +283,10 @@ class DrumContactModel:
     measured kernel the chain's bias is as large as the catalogue's effects and hides them
     (the right effect in 4 of the 13 bundled effect records against 8 of 13 white,
     validation/calibrate_contact_chain_discrepancy.json and calibrate_contact_chain.json)."""
+    bias = None
+    """The chain's mean bias against the full FEA added to its force (:meth:`force`): None,
+    or a :class:`ccedi.calibrate.chain_bias.ChainBias` (e.g. the bundled one,
+    ``ChainBias.read()``), a function of the parameters that moves with the contact."""
     fit_tolerance = 1e-4
     """Relative change of the cost (or of the variables) that ends a fit: a BIC margin of
     10 on ~1000 samples is a 1 % change of the residual sum of squares."""
@@ -604,8 +608,8 @@ class DrumContactModel:
 
     def force(self, v):
         """Magnitude of the chain's in-plane force on the object at the record's times [N]
-        (zero at times <= 0), plus the FEA correction once made (:meth:`correct_at`),
-        cached per physical parameter set.
+        (zero at times <= 0), plus its mean bias (:attr:`bias`, when set) and the FEA
+        correction once made (:meth:`correct_at`), cached per physical parameter set.
 
         Parameters
         ----------
@@ -625,6 +629,8 @@ class DrumContactModel:
             rom = self.rom.on(self.setup_of(v)) if any(p in v for p in PHYSICAL) else self.rom
             F[after] = np.hypot(*rom.reaction_force(v["alpha_per_s"], t[after], damping=self.exp.damping,
                                                     E_factor=v["E_factor"]).T)
+            if self.bias is not None:
+                F = F + self.bias.force_bias(t, F, v, self.exp.damping)
             if self.correction is not None:
                 F = F + self.correction
             if len(self._forces) > 64:

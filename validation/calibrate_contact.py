@@ -12,13 +12,15 @@ records, false positives among the clean controls, the largest time. The chain R
 built and compiled before the timing; the 1-minute load average is recorded (the times
 scale with it on the shared 2-core machine).
 
-Run: ``.venv/bin/python validation/calibrate_contact.py [--chain] [--discrepancy] [--contact face] [NAME ...]``
+Run: ``.venv/bin/python validation/calibrate_contact.py [--chain] [--discrepancy] [--bias] [--contact face] [NAME ...]``
 (every record of the manifest by default; ~2-4 min each with the FEA correction, under a
 minute with the chain alone); writes validation/calibrate_contact.json, with ``--chain``
 (the chain alone, no FEA correction: ``ccedi calibrate``'s default)
 calibrate_contact_chain.json, with ``--discrepancy`` (the chain's measured discrepancy from
 the FEA, :data:`ccedi.calibrate.discrepancy.CHAIN_DISCREPANCY`, carried in the likelihood
-instead of the white model error) ..._discrepancy.json, or calibrate_contact_face.json with
+instead of the white model error) ..._discrepancy.json, with ``--bias`` (the chain's mean
+bias over the FE design, :class:`ccedi.calibrate.chain_bias.ChainBias`, added to its
+force) ..._bias.json, or calibrate_contact_face.json with
 the chain's face contact
 (``ccedi.rom.contact_rom.DEFAULT_CONTACT`` set to "face" for the run).
 """
@@ -28,6 +30,7 @@ import sys
 import time
 from pathlib import Path
 
+from ccedi.calibrate.chain_bias import ChainBias
 from ccedi.calibrate.contact_model import DrumContactModel
 from ccedi.calibrate.discrepancy import CHAIN_DISCREPANCY
 from ccedi.calibrate.experiment import load_experiment
@@ -62,6 +65,10 @@ def main(args):
         names.remove("--discrepancy")
         DrumContactModel.discrepancy = CHAIN_DISCREPANCY
         out = out.with_name(out.stem + "_discrepancy.json")
+    if "--bias" in names:
+        names.remove("--bias")
+        DrumContactModel.bias = ChainBias.read()
+        out = out.with_name(out.stem + "_bias.json")
     if names[:1] == ["--contact"]:
         contact_rom.DEFAULT_CONTACT, names = names[1], names[2:]
         out = OUT.with_name(f"calibrate_contact_{contact_rom.DEFAULT_CONTACT}.json")
@@ -69,6 +76,7 @@ def main(args):
     names = names or list(manifest)
     figures = {"contact_model": contact_rom.DEFAULT_CONTACT, "fea_correction": fea_correction,
                "discrepancy": None if DrumContactModel.discrepancy is None else DrumContactModel.discrepancy.summary(),
+               "bias": None if DrumContactModel.bias is None else DrumContactModel.bias.summary(),
                "load_average_1min_before": round(os.getloadavg()[0], 1)}
     first = load_experiment(DATA / f"{names[0]}.csv")
     model = calibration_model(first)

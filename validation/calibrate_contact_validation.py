@@ -17,10 +17,12 @@ exactly, the controls with nothing found, the records whose damping kind the cal
 changed (every change is wrong here: the sidecars declare the true kind), per effect and
 size the right fraction.
 
-Run: ``.venv/bin/python validation/calibrate_contact_validation.py [--jobs N] [NAME ...]``
+Run: ``.venv/bin/python validation/calibrate_contact_validation.py [--jobs N] [--bias] [NAME ...]``
 (every record by default; about a minute each on one core; ``--jobs`` calibrations at a
 time, default 1); writes validation/calibrate_contact_validation.json after every record
-(records named on the command line replace their rows).
+(records named on the command line replace their rows), with ``--bias`` (the chain's mean
+bias added to its force, :class:`ccedi.calibrate.chain_bias.ChainBias`)
+calibrate_contact_validation_bias.json.
 """
 import json
 import os
@@ -29,6 +31,8 @@ import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
+from ccedi.calibrate.chain_bias import ChainBias
+from ccedi.calibrate.contact_model import DrumContactModel
 from ccedi.calibrate.experiment import load_experiment
 from ccedi.calibrate.loop import calibrate, summary
 from ccedi.outputs import report_figures
@@ -86,8 +90,8 @@ def totals(rows):
     return out
 
 
-def write(rows, extra):
-    """The JSON of the rows so far: totals per half and over both, then every row."""
+def write(rows, extra, out):
+    """The JSON of the rows so far (to ``out``): totals per half and over both, then every row."""
     figures = dict(extra)
     for half in ("held_out", "tuning"):
         figures[half] = totals({k: r for k, r in rows.items() if r["half"] == half})
@@ -95,18 +99,23 @@ def write(rows, extra):
     figures["max_wall_time_s"] = max(r["wall_time_s"] for r in rows.values())
     figures["load_average_1min_now"] = round(os.getloadavg()[0], 1)
     figures["per_record"] = dict(sorted(rows.items()))
-    report_figures(figures, OUT)
+    report_figures(figures, out)
 
 
 def main(args):
-    jobs = 1
+    jobs, out = 1, OUT
     if args[:1] == ["--jobs"]:
         jobs, args = int(args[1]), args[2:]
+    if args[:1] == ["--bias"]:
+        args = args[1:]
+        DrumContactModel.bias = ChainBias.read()
+        out = OUT.with_name(OUT.stem + "_bias.json")
     manifest = json.loads((DATA / "manifest.json").read_text())
     truths = manifest["records"]
     names = args or list(truths)
-    rows = json.loads(OUT.read_text())["per_record"] if args and OUT.is_file() else {}
+    rows = json.loads(out.read_text())["per_record"] if args and out.is_file() else {}
     extra = {"generator": manifest["generator"], "jobs": jobs,
+             "bias": None if DrumContactModel.bias is None else DrumContactModel.bias.summary(),
              "rules": "set on the bundled set data/contact/ (not tuned on this set)"}
     with ProcessPoolExecutor(max_workers=jobs) as pool:
         futures = {pool.submit(calibrated_row, name, truths[name]): name for name in names}
@@ -116,7 +125,7 @@ def main(args):
             print(f"[{done}/{len(names)}] {name}: injected {r['injected']}, found {r['found']}, ambiguous "
                   f"{r['ambiguous']}, right {r['right']}, damping {r['damping']} -> {r['damping_used']}, "
                   f"{r['wall_time_s']:.0f} s", flush=True)
-            write(rows, extra)
+            write(rows, extra, out)
 
 
 if __name__ == "__main__":
