@@ -159,7 +159,7 @@ class ChainBias:
         z = np.concatenate([[1.0], (features(v, damping) - self.center) / self.scale])
         return self.mean + (self.weights @ z) @ self.shapes
 
-    def force_bias(self, time_s, chain_force, v, damping):
+    def force_bias(self, time_s, chain_force, *, v, damping):
         """d(t) [N] for the chain's force at parameter values ``v``.
 
         Parameters
@@ -176,8 +176,10 @@ class ChainBias:
         Returns
         -------
         numpy.ndarray
-            The bias to add to the chain's force [N].
+            The bias to add to the chain's force [N]; 0 where the chain makes no contact.
         """
+        if not np.max(chain_force) > 0.0:
+            return np.zeros_like(chain_force)
         t_s, t_e, peak = contact_window(time_s, chain_force)
         tau = (time_s - t_s) / max(t_e - t_s, 1e-9)
         return peak * np.interp(tau, PHASE, self.shape(v, damping), left=0.0, right=0.0)
@@ -230,14 +232,17 @@ class ChainBias:
         """
         try:
             d = json.loads(Path(path).read_text())
-            if not np.allclose(d["phase"], PHASE):
-                raise ValueError("its phase grid is not this version's")
-            return cls(mean=np.array(d["mean"]), shapes=np.array(d["shapes"]), weights=np.array(d["weights"]),
-                       center=np.array(d["feature_center"]), scale=np.array(d["feature_scale"]),
-                       residual_std=float(d["residual_std_of_peak"]), runs=int(d["runs"]))
+            phase = np.asarray(d["phase"], dtype=float)
+            model = cls(mean=np.array(d["mean"]), shapes=np.array(d["shapes"]), weights=np.array(d["weights"]),
+                        center=np.array(d["feature_center"]), scale=np.array(d["feature_scale"]),
+                        residual_std=float(d["residual_std_of_peak"]), runs=int(d["runs"]))
         except (OSError, ValueError, KeyError, TypeError) as err:
             raise InputError(f"chain bias model {path}: cannot be read ({err}); "
                              f"regenerate it with validation/chain_bias_design.py") from None
+        if phase.shape != PHASE.shape or not np.allclose(phase, PHASE):
+            raise InputError(f"chain bias model {path}: its phase grid is not this version's; "
+                             f"regenerate it with validation/chain_bias_design.py")
+        return model
 
 
 def fit_chain_bias(runs, components=COMPONENTS, ridge=RIDGE):

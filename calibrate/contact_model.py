@@ -630,7 +630,7 @@ class DrumContactModel:
             F[after] = np.hypot(*rom.reaction_force(v["alpha_per_s"], t[after], damping=self.exp.damping,
                                                     E_factor=v["E_factor"]).T)
             if self.bias is not None:
-                F = F + self.bias.force_bias(t, F, v, self.exp.damping)
+                F = F + self.bias.force_bias(t, F, v=v, damping=self.exp.damping)
             if self.correction is not None:
                 F = F + self.correction
             if len(self._forces) > 64:

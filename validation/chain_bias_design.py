@@ -99,7 +99,7 @@ def main(args):
         left_out = fit_chain_bias(runs[:i] + runs[i + 1:])
         noise = NOISE_FRACTION * float(np.max(Transducer().measured(t, fe)))
         before = reading_error(t, fe, chain, 0.0)
-        after = reading_error(t, fe, chain, left_out.force_bias(t, chain, v, kind))
+        after = reading_error(t, fe, chain, left_out.force_bias(t, chain, v=v, damping=kind))
         fitted = reading_error(t, fe, chain, run_bias(t, fe, chain))
         rows[i] = {"damping": kind, "params": v, "chain_error_over_noise": before / noise,
                    "corrected_error_over_noise_left_out": after / noise,

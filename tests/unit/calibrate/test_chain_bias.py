@@ -40,12 +40,12 @@ def test_the_fitted_bias_follows_the_contact_and_the_parameters():
     t_s, dur, peak, alpha = 0.41, 0.72, 19.0, 330.0
     chain = _pulse(t_s, dur, peak)
     truth = run_bias(T, chain + _bias(chain, alpha, t_s, dur, peak), chain)
-    predicted = model.force_bias(T, chain, {"alpha_per_s": alpha, "E_factor": 1.0}, "global")
+    predicted = model.force_bias(T, chain, v={"alpha_per_s": alpha, "E_factor": 1.0}, damping="global")
     rms = np.sqrt(np.mean(truth**2))
     assert np.sqrt(np.mean((predicted - truth) ** 2)) < 0.1 * rms
     mean_only = ChainBias(mean=model.mean, shapes=model.shapes, weights=0 * model.weights, center=model.center,
                           scale=model.scale, residual_std=0.0, runs=8)
-    assert np.sqrt(np.mean((mean_only.force_bias(T, chain, {"alpha_per_s": alpha, "E_factor": 1.0}, "global")
+    assert np.sqrt(np.mean((mean_only.force_bias(T, chain, v={"alpha_per_s": alpha, "E_factor": 1.0}, damping="global")
                             - truth) ** 2)) > 0.15 * rms
 
 
