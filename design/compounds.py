@@ -296,7 +296,7 @@ def identified_compound(name, *, alpha_per_s, E_Pa, rho_kg_m3, length_m, semi_ax
     row = Compound(name=name, E_min_Pa=E_Pa - 2.0 * E_stderr_Pa, E_max_Pa=E_Pa + 2.0 * E_stderr_Pa,
                    rho_kg_m3=rho_kg_m3, tan_delta_min=tan_delta[0], tan_delta_max=tan_delta[1], band_min_hz=f1,
                    band_max_hz=f1, source=f"CCEDI calibration (ccedi calibrate) of {source}",
-                   notes=f"identified on a {length_in:.4g}-in finger: alpha = {alpha_per_s:.5g} +- "
+                   notes=f"identified on the record's {length_in:.4g}-in finger: alpha = {alpha_per_s:.5g} +- "
                          f"{alpha_stderr_per_s:.2g} 1/s, E = {E_Pa:.5g} +- {E_stderr_Pa:.2g} Pa",
                    alpha_per_s=alpha_per_s, alpha_finger_length_in=length_in, alpha_source=str(source))
     return _checked(row, "identified compound")
