@@ -129,8 +129,8 @@ def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=Non
         The record or its sidecar is invalid, or an effect is not in the record kind's
         catalogue, or the contact set-up to predict is invalid, not of a contact record,
         of another finger, or given with a contact record to calibrate, or a compound is to be
-        added from a contact record, under an empty name or to an invalid catalogue (nothing
-        is written).
+        added from a contact record, under an empty name or to an invalid catalogue, or a
+        catalogue is named without a compound to add (nothing is written).
     ccedi.errors.ModelInadequate
         The declared finger cannot explain the record: raised after the JSON (with
         ``model_adequate: false``) and the report are written; its message is one line
@@ -158,6 +158,8 @@ def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=Non
         except InputError as err:
             raise InputError(f"--predict-contact: {err}") from None
         check_same_finger(exp, contact)
+    if compounds_path is not None and add_compound is None:
+        raise InputError("--compounds names the catalogue --add-compound writes to; give --add-compound NAME too")
     if add_compound is not None:
         if exp.kind != "impulse":
             raise InputError(f"--add-compound: {csv} is a {exp.kind} record; a compound's alpha is identified from "
