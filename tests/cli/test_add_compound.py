@@ -56,11 +56,14 @@ def test_a_calibrated_record_becomes_a_catalogue_row(tmp_path, monkeypatch, caps
     assert CATALOGUE.read_text() == bundled                  # never the bundled file unless named
 
 
-@pytest.mark.parametrize("case", ["contact record", "empty name", "bad catalogue", "catalogue alone"])
+@pytest.mark.parametrize("case", ["contact record", "empty name", "bad catalogue", "catalogue alone",
+                                  "catalogue a directory"])
 def test_refused_in_one_line_before_anything_is_written(case, tmp_path, capsys):
     record, name, catalogue = MEASURED / "control_low.csv", "x", tmp_path / "compounds.csv"
     if case == "catalogue alone":
         name, words = None, "give --add-compound NAME too"
+    elif case == "catalogue a directory":
+        catalogue, words = tmp_path, "--compounds"
     elif case == "contact record":
         record, words = CONTACT, "is a contact record; a compound's alpha is identified from an impulse record"
     elif case == "empty name":
@@ -68,13 +71,13 @@ def test_refused_in_one_line_before_anything_is_written(case, tmp_path, capsys):
     else:
         catalogue.write_text(CATALOGUE.read_text().replace("neoprene,1.69e6", "neoprene,soft", 1))
         words = f"{catalogue}: line 3 (neoprene): E_min_Pa = 'soft': expected a number"
-    before = catalogue.read_text() if catalogue.exists() else None
+    before = catalogue.read_text() if catalogue.is_file() else None
     add = [] if name is None else ["--add-compound", name]
     code, out, err = _run(capsys, record, "--json", tmp_path / "out.json", *add, "--compounds", catalogue)
     lines = err.strip().splitlines()
     assert code == 1 and len(lines) == 1 and words in lines[0] and "Traceback" not in err, err
     assert not (tmp_path / "out.json").exists() and "calibrate:" not in out
-    assert (catalogue.read_text() if catalogue.exists() else None) == before
+    assert (catalogue.read_text() if catalogue.is_file() else None) == before
 
 
 def test_the_finger_length_is_stored_in_inches(tmp_path, capsys):
