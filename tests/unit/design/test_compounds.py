@@ -4,12 +4,16 @@ reader's one-line errors on bad files."""
 import csv
 import io
 import math
+import re
 from dataclasses import replace
 
 import pytest
+from conftest import ROOT
 
 from ccedi.design.compounds import (
     CATALOGUE,
+    COLUMNS,
+    RANGES,
     alpha_from_loss_factor,
     catalogue_text,
     finger_damping,
@@ -156,3 +160,14 @@ def test_a_missing_catalogue_and_a_bad_existing_one_are_refused(tmp_path):
     with pytest.raises(InputError, match="expected a number"):
         save_compound(bad, row)
     assert "1.69 MPa" in bad.read_text()                 # left as it was
+
+
+def test_the_data_readme_states_the_catalogue_columns_and_ranges():
+    """data/README.md's compounds.csv table lists every column, with the reader's ranges."""
+    readme = (ROOT / "data" / "README.md").read_text()
+    table = readme[readme.index("## `compounds.csv`"):]
+    rows = re.findall(r"^\| ((?:`\w+`(?:, )?)+) \|[^|]*\|([^|]*)\|", table, re.MULTILINE)
+    ranges = {name: rng.strip() for names, rng in rows for name in re.findall(r"`(\w+)`", names)}
+    assert set(ranges) == set(COLUMNS)
+    for column, quantity in RANGES.items():
+        assert [float(x) for x in ranges[column].split("..")] == [quantity.lo, quantity.hi], column
