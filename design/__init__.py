@@ -15,6 +15,9 @@ What a design script needs (``examples/design_script.py``)::
 * :mod:`ccedi.design.recheck`: the full FEA re-check (:func:`fea_check`) and the optimum
   verified by a model run (:func:`verified_optimum`);
 * :mod:`ccedi.design.rubber`: the paper's rubber, alpha over length.
+* :mod:`ccedi.design.compounds`: the compound catalogue (:func:`load_compounds`) and a
+  loss factor as alpha at a finger's first mode (:func:`alpha_from_loss_factor`,
+  :func:`finger_damping`).
 
 User-defined outputs plug into :func:`run_rom` (``extra_outputs``) and get limits as
 :class:`Limit` objects in ``Requirements(extra=...)``.
@@ -31,6 +34,8 @@ _EXPORTS = {
     "Limit": "requirements", "Requirements": "requirements", "met": "requirements",
     "Surrogate": "surrogate", "design_space": "surrogate", "grid_points": "surrogate", "run_rom": "surrogate",
     "speed_space": "surrogate",
+    "Compound": "compounds", "alpha_from_loss_factor": "compounds", "finger_damping": "compounds",
+    "load_compounds": "compounds", "loss_factor_from_alpha": "compounds",
 }
 """Name -> the module of :mod:`ccedi.design` that defines it. Loaded on first use (PEP 562):
 importing a ccedi package imports no third-party library, so that ``import ccedi.design``

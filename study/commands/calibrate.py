@@ -2,12 +2,19 @@
 
   calibrate DATA.csv [--meta DATA.json] --json OUT.json [--report DIR] [--effects NAME ...]
             [--write-config OUT.toml] [--fea-correction] [--predict-contact CONTACT.csv|CONTACT.json]
+            [--add-compound NAME [--compounds CATALOGUE.csv]]
 
 ``--predict-contact`` predicts the same finger's contact record from the impulse record's
 calibrated E and alpha (:mod:`ccedi.calibrate.prediction`): contact start, end, duration and
 filtered peak force, each with its 95 % interval, against the record's own when a record
 (CSV with its sidecar) is given, not only its sidecar; the JSON gets a ``prediction`` block
 and the report a table and ``prediction.png``.
+
+``--add-compound NAME`` (impulse records) catalogues the record's finger as compound NAME
+(:func:`ccedi.design.compounds.identified_compound`): the calibrated alpha and E (+- 2
+standard errors), the finger's length, and tan delta = alpha / omega_1 at its first mode,
+added to (or replacing NAME in) the catalogue ``--compounds`` (default ``compounds.csv`` in
+the current directory; the bundled ``data/compounds.csv`` only when named there).
 
 ``--write-config`` writes the calibrated inputs (:func:`ccedi.study.config.calibrated_config`)
 as a TOML fragment that ``ccedi study --config`` and every other ``--config`` command read.
@@ -20,6 +27,9 @@ then :class:`ccedi.errors.ModelInadequate` gives exit status 3.
 """
 # Imports inside functions: building the parser imports no library, so that `ccedi --help`
 # answers at once (tests/conventions/test_layout.py); each command loads what it runs.
+from dataclasses import asdict
+from pathlib import Path
+
 from ccedi.errors import InputError, ModelInadequate
 from ccedi.study.commands.arguments import add_command, add_output_argument
 
@@ -54,6 +64,13 @@ def add_parsers(sub):
                         "(contact start, duration, filtered peak force with 95 %% intervals); CONTACT.csv (a contact "
                         "record, its sidecar beside it: measured against predicted) or CONTACT.json (a contact "
                         "sidecar alone: no record yet)")
+    c.add_argument("--add-compound", metavar="NAME",
+                   help="impulse record: add the calibrated finger to a compound catalogue as NAME (replacing a row "
+                        "NAME): alpha, E +- 2 standard errors, the finger length and tan delta = alpha / omega_1 at its "
+                        "first mode, alpha_source the record")
+    add_output_argument(c, "--compounds", "file", metavar="CATALOGUE",
+                        help="the compound catalogue CSV --add-compound writes to (default: compounds.csv in the "
+                             "current directory)")
     c.set_defaults(func=cmd_calibrate)
 
 
@@ -61,11 +78,12 @@ def cmd_calibrate(args):
     """``ccedi calibrate``: :func:`write_calibration` of the parsed arguments."""
     write_calibration(args.csv, args.json, report_dir=args.report, meta=args.meta, effects=args.effects,
                       config_path=args.write_config, fea_correction=args.fea_correction,
-                      predict_contact=args.predict_contact)
+                      predict_contact=args.predict_contact, add_compound=args.add_compound,
+                      compounds_path=args.compounds)
 
 
 def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=None, config_path=None,
-                      fea_correction=False, predict_contact=None):
+                      fea_correction=False, predict_contact=None, add_compound=None, compounds_path=None):
     """Calibrate the declared finger on one measured impulse or contact record and write the result.
 
     Parameters
@@ -93,6 +111,12 @@ def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=Non
         record's finger: its features are predicted from the calibration
         (:func:`ccedi.calibrate.prediction.predict_contact`; not when the declared model
         is inadequate). Default None.
+    add_compound : str, optional
+        Catalogue the calibrated finger as this compound (an impulse record only; not when
+        the declared model is inadequate). Default None.
+    compounds_path : str or Path, optional
+        The catalogue ``add_compound`` writes to. Default ``compounds.csv`` in the current
+        directory.
 
     Returns
     -------
@@ -104,7 +128,9 @@ def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=Non
     ccedi.errors.InputError
         The record or its sidecar is invalid, or an effect is not in the record kind's
         catalogue, or the contact set-up to predict is invalid, not of a contact record,
-        of another finger, or given with a contact record to calibrate (nothing is written).
+        of another finger, or given with a contact record to calibrate, or a compound is to be
+        added from a contact record, under an empty name or to an invalid catalogue, or a
+        catalogue is named without a compound to add (nothing is written).
     ccedi.errors.ModelInadequate
         The declared finger cannot explain the record: raised after the JSON (with
         ``model_adequate: false``) and the report are written; its message is one line
@@ -116,6 +142,7 @@ def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=Non
     from ccedi.calibrate.loop import calibrate, summary
     from ccedi.calibrate.prediction import check_same_finger, load_contact_setup
     from ccedi.calibrate.prediction import predict_contact as predict
+    from ccedi.design.compounds import identified_compound, load_compounds, save_compound
     from ccedi.outputs import write_json, write_text
     from ccedi.study.calibration_report import write_report
     from ccedi.study.config import calibrated_config
@@ -131,6 +158,17 @@ def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=Non
         except InputError as err:
             raise InputError(f"--predict-contact: {err}") from None
         check_same_finger(exp, contact)
+    if compounds_path is not None and add_compound is None:
+        raise InputError("--compounds names the catalogue --add-compound writes to; give --add-compound NAME too")
+    if add_compound is not None:
+        if exp.kind != "impulse":
+            raise InputError(f"--add-compound: {csv} is a {exp.kind} record; a compound's alpha is identified from "
+                             "an impulse record")
+        if not add_compound.strip():
+            raise InputError("--add-compound: the compound name is empty")
+        compounds_path = Path("compounds.csv") if compounds_path is None else Path(compounds_path)
+        if compounds_path.exists():
+            load_compounds(compounds_path)          # a bad catalogue is refused before the calibration
     cal = calibrate(exp, candidates=effects, fea_correction=fea_correction,
                     progress=lambda message: print(f"calibrate: {message}", flush=True))
     result = summary(cal) | {"wall_time_s": time.perf_counter() - t0}
@@ -175,6 +213,16 @@ def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=Non
             print(f"no contact prediction: {result['adequacy']['message']}")
         result["prediction"] = None if prediction is None else prediction.summary()
     config_text = calibrated_config(result, exp) if config_path and result["model_adequate"] else None
+    compound = None
+    if add_compound is not None and result["model_adequate"]:
+        f = exp.finger
+        compound = identified_compound(add_compound.strip(), alpha_per_s=fin["alpha_per_s"],
+                                       alpha_stderr_per_s=err["alpha_per_s"], E_Pa=result["calibrated"]["E_Pa"],
+                                       E_stderr_Pa=f.E_Pa * err["E_factor"], rho_kg_m3=f.rho_kg_m3,
+                                       length_m=f.length_m, semi_axes_m=f.semi_axes_m, nu=f.nu, source=str(csv))
+        result["compound"] = {"catalogue": str(compounds_path)} | asdict(compound)
+    elif add_compound is not None:
+        print(f"no compound added: {result['adequacy']['message']}")
     if report_dir:
         for path in write_report(report_dir, cal, result, prediction=prediction):
             print(f"wrote {path}")
@@ -183,6 +231,12 @@ def write_calibration(csv, json_path, *, report_dir=None, meta=None, effects=Non
     if config_text is not None:
         write_text(config_path, config_text)
         print(f"wrote {config_path}")
+    if compound is not None:
+        replaced = save_compound(compounds_path, compound)
+        print(f"{'replaced' if replaced else 'added'} compound {compound.name} in {compounds_path}: alpha = "
+              f"{compound.alpha_per_s:.5g} 1/s on the {compound.alpha_finger_length_in:.4g}-in finger, tan delta "
+              f"{compound.tan_delta_min:.3g}..{compound.tan_delta_max:.3g} at its first mode "
+              f"({compound.band_min_hz:.4g} Hz)")
     if not result["model_adequate"]:
         raise ModelInadequate(f"{csv}: {result['adequacy']['message']} (no effect added; {json_path} has "
                               f"model_adequate: false and the evidence)")
