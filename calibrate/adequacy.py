@@ -421,6 +421,12 @@ class Adequacy:
         return not self.failed
 
     @property
+    def effect_may_explain(self):
+        """False: an impulse record's checks already tell a declaration from an effect
+        (the first mode's frequency and effective tip mass)."""
+        return False
+
+    @property
     def record_hz(self):
         """The record's own first frequency [Hz], or None when it is not measurable."""
         return self.first_mode.frequency_hz if self.first_mode.measurable else None

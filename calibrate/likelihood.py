@@ -150,6 +150,30 @@ class NoiseModel:
         """
         return float(self.covariance(1)[0, 0])
 
+    def effective_samples(self, n):
+        """How many independent samples n correlated ones are worth for a mean square:
+        n / sum_k rho_k^2 over all lags, rho the autocorrelation of the AR noise plus the
+        discrepancy's diagonal (taken as white), so that the mean square of n samples of
+        the noise has the relative standard deviation sqrt(2 / n_eff).
+
+        Parameters
+        ----------
+        n : int
+            Number of samples.
+
+        Returns
+        -------
+        float
+            n_eff, at most n; n for white noise or a noise of unknown scale.
+        """
+        if not (np.isfinite(self.innovation_std) and self.order):
+            return float(n)
+        gamma = self.covariance(AR_MEMORY)[0]
+        if self.discrepancy is not None:
+            gamma[0] += float(np.mean(np.diag(self.discrepancy)))
+        rho = gamma / gamma[0]
+        return float(n / (1.0 + 2.0 * np.sum(rho[1:] ** 2)))
+
     def _cholesky(self, mask):
         key = np.asarray(mask, dtype=bool).tobytes()
         if key not in self._factors:

@@ -7,8 +7,8 @@ this one: both halves are unseen; the ``tuning`` half is the one a later retunin
 the ``held_out`` half is then the figure to quote.
 
 Per record: the injected effect (catalogue name), the effects found, the ambiguity, right
-or not (an effect record: its effect found alone, or within a reported ambiguous pair; a
-control: nothing found and no ambiguity), right exactly (found alone), the damping kind
+or not (an effect record: its effect found alone and no ambiguity, or nothing found and
+the effect within a reported ambiguous pair; a control: nothing found and no ambiguity), right exactly (found alone), the damping kind
 declared (the true one), supported and used, the final E factor and alpha against the
 truth, the stop reason, the wall time [s].
 
@@ -51,8 +51,8 @@ def calibrated_row(name, truth):
     found = [e["name"] for e in result["effects_found"]]
     ambiguous = result["ambiguous"]["effects"] if result["ambiguous"] else None
     if injected:
-        exactly = found == sorted(injected)
-        right = exactly or bool(ambiguous and len(ambiguous) <= 2 and injected <= set(ambiguous))
+        exactly = found == sorted(injected) and ambiguous is None
+        right = exactly or bool(not found and ambiguous and len(ambiguous) <= 2 and injected <= set(ambiguous))
     else:
         exactly = right = not found and ambiguous is None
     kind = result["damping_kind"]
