@@ -3,6 +3,7 @@ it must obey (exact E scaling, a drum-angle offset as a time shift, the transduc
 loop on the bundled full-FEA records and the calibrated [drum] read back."""
 import json
 from dataclasses import replace
+from types import SimpleNamespace
 
 import numpy as np
 import pandas as pd
@@ -10,7 +11,7 @@ import pytest
 from conftest import ROOT
 from scipy.signal import butter, sosfiltfilt
 
-from ccedi.calibrate.contact_model import DrumContactModel, declared_setup, radially_offset
+from ccedi.calibrate.contact_model import ContactAdequacy, DrumContactModel, declared_setup, radially_offset
 from ccedi.calibrate.contact_synthetic import declared_sidecar
 from ccedi.calibrate.experiment import experiment_from, load_experiment
 from ccedi.errors import InputError
@@ -199,3 +200,43 @@ def test_a_contact_record_tells_which_damping_kind_it_supports():
     assert support["relative"]["alpha_per_s"] == pytest.approx(180.0, rel=0.05)
 
 
+
+
+def test_a_smooth_misfit_whitened_by_a_near_random_walk_is_not_at_the_noise_level():
+    """Innovations at chi-square 1 (an AR(1) model with phi 0.95 has whitened a smooth
+    misfit away) but a residual of 1.7 noise std: not at the noise level; the same
+    innovations with the residual at 1.02 std: at the noise level."""
+    from ccedi.calibrate.likelihood import NoiseModel
+    from ccedi.calibrate.loop import at_noise_level
+
+    noise = NoiseModel(np.array([0.95]), innovation_std=0.3 * np.sqrt(1 - 0.95**2))
+    assert not at_noise_level(SimpleNamespace(rms_m=1.7 * 0.3, noise=noise, chi_square=1.0), 0.3, 1500)
+    assert at_noise_level(SimpleNamespace(rms_m=1.02 * 0.3, noise=noise, chi_square=1.0), 0.3, 1500)
+
+
+def test_a_force_level_an_effect_explains_is_not_a_wrong_declaration():
+    """E on its bound alone is provisional: resolved adequate by a fit with effects whose E
+    is off the bound, kept inadequate when the fit's E stays on it; a record without
+    contact is not provisional."""
+    pressed = ContactAdequacy(failed=("E_factor",), reasons=("E on its bound",), E_factor=1.2,
+                              E_factor_bounds=(0.8, 1.2), peak_over_noise=50.0)
+    assert pressed.effect_may_explain and not pressed.adequate
+    assert pressed.resolved_by(SimpleNamespace(values={"E_factor": 1.04})).adequate
+    assert not pressed.resolved_by(SimpleNamespace(values={"E_factor": 1.1999})).adequate
+    no_contact = replace(pressed, failed=("contact", "E_factor"))
+    assert not no_contact.effect_may_explain
+    assert not no_contact.resolved_by(SimpleNamespace(values={"E_factor": 1.0})).adequate
+
+
+def test_candidates_restart_at_the_declared_E_when_E_is_pressed_on_its_bound():
+    """With the current E on its bound every candidate gets starts at E x 1 and alpha / 3,
+    alpha and 3 alpha; with E inside, none of them."""
+    model = DrumContactModel(_experiment(np.full_like(T, 5.0)))
+    evidence = {"start_error_s": 0.01, "end_error_s": 0.01}
+    prediction = np.where((T > 0.4) & (T < 1.2), 10.0, 0.0)
+    for e, expected in ((1.2, True), (1.05, False)):
+        current = SimpleNamespace(values={"alpha_per_s": 60.0, "E_factor": e}, prediction=prediction)
+        for name in ("drum_speed", "timing_offset", "sensor_bandwidth", "friction"):
+            _, extra = model.candidate_starts(name, current, evidence)
+            restarts = {round(s["alpha_per_s"], 6) for s in extra if s.get("E_factor") == 1.0 and "alpha_per_s" in s}
+            assert (restarts == {20.0, 60.0, 180.0}) is expected, (name, e, extra)

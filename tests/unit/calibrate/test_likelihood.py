@@ -184,3 +184,18 @@ def test_a_discrepancy_is_whitened_with_the_noise():
     assert abs(np.mean(lag1)) < 0.1
     assert np.mean(chi2_white) > 3.0
     assert not combined.same_as(noise) and combined.same_as(noise.with_discrepancy(disc))
+
+
+@pytest.mark.parametrize("phi", [0.3, 0.6, 0.85])
+def test_effective_samples_of_ar1_noise(phi):
+    """AR(1): the mean square of n samples has variance 2 sigma^4 (1 + phi^2) / ((1 - phi^2) n),
+    so n_eff = n (1 - phi^2) / (1 + phi^2); and a Monte Carlo of the mean square agrees."""
+    noise = NoiseModel(np.array([phi]), innovation_std=1.0)
+    n = 1500
+    assert noise.effective_samples(n) == pytest.approx(n * (1 - phi**2) / (1 + phi**2), rel=1e-3)
+    rng = np.random.default_rng(5)
+    w = rng.standard_normal((4000, n + 200))
+    x = lfilter([1.0], [1.0, -phi], w, axis=1)[:, 200:]
+    ms = np.mean(x**2, axis=1) / np.var(x)
+    assert np.var(ms) == pytest.approx(2.0 / noise.effective_samples(n), rel=0.15)
+    assert WHITE.effective_samples(n) == n
