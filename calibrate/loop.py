@@ -13,7 +13,11 @@ models' common methods (``parameters``, ``predict``, ``baseline_starts``, ``asse
    Adequacy (:mod:`ccedi.calibrate.adequacy`): the record's own first frequency against the
    declared finger's, E_factor against its bounds, the record's length against the declared
    first period. If the declared finger cannot explain the record, the loop stops here:
-   no effect is added to cover a wrong declaration. For a contact record the damping
+   no effect is added to cover a wrong declaration. A contact record whose only failed
+   check is the force level (E on its bound) is the exception: a faster drum or an object
+   moved in changes the force level too, so the catalogue is tried, and the declaration is
+   refused only when no accepted effect brings E within its tolerance
+   (``ContactAdequacy.resolved_by``). For a contact record the damping
    kind is a structural choice made from the record (:func:`damping_kind_support`): the
    baseline is fitted with global and with relative mass damping, and when the other kind
    than the declared reaches posterior probability ``SELECT_PROBABILITY`` the loop goes on
@@ -227,8 +231,8 @@ def at_noise_level(f: Fit, sigma, n):
     samples), and the residual itself: RMS(r)^2 / sigma^2 <= 1 + NOISE_Z sqrt(2 / n_eff),
     n_eff the samples' worth under the noise model's correlation
     (:meth:`ccedi.calibrate.likelihood.NoiseModel.effective_samples`), or RMS(r) <= (1 +
-    ``UNEXPLAINED_EXCESS``) sigma where that is wider (sigma's model-error part is a
-    1 %-of-peak estimate for the contact chain). The second holds the
+    ``UNEXPLAINED_EXCESS``) sigma where that is wider (sigma's model-error part is an
+    estimate for the contact chain). The second holds the
     first to the noise's declared size: an autoregressive model close to a random walk
     whitens a smooth misfit away (on a contact record made with friction mu 0.35 for the
     declared 0.6, the innovations passed at a residual of 1.73 sigma RMS). Under a noise
@@ -248,11 +252,11 @@ def at_noise_level(f: Fit, sigma, n):
     bool
         True at the noise level.
     """
-    quiet = (f.rms_m / sigma) ** 2 <= max(1.0 + NOISE_Z * np.sqrt(2.0 / f.noise.effective_samples(n)),
-                                          (1.0 + UNEXPLAINED_EXCESS) ** 2)
+    bound = 1.0 + NOISE_Z * np.sqrt(2.0 / f.noise.effective_samples(n))
     if np.isfinite(f.chi_square):
-        return quiet and f.chi_square <= 1.0 + NOISE_Z * np.sqrt(2.0 / int(np.sum(~holdout_mask(n))))
-    return quiet
+        return ((f.rms_m / sigma) ** 2 <= max(bound, (1.0 + UNEXPLAINED_EXCESS) ** 2)
+                and f.chi_square <= 1.0 + NOISE_Z * np.sqrt(2.0 / int(np.sum(~holdout_mask(n)))))
+    return (f.rms_m / sigma) ** 2 <= bound
 
 
 def excess_explained(current: Fit, candidate: Fit, sigma):
