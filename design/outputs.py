@@ -90,6 +90,15 @@ UNITS = {"sensor_peak_force_N": "N", "max_object_stress_Pa": "Pa", "root_stress_
          "contact_start_s": "s", "contact_duration_s": "s", "cycle_time_s": "s", "settling_time_s": "s"}
 """SI unit of every output."""
 
+DENSITY_SCALED = tuple(k for k in OUTPUTS if UNITS[k] in ("N", "N s", "Pa"))
+"""The outputs in force units (forces, the impulse, stresses), which scale with the finger's
+density at a fixed E / rho. Scaling the finger's E and rho by one factor k scales its
+mass, stiffness and contact springs by k and leaves its motion unchanged (every force of
+the run, drum-frame inertia, damping alpha M, friction, is k times its own): these outputs
+are k times theirs, the others (lengths, times) unchanged. :mod:`ccedi.design.catalogue_design`
+designs every compound on one surrogate over E at one density by this similarity, which
+the contact ROM keeps to round-off (``tests/unit/design/test_catalogue_design.py``)."""
+
 OBJECT_STRESS_SAMPLES = 12
 """Outputs at which the object's stress is solved (each is a static FE solve)."""
 
@@ -112,9 +121,11 @@ def rom_segments(length_m):
 
 VARIABLES = {"alpha_per_s": ("alpha", "1/s", "alpha_per_s", 1.0),
              "length_m": ("L", "in", "length_in", INCH),
-             "drum_speed_rad_s": ("drum speed", "rpm", "drum_speed_rpm", RPM)}
+             "drum_speed_rad_s": ("drum speed", "rpm", "drum_speed_rpm", RPM),
+             "youngs_modulus_Pa": ("E", "MPa", "E_MPa", 1e6)}
 """Design variables: SI name -> (label, unit shown, JSON key of the shown value, one shown
-unit in SI). alpha is not a set-up quantity (it is the run's damping)."""
+unit in SI). alpha is not a set-up quantity (it is the run's damping); the finger's Young's
+modulus is set on its material at the set-up's density."""
 
 
 def setup_at(base: DrumSetup, names, point):
@@ -145,6 +156,8 @@ def setup_at(base: DrumSetup, names, point):
             setup = setup_for_length(setup, x)
         elif name == "drum_speed_rad_s":
             setup = replace(setup, omega_rad_s=float(x))
+        elif name == "youngs_modulus_Pa":
+            setup = replace(setup, finger_material=replace(setup.finger_material, E=float(x)))
         elif name != "alpha_per_s":
             raise InputError(f"design variable {name!r}: must be one of {', '.join(VARIABLES)}")
     return setup

@@ -16,8 +16,9 @@ rise of the peak force of under-damped 4.5-5.5-in fingers over the whole alpha r
 and predicted 10 N where the ROM gives 14.5 N.) A further set of ROM runs off the grid
 measures the interpolation error (:func:`validation_errors`).
 
-More variables (cross-section, drum speed) only need another :class:`Variable` and a
-way to set them on the :class:`ccedi.fea.contact.drum.DrumSetup` (:func:`run_rom`).
+More variables (cross-section, drum speed, the finger's Young's modulus,
+:func:`material_space`) only need another :class:`Variable` and a way to set them on the
+:class:`ccedi.fea.contact.drum.DrumSetup` (:func:`ccedi.design.outputs.setup_at`).
 """
 import hashlib
 import itertools
@@ -225,6 +226,34 @@ def speed_space(alpha_bounds_per_s=CHECKED_ALPHA_PER_S, speed_bounds_rpm=DRUM_SP
     return _variable("alpha_per_s", alpha_bounds_per_s, log=True), _variable("drum_speed_rad_s", speed_bounds_rpm)
 
 
+def material_space(alpha_bounds_per_s, length_bounds_in, modulus_bounds_Pa):
+    """The (alpha [1/s], L [m], E [Pa]) variables: the finger's Young's modulus a third
+    variable, at the set-up's density (:data:`ccedi.design.outputs.DENSITY_SCALED` carries it
+    to any density).
+
+    Parameters
+    ----------
+    alpha_bounds_per_s : tuple
+        (lo, hi) [1/s].
+    length_bounds_in : tuple
+        (lo, hi) [in].
+    modulus_bounds_Pa : tuple
+        (lo, hi) [Pa].
+
+    Returns
+    -------
+    tuple of Variable
+
+    Raises
+    ------
+    InputError
+        Bounds not 0 < lo < hi.
+    """
+    return (*design_space(alpha_bounds_per_s, length_bounds_in),
+            _variable("youngs_modulus_Pa", tuple(b / VARIABLES["youngs_modulus_Pa"][3] for b in modulus_bounds_Pa),
+                      log=True))
+
+
 def _fill_undefined(V, U):
     """``V`` (grid values, NaN where undefined) with each NaN replaced by the value at
     the nearest defined grid point (distance in unit coordinates); all-NaN -> zeros."""
@@ -270,6 +299,10 @@ class Surrogate:
         self.interpolants = {name: ca.interpolant(name, "bspline", self.axes, V.ravel(order="F"))
                              for name, V in self.values.items()}
         self.nonnegative = frozenset(name for name, V in self.values.items() if np.all(V >= 0.0))
+        self._compile()
+
+    def _compile(self):
+        """``self.function``: the outputs of :meth:`expressions` as one casadi function of x."""
         x = ca.SX.sym("x", len(self.variables))
         y = self.expressions([x[i] for i in range(len(self.variables))])
         self.function = ca.Function("surrogate", [x], [ca.vertcat(*y.values())], ["x"], ["y"])
@@ -439,7 +472,8 @@ def _model_on(models, setup, model_factory):
     the new drum set-up (its ``on``, e.g. the ROM at another drum speed), else a new one."""
     for _, model, _ in models.values():
         if hasattr(model, "on") and model.setup.finger is setup.finger \
-                and model.setup.finger_length_m == setup.finger_length_m:
+                and model.setup.finger_length_m == setup.finger_length_m \
+                and model.setup.finger_material == setup.finger_material:
             return model.on(setup)
     return model_factory(setup)
 
