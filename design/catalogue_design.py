@@ -33,7 +33,6 @@ smallest requirement margin over the compound's loss-factor range at the chosen 
 (the loss factor moves with temperature, frequency and grade; E's range is a choice of
 hardness, held at its middle here).
 """
-import math
 from dataclasses import dataclass, field, replace
 
 import casadi as ca
