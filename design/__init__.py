@@ -18,6 +18,9 @@ What a design script needs (``examples/design_script.py``)::
 * :mod:`ccedi.design.compounds`: the compound catalogue (:func:`load_compounds`) and a
   loss factor as alpha at a finger's first mode (:func:`alpha_from_loss_factor`,
   :func:`finger_damping`).
+* :mod:`ccedi.design.catalogue_design`: the compound as a design variable: every compound
+  of a catalogue designed over the length on one surrogate over (alpha, L, E)
+  (:func:`catalogue_surrogate`), ranked (:func:`design_compounds`).
 
 User-defined outputs plug into :func:`run_rom` (``extra_outputs``) and get limits as
 :class:`Limit` objects in ``Requirements(extra=...)``.
@@ -33,7 +36,10 @@ _EXPORTS = {
     "pareto_front": "pareto", "recommended": "pareto",
     "Limit": "requirements", "Requirements": "requirements", "met": "requirements",
     "Surrogate": "surrogate", "design_space": "surrogate", "grid_points": "surrogate", "run_rom": "surrogate",
-    "speed_space": "surrogate",
+    "speed_space": "surrogate", "material_space": "surrogate",
+    "CompoundSurrogate": "catalogue_design", "CompoundTie": "catalogue_design", "FirstMode": "catalogue_design",
+    "catalogue_space": "catalogue_design", "catalogue_surrogate": "catalogue_design",
+    "design_compounds": "catalogue_design",
     "Compound": "compounds", "alpha_from_loss_factor": "compounds", "finger_damping": "compounds",
     "load_compounds": "compounds", "loss_factor_from_alpha": "compounds",
 }

@@ -17,7 +17,7 @@ from ccedi.study.commands.arguments import (
     add_scheduler_argument,
     load_config,
 )
-from ccedi.units import inch_to_m
+from ccedi.units import inch_to_m, m_to_inch
 
 MODEL_ERROR_FILE = Path(__file__).resolve().parents[2] / "data" / "design" / "rom_check.json"
 """The ROM-against-FEA check the design takes its model-error margins from
@@ -77,6 +77,10 @@ def add_parsers(sub):
     d.add_argument("--starts", type=int, default=8, help="IPOPT starts")
     d.add_argument("--no-model-error", action="store_true",
                    help="do not tighten the requirements by the ROM's measured error against the FEA")
+    d.add_argument("--compounds", nargs="?", const="", default=None, metavar="CATALOGUE",
+                   help="design every compound of a catalogue CSV (no PATH: the bundled data/compounds.csv) with its "
+                        "own E, density and alpha = tan delta x omega_1(L), the length optimised, and rank them "
+                        "(report table, drawing of the winner)")
     add_scheduler_argument(d, default="local")
     d.add_argument("--no-fea-check", action="store_true", help="skip the full-FEA re-check (minutes per design)")
     d.add_argument("--fea-check-designs", type=int, default=3, choices=(1, 2, 3),
@@ -228,6 +232,10 @@ def cmd_design(args):
         validation_runs=args.validation_runs, pareto_points=args.pareto_points, pareto_output=args.pareto_output,
         starts=args.starts, model_error=not args.no_model_error, fea_check=not args.no_fea_check,
         fea_check_designs=args.fea_check_designs)
+    if args.compounds is not None:
+        write_catalogue_design(contact_setup(cfg), options, catalogue=args.compounds or None, json_path=args.json,
+                               out=args.out, scheduler=args.scheduler)
+        return
     write_design(contact_setup(cfg), options, json_path=args.json, out=args.out, scheduler=args.scheduler,
                  measured_alpha=cfg["material"]["alpha_per_s"], mesh_path=cfg["finger"]["mesh"] or None)
 
@@ -509,6 +517,124 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
           + (f"; FLAG: {', '.join(result['on_bounds'])}" if result["on_bounds"] else ""), flush=True)
     print(f"wrote {json_path}, {out}/design_report.md, feasible_region.png, pareto.png ({len(front)} front points)",
           flush=True)
+    return result
+
+
+def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, scheduler="local"):
+    """Design every compound of ``catalogue`` over the finger length
+    (:func:`ccedi.design.catalogue_design.design_compounds`: its nominal E, its density, alpha
+    = tan delta x omega_1(L)), rank them, re-check the winner with the full FEA at its own
+    material, and write the result JSON, ``design_report.md``, ``finger_drawing.png``,
+    ``compounds.csv`` (the ranked table) and the ROM cache.
+
+    Parameters
+    ----------
+    setup : ccedi.fea.contact.drum.DrumSetup
+        The drum test (its finger's density is the surrogate's; each compound's E and rho
+        replace its material).
+    options : DesignOptions
+        What is asked (requirements, objective, damping, length bounds, grid along alpha
+        and L, model error, FEA re-check, IPOPT starts).
+    catalogue : str or Path, optional
+        The compound catalogue CSV (default: the bundled ``data/compounds.csv``).
+    json_path : str or Path
+        Result JSON.
+    out : str or Path
+        Directory for the ROM cache, table, figure and report.
+    scheduler : str
+        ``serial``, ``local`` or a Dask scheduler address (the FEA re-check).
+
+    Returns
+    -------
+    dict
+        The result written to ``json_path``.
+
+    Raises
+    ------
+    ccedi.errors.InputError
+        A catalogue that does not read, an option the compound design does not take (the
+        drum speed varied, alpha tied to the paper's rubber, a weighted or throughput
+        objective), a finger mesh, or an option out of range.
+    ccedi.errors.RequirementsUnmet
+        No compound meets the requirements; raised after the result and the report are
+        written.
+    """
+    from ccedi.design.catalogue_design import CATALOGUE_GRID, catalogue_surrogate, design_compounds
+    from ccedi.design.compounds import CATALOGUE, load_compounds
+    from ccedi.design.recheck import fea_check
+    from ccedi.design.requirements import Requirements
+    from ccedi.fea.material import NeoHookean
+    from ccedi.outputs import write_csv, write_figure, write_json, write_text
+    from ccedi.study.design_report import catalogue_report_markdown, finger_drawing
+
+    o = options
+    for bad, said in ((o.vary == "drum_speed", "--vary drum_speed"),
+                      (o.alpha_of_length != "free", f"--alpha-of-length {o.alpha_of_length}"),
+                      (o.objective in ("weighted", "throughput"), f"--objective {o.objective}")):
+        if bad:
+            raise InputError(f"--compounds with {said}: the compound design varies the length on each compound's "
+                             "own alpha and ranks an objective in a unit (object_force, object_stress, root_stress, "
+                             "recovery, ringing)")
+    if setup.finger is not None:
+        raise InputError("--compounds: the finger is a given mesh of fixed length; the compound design varies the "
+                         "length of the generated finger")
+    _check_options(setup, o)
+    compounds = load_compounds(catalogue)
+    req = o.requirements if o.requirements is not None else Requirements()
+    out = Path(out)
+
+    def tick(k, n):
+        if k % 100 == 0 or k == n:
+            print(f"ROM runs {k}/{n} (catalogue grid, {o.damping} damping)", flush=True)
+
+    t0 = time.perf_counter()
+    shape = (o.grid[0], o.grid[1], CATALOGUE_GRID[2])
+    surrogate, first_mode, _, cached = catalogue_surrogate(
+        setup, compounds.values(), length_bounds_in=tuple(o.length_bounds_in), shape=shape, damping=o.damping,
+        path=out / "rom_catalogue_grid.csv", progress=tick)
+    build_s = time.perf_counter() - t0
+    va = surrogate.variables[0]
+    errors, error_source = _model_error(replace(o, alpha_bounds=(va.lo, va.hi)), "length")
+    ranking = design_compounds(surrogate, compounds.values(), setup=setup, first_mode=first_mode, requirements=req,
+                               objective=o.objective, model_error=errors, damping=o.damping, n_starts=o.starts)
+    limits = ranking.designs[0].problem.limits
+    result = {
+        "feasible": ranking.winner is not None,
+        "catalogue": str(catalogue or CATALOGUE.relative_to(CATALOGUE.parents[1])),
+        "problem": {"damping": o.damping, "objective": o.objective, "length_bounds_in": list(o.length_bounds_in),
+                    "requirements": [lim.describe() for lim in req.limits()]},
+        "requirement_outputs": {lim.describe(): lim.output for lim in req.limits()},
+        "surrogate": {"kind": "cubic B-spline through ROM runs over (alpha, L, E at the set-up's density)",
+                      "variables": [{"name": v.name, "lo": float(v.shown(v.lo)), "hi": float(v.shown(v.hi)),
+                                     "unit": v.unit} for v in surrogate.variables],
+                      "grid": list(shape), "grid_from_cache": cached, "build_wall_time_s": build_s,
+                      "first_mode_fit_error": first_mode.fit_error},
+        "model_error_source": error_source,
+        "compounds": ranking.as_dict(),
+        "fea_check": None,
+    }
+    win = ranking.winner
+    if win is not None and o.fea_check:
+        c = win.compound
+        own = replace(setup, finger_material=NeoHookean(E=c.E_nominal_Pa, nu=setup.finger_material.nu,
+                                                        rho=c.rho_kg_m3))
+        result["fea_check"] = fea_check(own, [win.design], damping=o.damping, limits=limits, scheduler=scheduler,
+                                        variables=win.problem.surrogate.variables)[0]
+    shown = win or ranking.designs[0]
+    write_figure(out / "finger_drawing.png", finger_drawing(
+        shown.design.x, setup.finger_semi_axes_m, drum_radius_m=setup.drum_radius_m,
+        title=f"{shown.compound.name}: L = {m_to_inch(shown.design.x):.4g} in, alpha = "
+              f"{shown.design.alpha_per_s:.4g} 1/s" + ("" if win else " (closest; misses the requirements)")))
+    write_csv(out / "compounds.csv", ranking.table)
+    write_text(out / "design_report.md", catalogue_report_markdown(result))
+    write_json(json_path, result)
+    print("compounds ranked: " + ", ".join(f"{r['rank']}. {r['compound']}" + ("" if r["feasible"] else " (misses)")
+                                           for r in result["compounds"]["table"]), flush=True)
+    print(f"wrote {json_path}, {out}/design_report.md, finger_drawing.png, compounds.csv", flush=True)
+    if win is None:
+        raise RequirementsUnmet(f"no compound of {result['catalogue']} meets the requirements; the closest, "
+                                f"{shown.compound.name}, falls short by {shown.shortfall:.3g} (normalised): "
+                                + "; ".join(shown.binding))
     return result
 
 
