@@ -257,7 +257,7 @@ class CompoundSurrogate(Surrogate):
 def catalogue_space(compounds, first_mode, length_bounds_in):
     """The (alpha, L, E') variables that hold every compound of ``compounds``: alpha over
     their loss-factor ranges at every length, E' their nominal moduli at the first mode's
-    reference density, both widened by :data:`RANGE_PAD`.
+    reference density, both widened by :data:`RANGE_PAD` (and rounded to 4 digits).
 
     Parameters
     ----------
@@ -285,8 +285,14 @@ def catalogue_space(compounds, first_mode, length_bounds_in):
         w = first_mode(lengths, E_Pa=c.E_nominal_Pa, rho_kg_m3=c.rho_kg_m3)
         alphas += [c.tan_delta_min * w.min(), c.tan_delta_max * w.max()]
         moduli.append(c.E_nominal_Pa * first_mode.rho_kg_m3 / c.rho_kg_m3)
-    e_lo, e_hi = min(moduli) / RANGE_PAD, max(moduli) * RANGE_PAD
-    return material_space((min(alphas) / RANGE_PAD, max(alphas) * RANGE_PAD), tuple(length_bounds_in), (e_lo, e_hi))
+    bounds = [_rounded(f(v) * RANGE_PAD ** k) for v in (alphas, moduli) for f, k in ((min, -1), (max, 1))]
+    return material_space(tuple(bounds[:2]), tuple(length_bounds_in), tuple(bounds[2:]))
+
+
+def _rounded(x):
+    """``x`` to 4 significant digits: the bounds, and with them the grid a ROM cache is
+    keyed on, do not move with the eigen solver's last digits."""
+    return float(f"{x:.4g}")
 
 
 def catalogue_surrogate(setup, compounds, *, length_bounds_in=(3.0, 8.0), shape=CATALOGUE_GRID, damping="relative",

@@ -547,7 +547,7 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     Returns
     -------
     dict
-        The result written to ``json_path``.
+        The ranking, the winner's FEA re-check and the surrogate's figures, as written.
 
     Raises
     ------
