@@ -85,7 +85,9 @@ def feasible_region_figure(problem, optimum, *, front=(), checked=(), n=120):
                 plt.Line2D([], [], color="w", marker=".", mec="k", ls="", ms=8, label="Pareto front")]
     ax.set_xscale("log")
     ax.set_xlabel("mass-proportional damping alpha [1/s]")
-    ax.set_ylabel({"length_m": "finger length L", "drum_speed_rad_s": "drum speed"}[vl.name] + f" [{vl.unit}]")
+    ax.set_ylabel({"length_m": "finger length L", "drum_speed_rad_s": "drum speed",
+                   "semi_thickness_m": "section semi-axis b (bending direction)",
+                   "semi_width_m": "section semi-axis a (across)"}.get(vl.name, vl.label) + f" [{vl.unit}]")
     ax.set_title("Feasible region on the surrogate (lines: each requirement's boundary)", fontsize=10)
     ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(0.0, -0.12), ncol=2)
     fig.tight_layout()

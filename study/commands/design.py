@@ -23,6 +23,10 @@ MODEL_ERROR_FILE = Path(__file__).resolve().parents[2] / "data" / "design" / "ro
 """The ROM-against-FEA check the design takes its model-error margins from
 (``validation/design_rom_check.py`` writes it)."""
 
+VARIED = ("length", "drum_speed", "semi_thickness", "semi_width")
+"""What ``--vary`` takes: the second design variable beside alpha (the section's semi-axes
+b, along the bending direction, and a, across)."""
+
 REQUIREMENT_FLAGS = (("--max-object-force-N", "max_object_force_N", 1.0),
                      ("--max-object-stress-Pa", "max_object_stress_Pa", 1.0),
                      ("--allowable-root-stress-Pa", "allowable_root_stress_Pa", 1.0),
@@ -63,11 +67,14 @@ def add_parsers(sub):
                    help="damping bounds [1/s]")
     d.add_argument("--length-bounds-in", type=float, nargs=2, default=(3.0, 8.0), metavar=("LO", "HI"),
                    help="finger length bounds [in]")
-    d.add_argument("--vary", choices=("length", "drum_speed"), default=None,
+    d.add_argument("--vary", choices=VARIED, default=None,
                    help="the second design variable beside alpha (default: length; drum_speed for a [finger] mesh, "
                         "whose length is fixed)")
     d.add_argument("--drum-speed-bounds-rpm", type=float, nargs=2, default=DesignOptions.drum_speed_bounds_rpm,
                    metavar=("LO", "HI"), help="drum speed bounds [rpm] (--vary drum_speed)")
+    d.add_argument("--section-bounds-mm", type=float, nargs=2, default=None, metavar=("LO", "HI"),
+                   help="bounds of the varied section semi-axis [mm] (--vary semi_thickness: b, along the bending "
+                        "direction, default 4 14; --vary semi_width: a, across, default 6 18) at the set-up's length")
     d.add_argument("--grid", type=int, nargs=2, default=(15, 11), metavar=("N_ALPHA", "N_SECOND"),
                    help="ROM runs of the surrogate grid along alpha and the second variable (cached in OUT)")
     d.add_argument("--validation-runs", type=int, default=20, help="off-grid ROM runs measuring the surrogate error")
@@ -140,7 +147,7 @@ class DesignOptions:
         Damping bounds [1/s] (default :data:`ccedi.design.surrogate.CHECKED_ALPHA_PER_S`).
     length_bounds_in : tuple of float
         Finger length bounds [in].
-    vary : {"length", "drum_speed"} or None
+    vary : {"length", "drum_speed", "semi_thickness", "semi_width"} or None
         The second design variable beside alpha (None: the length for the generated
         finger, the drum speed for a finger mesh).
     drum_speed_bounds_rpm : tuple of float
@@ -176,6 +183,7 @@ class DesignOptions:
     alpha_bounds: tuple = (7.5, 600.0)
     length_bounds_in: tuple = (3.0, 8.0)
     vary: str | None = None
+    section_bounds_mm: tuple | None = None
     drum_speed_bounds_rpm: tuple = (10.0, 40.0)
     grid: tuple = (15, 11)
     validation_runs: int = 20
@@ -228,6 +236,7 @@ def cmd_design(args):
         weights=None if args.weights is None else parse_weights(args.weights),
         damping=args.damping or cfg["damping"]["kind"], alpha_of_length=args.alpha_of_length,
         alpha_bounds=tuple(args.alpha_bounds), length_bounds_in=tuple(args.length_bounds_in), vary=args.vary,
+        section_bounds_mm=None if args.section_bounds_mm is None else tuple(args.section_bounds_mm),
         drum_speed_bounds_rpm=tuple(args.drum_speed_bounds_rpm), grid=tuple(args.grid),
         validation_runs=args.validation_runs, pareto_points=args.pareto_points, pareto_output=args.pareto_output,
         starts=args.starts, model_error=not args.no_model_error, fea_check=not args.no_fea_check,
@@ -252,16 +261,19 @@ def second_variable(setup, o):
     Returns
     -------
     str
-        "length" or "drum_speed".
+        One of :data:`VARIED`.
 
     Raises
     ------
     InputError
-        The length asked of a finger mesh (its length is its own).
+        The length or the section asked of a finger mesh (its geometry is its own).
     """
     vary = o.vary or ("length" if setup.finger is None else "drum_speed")
-    if vary not in ("length", "drum_speed"):
-        raise InputError(f"--vary {vary!r}: must be length or drum_speed")
+    if vary not in VARIED:
+        raise InputError(f"--vary {vary!r}: must be one of {', '.join(VARIED)}")
+    if vary.startswith("semi_") and setup.finger is not None:
+        raise InputError(f"--vary {vary}: the finger is a given {setup.finger.element_type} mesh, whose section is "
+                         "its own; its design varies alpha and the drum speed (--vary drum_speed)")
     if vary == "length" and setup.finger is not None:
         raise InputError(f"--vary length: the finger is a given {setup.finger.element_type} mesh "
                          f"{setup.finger_length_m * 1e3:.4g} mm long, whose length is fixed; its design varies alpha "
@@ -276,17 +288,19 @@ def _check_options(setup, o):
     from ccedi.units import RPM
 
     vary = second_variable(setup, o)
-    if vary == "drum_speed" and o.alpha_of_length != "free":
+    if vary != "length" and o.alpha_of_length != "free":
         raise InputError(f"--alpha-of-length {o.alpha_of_length}: alpha tied to the length needs --vary length")
     if o.objective == "throughput" and vary != "drum_speed":
         raise InputError("--objective throughput maximises the drum speed: it needs --vary drum_speed")
     if o.objective == "throughput" and setup.cycle_time_s is not None:
         raise InputError(f"--objective throughput: [drum] cycle_time_s = {setup.cycle_time_s:g} s fixes the time "
                          "between objects whatever the drum speed; set objects_per_revolution instead")
-    for flag, (lo, hi), quantity in (("--alpha-bounds", o.alpha_bounds, QUANTITIES["alpha_per_s"]),
-                                     ("--length-bounds-in", o.length_bounds_in, QUANTITIES["length_in"]),
-                                     ("--drum-speed-bounds-rpm", o.drum_speed_bounds_rpm,
-                                      QUANTITIES["omega_rad_s"].in_unit(1.0 / RPM, "rpm"))):
+    bounds = [("--alpha-bounds", o.alpha_bounds, QUANTITIES["alpha_per_s"]),
+              ("--length-bounds-in", o.length_bounds_in, QUANTITIES["length_in"]),
+              ("--drum-speed-bounds-rpm", o.drum_speed_bounds_rpm, QUANTITIES["omega_rad_s"].in_unit(1.0 / RPM, "rpm"))]
+    if o.section_bounds_mm is not None:
+        bounds.append(("--section-bounds-mm", o.section_bounds_mm, QUANTITIES["section_semi_axis_m"].in_unit(1e3, "mm")))
+    for flag, (lo, hi), quantity in bounds:
         for value in (lo, hi):
             quantity.check(value, flag)
         if not 0.0 < lo < hi:
@@ -394,6 +408,7 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
         cached_rom_runs,
         design_space,
         grid_points,
+        section_space,
         speed_space,
         validation_errors,
         validation_points,
@@ -407,7 +422,8 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
     vary = second_variable(setup, o)
     out = Path(out)
     space = (design_space(tuple(o.alpha_bounds), tuple(o.length_bounds_in)) if vary == "length"
-             else speed_space(tuple(o.alpha_bounds), tuple(o.drum_speed_bounds_rpm)))
+             else speed_space(tuple(o.alpha_bounds), tuple(o.drum_speed_bounds_rpm)) if vary == "drum_speed"
+             else section_space(tuple(o.alpha_bounds), f"{vary}_m", o.section_bounds_mm))
     if o.alpha_bounds[0] < CHECKED_ALPHA_PER_S[0]:
         warnings.warn(ValidityWarning(
             f"alpha bounds reach {o.alpha_bounds[0]:g} 1/s, below {CHECKED_ALPHA_PER_S[0]:g} 1/s: the contact ROM's "
@@ -487,7 +503,8 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
     write_csv(out / "pareto.csv", pd.DataFrame([{k: v for k, v in d.as_dict(problem).items() if k != "margins"}
                                                 for d in front]))
     measured = None
-    current = setup.finger_length_m if vary == "length" else setup.omega_rad_s
+    current = {"length": setup.finger_length_m, "drum_speed": setup.omega_rad_s,
+               "semi_width": setup.finger_semi_axes_m[0], "semi_thickness": setup.finger_semi_axes_m[1]}[vary]
     if measured_alpha is not None and all(v.lo <= x <= v.hi for v, x in zip(space, (measured_alpha, current))):
         outputs = {k: float(v[0]) for k, v in surrogate.evaluate(np.array([[measured_alpha, current]])).items()}
         measured = type(optimum)(measured_alpha, current, outputs, float(problem.J(outputs))).as_dict(problem)

@@ -1,6 +1,7 @@
 """``ccedi design --compounds [CATALOGUE]``: every compound of a catalogue designed over the
 length on its own E, density and alpha, ranked, the table and the drawing in the report;
-what the compound design cannot take is refused in one line before any ROM run."""
+what the compound design cannot take, and a section design's bad bounds, are refused in one
+line before any ROM run."""
 import json
 
 import pytest
@@ -25,6 +26,9 @@ def _refused(capsys, argv, named):
     (["--compounds", "--alpha-of-length", "paper"], "--alpha-of-length paper"),
     (["--compounds", "--objective", "weighted", "--weights", "sensor_peak_force_N=1"], "--objective weighted"),
     (["--compounds", "no_such_catalogue.csv"], "no_such_catalogue.csv"),
+    (["--vary", "semi_thickness", "--section-bounds-mm", "0.01", "5"], "--section-bounds-mm"),
+    (["--vary", "semi_width", "--section-bounds-mm", "9", "3"], "--section-bounds-mm"),
+    (["--vary", "semi_thickness", "--alpha-of-length", "fit"], "--alpha-of-length fit"),
 ])
 def test_what_the_compound_design_cannot_take_is_refused_before_any_run(extra, named, tmp_path, capsys):
     out = tmp_path / "out"
@@ -57,3 +61,27 @@ def test_a_catalogue_is_ranked_the_damped_compound_first_on_its_own_alpha(tmp_pa
     assert "| 1 | paper_finger_rubber | yes |" in report and "| 2 | natural_rubber | **no** |" in report
     assert (out / "finger_drawing.png").stat().st_size > 10_000 and (out / "compounds.csv").exists()
     assert str(ROOT) not in result["catalogue"] or result["catalogue"] == str(cat)
+
+
+def test_the_section_is_designed_beside_alpha_and_the_rom_verifies_it(tmp_path, capsys):
+    """``--vary semi_thickness`` at the 5-in finger: the optimum's b inside its bounds, the
+    ROM built at each verified section, and the report's plane is (alpha, b)."""
+    out = tmp_path / "out"
+    rc = main(["design", "--vary", "semi_thickness", "--section-bounds-mm", "5", "12", "--config", str(_toml(tmp_path)),
+               "--grid", "4", "4", "--validation-runs", "1", "--pareto-points", "4", "--starts", "2", "--no-fea-check",
+               "--no-model-error", "--json", str(out / "d.json"), "--out", str(out)])
+    assert rc == 0, capsys.readouterr().err
+    result = json.loads((out / "d.json").read_text())
+    assert result["problem"]["variables"][1]["name"] == "semi_thickness_m"
+    b = result["optimum"]["semi_thickness_mm"]
+    assert 5.0 <= b <= 12.0
+    steps = result["rom_verification"]
+    assert steps and all(5.0 <= s["semi_thickness_mm"] <= 12.0 for s in steps)
+    assert all(s["model"]["sensor_peak_force_N"] > 0.0 for s in steps)
+    assert "b = " in (out / "design_report.md").read_text() and (out / "feasible_region.png").exists()
+
+
+def _toml(tmp_path):
+    path = tmp_path / "five_inch.toml"
+    path.write_text("[finger]\ncontact_length_in = 5.0\n")
+    return path
