@@ -285,7 +285,7 @@ def finger_drawing(length_m, semi_axes_m, *, drum_radius_m, title=""):
     side.set_ylim(-b - 25, b + 15)
     side.set_xlabel("along the finger, from the drum axis [mm]")
     side.set_ylabel("bending direction [mm]")
-    side.legend(fontsize=8, loc="upper left")
+    side.legend(fontsize=8, loc="upper right")
     s = np.linspace(0, 2 * np.pi, 200)
     section.fill(a * np.cos(s), b * np.sin(s), fc="tab:orange", ec="k", alpha=0.8)
     section.set_aspect("equal")
