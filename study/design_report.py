@@ -313,6 +313,7 @@ def catalogue_report_markdown(result):
     p, ranking = result["problem"], result["compounds"]
     output = ranking["objective_output"]
     unit = UNITS.get(output, "")
+    shown = {"m": "mm", "Pa": "MPa"}.get(unit, unit)
     lines = ["# Compound design", "",
              f"Catalogue `{result['catalogue']}` ({len(ranking['table'])} compounds). Each compound is designed over "
              f"the finger length {p['length_bounds_in'][0]:.4g}-{p['length_bounds_in'][1]:.4g} in at its nominal E "
@@ -324,7 +325,7 @@ def catalogue_report_markdown(result):
              "shortfall (normalised). Robust margin: the smallest requirement margin over the compound's loss-factor "
              "range at the chosen length.", "",
              f"| rank | compound | meets | E [MPa] | rho [kg/m^3] | tan delta | alpha [1/s] | L [in] | objective "
-             f"[{unit}] | binds (or missed) | shortfall | robust margin |",
+             f"[{shown}] | binds (or missed) | shortfall | robust margin |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in ranking["table"]:
         lines.append(f"| {r['rank']} | {r['compound']} | {'yes' if r['feasible'] else '**no**'} | "
@@ -346,12 +347,13 @@ def catalogue_report_markdown(result):
         lines.append(f"- Flag: {flag}.")
     fea = result.get("fea_check")
     lines += ["| output | surrogate | FEA | error |", "|---|---|---|---|"]
-    for k in (*result["requirement_outputs"].values(), output):
+    for k in dict.fromkeys((output, *result["requirement_outputs"].values())):
         if k not in o:
             continue
         f_value = fea["fea"].get(k) if fea else None
         err = fea["relative_error"].get(k) if fea else None
-        lines.append(f"| {_label(k)} | {_fmt(o[k], UNITS.get(k, ''))} | {_fmt(f_value, UNITS.get(k, ''))} | "
+        lines.append(f"| {_label(k).rsplit(' [', 1)[0]} | {_fmt(o[k], UNITS.get(k, ''))} | "
+                     f"{_fmt(f_value, UNITS.get(k, ''))} | "
                      f"{'-' if err is None else f'{err:+.1%}'} |")
     if fea:
         lines += ["", f"Full FEA at the compound's own E, rho and alpha ({fea['wall_time_s']:.0f} s): "
