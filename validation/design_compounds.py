@@ -15,46 +15,42 @@ same), the first-mode fit against FE eigen solves off its nodes and at another m
 the surrogate's off-grid error against 20 ROM runs, and the cost (ROM runs and wall time)
 of each step.
 
-Relative damping, the model-error margins of ``data/design/rom_check.json`` (measured on
-the paper's rubber over alpha and L, carried as they are), each compound's optimum
-verified by the ROM at its own E and rho. The ROM grid (15 x 11 x 6 runs, ~5 min on the
-2-core AMD VM beside other runs) is cached under ``validation/cache/design_compounds/``;
-two FE runs of ~2-3 min.
+Each set runs ``ccedi design --compounds``'s
+:func:`ccedi.study.commands.design.write_catalogue_design` with the default inputs
+(relative damping, the model-error margins of ``data/design/rom_check.json``, measured on
+the paper's rubber over alpha and L and carried as they are, each compound's optimum
+verified by the ROM at its own E and rho); its reports and drawings are kept as
+``validation/cache/design_compounds/<set>_design_report.md`` and ``<set>_finger_drawing.png``.
+The ROM grid (15 x 11 x 6 runs, ~6 min on the 2-core AMD VM beside other runs) is cached
+there; two FE runs of ~1.5-2.5 min.
 
 Run: ``OPENBLAS_NUM_THREADS=1 .venv/bin/python validation/design_compounds.py [--no-fea]``;
 writes validation/design_compounds.json.
 """
 import argparse
+import shutil
 import time
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
-from ccedi.design.catalogue_design import (
-    CATALOGUE_GRID,
-    CompoundSurrogate,
-    catalogue_surrogate,
-    design_compounds,
-)
+from ccedi.design.catalogue_design import CATALOGUE_GRID, catalogue_surrogate
 from ccedi.design.compounds import load_compounds
-from ccedi.design.model_error import model_errors, read_cases
 from ccedi.design.outputs import DENSITY_SCALED
-from ccedi.design.recheck import fea_check
 from ccedi.design.requirements import Requirements
 from ccedi.design.surrogate import run_rom, validation_errors, validation_points
-from ccedi.fea.contact.drum import DrumSetup
 from ccedi.fea.material import NeoHookean
 from ccedi.outputs import report_figures
 from ccedi.rom.finger_identification import finger_omega1
-from ccedi.study.commands.design import MODEL_ERROR_FILE
+from ccedi.study.commands.design import options_from, write_catalogue_design
+from ccedi.study.commands.fea import contact_setup
+from ccedi.study.config import validate
 from ccedi.units import INCH
 
 OUT = Path(__file__).with_suffix(".json")
 CACHE = Path(__file__).parent / "cache" / "design_compounds"
 LENGTHS_IN = (3.0, 8.0)
-OMEGA_RAD_S = 2.095
-"""The paper's drum speed (20 rpm)."""
 SETS = {
     "live_birds": {},
     "parts": {"max_ringing_amplitude_m": None},
@@ -92,58 +88,50 @@ def first_mode_check(first_mode, setup):
     return {"node_fit_error": first_mode.fit_error, "off_node": rows}
 
 
-def catalogue(compounds):
-    """The catalogue surrogate at the paper's drum, timed."""
-    setup = DrumSetup(omega_rad_s=OMEGA_RAD_S)
-    t0 = time.perf_counter()
+def surrogate_figures(setup, out):
+    """The catalogue surrogate's cost and off-grid error (its runs read from the cache the
+    design wrote)."""
+    compounds = load_compounds()
     surrogate, first_mode, runs, cached = catalogue_surrogate(setup, compounds.values(), length_bounds_in=LENGTHS_IN,
-                                                              path=CACHE / "grid.csv")
-    build = {"grid": list(CATALOGUE_GRID), "grid_runs": len(runs), "grid_from_cache": cached,
-             "rom_run_wall_time_s_mean": float(runs["wall_time_s"].mean()),
-             "rom_runs_wall_time_s_total": float(runs["wall_time_s"].sum()),
-             "build_wall_time_s": time.perf_counter() - t0,
-             "space": [{"name": v.name, "lo": float(v.shown(v.lo)), "hi": float(v.shown(v.hi)), "unit": v.unit}
-                       for v in surrogate.variables]}
+                                                              path=out / "rom_catalogue_grid.csv")
     check = run_rom(setup, validation_points(surrogate.variables, 20), variables=surrogate.variables)
     off_grid = validation_errors(surrogate, check)
-    build["off_grid_error"] = {k: off_grid[k] for k in ("sensor_peak_force_N", "max_finger_stress_Pa",
-                                                        "recovery_deviation_m", "ringing_amplitude_m",
-                                                        "contact_impulse_N_s")}
-    return setup, surrogate, first_mode, build
-
-
-def run_set(requirements, *, setup, surrogate, first_mode, compounds, errors, fea):
-    t1 = time.perf_counter()
-    cat = design_compounds(surrogate, compounds.values(), setup=setup, first_mode=first_mode,
-                           requirements=requirements, model_error=errors)
-    out = {"requirements": [lim.describe() for lim in requirements.limits()],
-           "rank_wall_time_s": time.perf_counter() - t1, "ranking": cat.as_dict()}
-    win = cat.winner
-    if fea and win is not None:
-        own = replace(setup, finger_material=NeoHookean(E=win.compound.E_nominal_Pa, nu=setup.finger_material.nu,
-                                                        rho=win.compound.rho_kg_m3))
-        sliced = CompoundSurrogate(surrogate, E_Pa=win.compound.E_nominal_Pa, rho_kg_m3=win.compound.rho_kg_m3,
-                                   reference_rho_kg_m3=first_mode.rho_kg_m3)
-        row = fea_check(own, [win.design], limits=requirements.limits(), variables=sliced.variables)[0]
-        out["winner_fea_check"] = {k: row[k] for k in ("alpha_per_s", "length_in", "requirements",
-                                                       "meets_requirements", "relative_error", "wall_time_s")}
-    return out
+    return first_mode, {
+        "grid": list(CATALOGUE_GRID), "grid_runs": len(runs), "grid_from_cache": cached,
+        "rom_run_wall_time_s_mean": float(runs["wall_time_s"].mean()),
+        "rom_runs_wall_time_s_total": float(runs["wall_time_s"].sum()),
+        "space": [{"name": v.name, "lo": float(v.shown(v.lo)), "hi": float(v.shown(v.hi)), "unit": v.unit}
+                  for v in surrogate.variables],
+        "off_grid_error": {k: off_grid[k] for k in ("sensor_peak_force_N", "max_finger_stress_Pa",
+                                                    "recovery_deviation_m", "ringing_amplitude_m",
+                                                    "contact_impulse_N_s")}}
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--no-fea", action="store_true", help="skip the FEA re-check of the winners")
     args = parser.parse_args()
-    compounds = load_compounds()
-    errors = model_errors(read_cases(MODEL_ERROR_FILE), damping="relative", alpha_bounds_per_s=(1.0, 600.0),
-                          length_bounds_in=LENGTHS_IN, tolerance=0.0)
-    setup, surrogate, first_mode, build = catalogue(compounds)
-    figures = {"surrogate": build, "sets": {}}
+    cfg = validate({})
+    setup = contact_setup(cfg)
+    figures = {"sets": {}}
     for name, spec in SETS.items():
-        figures["sets"][name] = run_set(Requirements(**spec), setup=setup, surrogate=surrogate,
-                                        first_mode=first_mode, compounds=compounds, errors=errors,
-                                        fea=name in FEA_CHECKED and not args.no_fea)
+        options = replace(options_from(cfg), requirements=Requirements(**spec),
+                          fea_check=name in FEA_CHECKED and not args.no_fea)
+        t0 = time.perf_counter()
+        result = write_catalogue_design(setup, options, json_path=CACHE / f"{name}.json", out=CACHE,
+                                        scheduler="serial")
+        for made in ("design_report.md", "finger_drawing.png"):          # the next set writes its own
+            shutil.copy(CACHE / made, CACHE / f"{name}_{made}")
+        fea = result["fea_check"]
+        figures["sets"][name] = {
+            "requirements": result["problem"]["requirements"], "wall_time_s": time.perf_counter() - t0,
+            "grid_from_cache": result["surrogate"]["grid_from_cache"],
+            "build_wall_time_s": result["surrogate"]["build_wall_time_s"], "ranking": result["compounds"],
+            "winner_fea_check": None if fea is None else {
+                k: fea[k] for k in ("alpha_per_s", "length_in", "requirements", "meets_requirements", "fea",
+                                    "relative_error", "wall_time_s")}}
     figures["winners"] = {name: s["ranking"]["winner"] for name, s in figures["sets"].items()}
+    first_mode, figures["surrogate"] = surrogate_figures(setup, CACHE)
     figures["similarity"] = similarity(setup)
     figures["first_mode"] = first_mode_check(first_mode, setup)
     report_figures(figures, OUT)
