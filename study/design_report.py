@@ -356,6 +356,8 @@ def catalogue_report_markdown(result):
                      f"{_fmt(f_value, UNITS.get(k, ''))} | "
                      f"{'-' if err is None else f'{err:+.1%}'} |")
     if fea:
+        lines += ["", "Error: (surrogate - FEA) / |FEA|, a length's over at least 5 mm "
+                  "(`ccedi.design.model_error.output_error`)."]
         lines += ["", f"Full FEA at the compound's own E, rho and alpha ({fea['wall_time_s']:.0f} s): "
                   + ("meets every requirement." if fea["meets_requirements"] else "misses "
                      + "; ".join(k for k, q in fea["requirements"].items() if not q["met"]) + ".")]
