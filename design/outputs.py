@@ -211,6 +211,7 @@ def setup_for_section(base: DrumSetup, *, semi_width_m=None, semi_thickness_m=No
     Returns
     -------
     DrumSetup
+        A copy with the new section (the finger is generated from it at each run).
 
     Raises
     ------

@@ -248,6 +248,7 @@ def section_space(alpha_bounds_per_s=CHECKED_ALPHA_PER_S, semi_axis="semi_thickn
     Returns
     -------
     tuple of Variable
+        alpha (log-spaced) and the semi-axis.
 
     Raises
     ------
