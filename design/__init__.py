@@ -9,7 +9,8 @@ What a design script needs (``examples/design_script.py``)::
 * :mod:`ccedi.design.outputs`: what a run is judged on (:data:`OUTPUTS`, :func:`design_outputs`);
 * :mod:`ccedi.design.requirements`: the designer's limits (:class:`Requirements`, :class:`Limit`);
 * :mod:`ccedi.design.surrogate`: B-spline surrogate of the contact ROM over (alpha, L)
-  (:func:`design_space`) or (alpha, drum speed) (:func:`speed_space`);
+  (:func:`design_space`), (alpha, drum speed) (:func:`speed_space`), (alpha, a section
+  semi-axis) (:func:`section_space`) or (alpha, L, E) (:func:`material_space`);
 * :mod:`ccedi.design.optimise`: the problem, IPOPT, brute force, infeasibility, sensitivities;
 * :mod:`ccedi.design.pareto`: the front of the objective against a second output;
 * :mod:`ccedi.design.recheck`: the full FEA re-check (:func:`fea_check`) and the optimum
@@ -18,6 +19,9 @@ What a design script needs (``examples/design_script.py``)::
 * :mod:`ccedi.design.compounds`: the compound catalogue (:func:`load_compounds`) and a
   loss factor as alpha at a finger's first mode (:func:`alpha_from_loss_factor`,
   :func:`finger_damping`).
+* :mod:`ccedi.design.catalogue_design`: the compound as a design variable: every compound
+  of a catalogue designed over the length on one surrogate over (alpha, L, E)
+  (:func:`catalogue_surrogate`), ranked (:func:`design_compounds`).
 
 User-defined outputs plug into :func:`run_rom` (``extra_outputs``) and get limits as
 :class:`Limit` objects in ``Requirements(extra=...)``.
@@ -33,7 +37,10 @@ _EXPORTS = {
     "pareto_front": "pareto", "recommended": "pareto",
     "Limit": "requirements", "Requirements": "requirements", "met": "requirements",
     "Surrogate": "surrogate", "design_space": "surrogate", "grid_points": "surrogate", "run_rom": "surrogate",
-    "speed_space": "surrogate",
+    "speed_space": "surrogate", "material_space": "surrogate", "section_space": "surrogate",
+    "CompoundSurrogate": "catalogue_design", "CompoundTie": "catalogue_design", "FirstMode": "catalogue_design",
+    "catalogue_space": "catalogue_design", "catalogue_surrogate": "catalogue_design",
+    "design_compounds": "catalogue_design",
     "Compound": "compounds", "alpha_from_loss_factor": "compounds", "finger_damping": "compounds",
     "load_compounds": "compounds", "loss_factor_from_alpha": "compounds",
 }

@@ -128,6 +128,17 @@ class Compound:
     alpha_finger_length_in: float | None = None
     alpha_source: str = ""
 
+    @property
+    def E_nominal_Pa(self):
+        """Nominal Young's modulus, the middle of its range [Pa]."""
+        return 0.5 * (self.E_min_Pa + self.E_max_Pa)
+
+    @property
+    def tan_delta_nominal(self):
+        """Nominal loss factor, the middle of its range [-]: for a row identified by CCEDI
+        (:func:`identified_compound`) the identified alpha over its finger's first mode."""
+        return 0.5 * (self.tan_delta_min + self.tan_delta_max)
+
 
 COLUMNS = tuple(f.name for f in fields(Compound))
 """Column order of a written catalogue."""

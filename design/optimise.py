@@ -13,7 +13,9 @@ Constraints: every requirement's margin >= 0 (:mod:`ccedi.design.requirements`),
 bound tightened by the surrogate's measured model error where one is given
 (:class:`ModelError`: a ROM that reads a force 12 % low against the full FEA has its
 force limit lowered by 12 %), and for "this rubber only" designs alpha = alpha(L)
-(:func:`ccedi.design.rubber.alpha_of_length`), imposed as ln alpha - ln alpha(L) = 0.
+(:func:`ccedi.design.rubber.alpha_of_length`, or any function of the length such as a
+compound's loss factor times the finger's first mode,
+:class:`ccedi.design.catalogue_design.CompoundTie`), imposed as ln alpha - ln alpha(L) = 0.
 
 When no design meets the requirements, :func:`closest_design` finds the grid point whose
 largest shortfall is smallest and says by how much it misses each requirement;
@@ -45,6 +47,30 @@ ON_BOUND = 0.01
 """A variable within this fraction of its range (in unit coordinates) of a bound sits on it."""
 
 _OK = ("Solve_Succeeded", "Solved_To_Acceptable_Level")
+
+
+def tied_alpha(mode, length_in):
+    """alpha [1/s] tied to the finger length ``length_in`` [in] by ``mode``: "paper" or
+    "fit" (:func:`ccedi.design.rubber.alpha_of_length`), or a function of the length
+    (numpy or casadi values, e.g. :class:`ccedi.design.catalogue_design.CompoundTie`).
+
+    Parameters
+    ----------
+    mode : str or callable
+        The tie.
+    length_in : float, numpy.ndarray or casadi expression
+        Finger length [in].
+
+    Returns
+    -------
+    Same type as ``length_in``.
+
+    Raises
+    ------
+    InputError
+        An unknown mode.
+    """
+    return mode(length_in) if callable(mode) else alpha_of_length(mode, length_in)
 
 
 class ModelError:
@@ -226,8 +252,9 @@ class DesignProblem:
         One of :data:`OBJECTIVES` or "weighted".
     weights : dict, optional
         ``{output: weight >= 0}`` of the weighted objective (not all zero).
-    alpha_of_length : {"free", "paper", "fit"}, optional
-        alpha free, or tied to the length by the paper's Eq. (7) or our fit.
+    alpha_of_length : {"free", "paper", "fit"} or callable, optional
+        alpha free, or tied to the length by the paper's Eq. (7), our fit, or a function
+        ``f(length_in) -> alpha [1/s]`` of numpy and casadi values (:func:`tied_alpha`).
     model_error : dict, optional
         ``{output: ModelError}``: the surrogate's measured error against the full FEA,
         carried as a conservative margin on every requirement on that output.
@@ -252,7 +279,7 @@ class DesignProblem:
     requirements: Requirements = field(default_factory=Requirements)
     objective: str = "object_force"
     weights: dict | None = None
-    alpha_of_length: str = "free"
+    alpha_of_length: object = "free"
     model_error: dict = field(default_factory=dict)
     n_check: int = 100
     scale: dict = field(init=False)
@@ -262,7 +289,7 @@ class DesignProblem:
             raise InputError(f"objective must be one of {', '.join((*OBJECTIVES, 'weighted'))}, got {self.objective!r}")
         self.weights = self._checked_weights()
         if self.alpha_of_length != "free":
-            alpha_of_length(self.alpha_of_length, 6.0)            # validates the mode
+            tied_alpha(self.alpha_of_length, 6.0)                 # validates the mode
         second = self.surrogate.variables[1]
         if self.objective == "throughput" and second.name != "drum_speed_rad_s":
             raise InputError(f"objective 'throughput' needs the drum speed as a design variable; this problem varies "
@@ -362,7 +389,7 @@ class DesignProblem:
             A, L = np.meshgrid(va.grid(n), vl.grid(n), indexing="ij")
             return np.column_stack([A.ravel(), L.ravel()])
         L = vl.grid(n * n)
-        return np.column_stack([alpha_of_length(self.alpha_of_length, m_to_inch(L)), L])
+        return np.column_stack([tied_alpha(self.alpha_of_length, m_to_inch(L)), L])
 
     def constraint_margins(self, outputs, alpha_per_s, x, *, alpha_bounds=False):
         """{requirement: normalised margin}, >= 0 when met (numpy or casadi); with
@@ -503,7 +530,7 @@ def _nlp(problem: DesignProblem, extra=None):
     g = list(problem.constraint_margins(out, va.from_unit(u[0]), vl.from_unit(u[1])).values())
     lbg, ubg = [0.0] * len(g), [np.inf] * len(g)
     if problem.alpha_of_length != "free":
-        g.append(u[0] - va.to_unit(alpha_of_length(problem.alpha_of_length, m_to_inch(vl.from_unit(u[1])))))
+        g.append(u[0] - va.to_unit(tied_alpha(problem.alpha_of_length, m_to_inch(vl.from_unit(u[1])))))
         lbg.append(0.0)
         ubg.append(0.0)
     for e in extra(out) if extra is not None else ():

@@ -90,6 +90,15 @@ UNITS = {"sensor_peak_force_N": "N", "max_object_stress_Pa": "Pa", "root_stress_
          "contact_start_s": "s", "contact_duration_s": "s", "cycle_time_s": "s", "settling_time_s": "s"}
 """SI unit of every output."""
 
+DENSITY_SCALED = tuple(k for k in OUTPUTS if UNITS[k] in ("N", "N s", "Pa"))
+"""The outputs in force units (forces, the impulse, stresses), which scale with the finger's
+density at a fixed E / rho. Scaling the finger's E and rho by one factor k scales its
+mass, stiffness and contact springs by k and leaves its motion unchanged (every force of
+the run, drum-frame inertia, damping alpha M, friction, is k times its own): these outputs
+are k times theirs, the others (lengths, times) unchanged. :mod:`ccedi.design.catalogue_design`
+designs every compound on one surrogate over E at one density by this similarity, which
+the contact ROM keeps to round-off (``tests/unit/design/test_catalogue_design.py``)."""
+
 OBJECT_STRESS_SAMPLES = 12
 """Outputs at which the object's stress is solved (each is a static FE solve)."""
 
@@ -112,9 +121,15 @@ def rom_segments(length_m):
 
 VARIABLES = {"alpha_per_s": ("alpha", "1/s", "alpha_per_s", 1.0),
              "length_m": ("L", "in", "length_in", INCH),
-             "drum_speed_rad_s": ("drum speed", "rpm", "drum_speed_rpm", RPM)}
+             "drum_speed_rad_s": ("drum speed", "rpm", "drum_speed_rpm", RPM),
+             "youngs_modulus_Pa": ("E", "MPa", "E_MPa", 1e6),
+             "semi_width_m": ("a", "mm", "semi_width_mm", 1e-3),
+             "semi_thickness_m": ("b", "mm", "semi_thickness_mm", 1e-3)}
 """Design variables: SI name -> (label, unit shown, JSON key of the shown value, one shown
-unit in SI). alpha is not a set-up quantity (it is the run's damping)."""
+unit in SI). alpha is not a set-up quantity (it is the run's damping); the finger's Young's
+modulus is set on its material at the set-up's density; the section's semi-axes are the
+generated finger's: a across the finger (the width 2a), b along the bending direction
+(the thickness 2b)."""
 
 
 def setup_at(base: DrumSetup, names, point):
@@ -136,8 +151,8 @@ def setup_at(base: DrumSetup, names, point):
     Raises
     ------
     InputError
-        An unknown variable, or a length other than a finger mesh's own
-        (:func:`setup_for_length`).
+        An unknown variable, a length other than a finger mesh's own
+        (:func:`setup_for_length`), or a section on a finger mesh (:func:`setup_for_section`).
     """
     setup = base
     for name, x in zip(names, point):
@@ -145,6 +160,10 @@ def setup_at(base: DrumSetup, names, point):
             setup = setup_for_length(setup, x)
         elif name == "drum_speed_rad_s":
             setup = replace(setup, omega_rad_s=float(x))
+        elif name == "youngs_modulus_Pa":
+            setup = replace(setup, finger_material=replace(setup.finger_material, E=float(x)))
+        elif name in ("semi_width_m", "semi_thickness_m"):
+            setup = setup_for_section(setup, **{name: x})
         elif name != "alpha_per_s":
             raise InputError(f"design variable {name!r}: must be one of {', '.join(VARIABLES)}")
     return setup
@@ -175,6 +194,36 @@ def setup_for_length(base: DrumSetup, length_m):
                              f"{base.finger_length_m:.6g} m long; only the generated finger takes another length")
         return base
     return replace(base, finger_length_m=float(length_m))
+
+
+def setup_for_section(base: DrumSetup, *, semi_width_m=None, semi_thickness_m=None):
+    """``base`` with the generated finger's section semi-axes set: a (across, the width 2a)
+    and b (along the bending direction, the thickness 2b) [m]; None keeps one.
+
+    Parameters
+    ----------
+    base : DrumSetup
+    semi_width_m : float, optional
+        Semi-axis a [m].
+    semi_thickness_m : float, optional
+        Semi-axis b [m].
+
+    Returns
+    -------
+    DrumSetup
+        A copy with the new section (the finger is generated from it at each run).
+
+    Raises
+    ------
+    InputError
+        ``base.finger`` is a mesh (its section is its own), or a semi-axis out of range.
+    """
+    if base.finger is not None:
+        raise InputError(f"design section: the finger is a given {base.finger.element_type} mesh, whose section is "
+                         "its own; only the generated finger takes other semi-axes")
+    a, b = base.finger_semi_axes_m
+    return replace(base, finger_semi_axes_m=(float(a if semi_width_m is None else semi_width_m),
+                                             float(b if semi_thickness_m is None else semi_thickness_m)))
 
 
 def run_time_s(setup: DrumSetup):

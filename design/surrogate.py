@@ -16,8 +16,9 @@ rise of the peak force of under-damped 4.5-5.5-in fingers over the whole alpha r
 and predicted 10 N where the ROM gives 14.5 N.) A further set of ROM runs off the grid
 measures the interpolation error (:func:`validation_errors`).
 
-More variables (cross-section, drum speed) only need another :class:`Variable` and a
-way to set them on the :class:`ccedi.fea.contact.drum.DrumSetup` (:func:`run_rom`).
+More variables (the section's semi-axes, :func:`section_space`; the drum speed; the
+finger's Young's modulus, :func:`material_space`) only need another :class:`Variable` and a way to set them on the
+:class:`ccedi.fea.contact.drum.DrumSetup` (:func:`ccedi.design.outputs.setup_at`).
 """
 import hashlib
 import itertools
@@ -33,7 +34,7 @@ import pandas as pd
 from ccedi.errors import InputError
 from ccedi.fea.contact.drum import DrumSetup, FullContactModel, ObjectStress
 from ccedi.outputs import write_csv, write_json
-from ccedi.rom.contact_rom import reduce_contact_model
+from ccedi.rom.contact_rom import FINGER_KEYS, reduce_contact_model
 from ccedi.rom.superelement import fitting_segments
 
 from . import outputs as outputs_module
@@ -225,6 +226,66 @@ def speed_space(alpha_bounds_per_s=CHECKED_ALPHA_PER_S, speed_bounds_rpm=DRUM_SP
     return _variable("alpha_per_s", alpha_bounds_per_s, log=True), _variable("drum_speed_rad_s", speed_bounds_rpm)
 
 
+SECTION_BOUNDS_MM = {"semi_width_m": (6.0, 18.0), "semi_thickness_m": (4.0, 14.0)}
+"""Default semi-axis range of a design over the section [mm]: about half to one and a half
+of the paper's 12 x 8.45 mm (:func:`section_space`)."""
+
+
+def section_space(alpha_bounds_per_s=CHECKED_ALPHA_PER_S, semi_axis="semi_thickness_m", bounds_mm=None):
+    """The (alpha [1/s], one section semi-axis [m]) design variables (semi-axes given in
+    mm): the design of the generated finger's section at a given length; ``semi_axis`` is
+    "semi_thickness_m" (b, along the bending direction) or "semi_width_m" (a, across).
+
+    Parameters
+    ----------
+    alpha_bounds_per_s : tuple, optional
+        (lo, hi) [1/s] (default :data:`CHECKED_ALPHA_PER_S`).
+    semi_axis : {"semi_thickness_m", "semi_width_m"}, optional
+        The semi-axis varied.
+    bounds_mm : tuple, optional
+        Its (lo, hi) [mm] (default :data:`SECTION_BOUNDS_MM`).
+
+    Returns
+    -------
+    tuple of Variable
+        alpha (log-spaced) and the semi-axis.
+
+    Raises
+    ------
+    InputError
+        An unknown semi-axis, or bounds not 0 < lo < hi.
+    """
+    if semi_axis not in SECTION_BOUNDS_MM:
+        raise InputError(f"section semi-axis must be one of {', '.join(SECTION_BOUNDS_MM)}, got {semi_axis!r}")
+    return (_variable("alpha_per_s", alpha_bounds_per_s, log=True),
+            _variable(semi_axis, bounds_mm or SECTION_BOUNDS_MM[semi_axis]))
+
+
+def material_space(alpha_bounds_per_s, length_bounds_in, modulus_bounds_Pa):
+    """The (alpha [1/s], L [m], E [Pa]) variables: the finger's Young's modulus a third
+    variable, at the set-up's density (:data:`ccedi.design.outputs.DENSITY_SCALED` carries it
+    to any density).
+
+    Parameters
+    ----------
+    alpha_bounds_per_s, length_bounds_in, modulus_bounds_Pa : tuple
+        (lo, hi) of alpha [1/s], the length [in] and E [Pa].
+
+    Returns
+    -------
+    tuple of Variable
+        alpha (log), L, E (log).
+
+    Raises
+    ------
+    InputError
+        Any bounds not 0 < lo < hi.
+    """
+    return (*design_space(alpha_bounds_per_s, length_bounds_in),
+            _variable("youngs_modulus_Pa", tuple(b / VARIABLES["youngs_modulus_Pa"][3] for b in modulus_bounds_Pa),
+                      log=True))
+
+
 def _fill_undefined(V, U):
     """``V`` (grid values, NaN where undefined) with each NaN replaced by the value at
     the nearest defined grid point (distance in unit coordinates); all-NaN -> zeros."""
@@ -270,6 +331,10 @@ class Surrogate:
         self.interpolants = {name: ca.interpolant(name, "bspline", self.axes, V.ravel(order="F"))
                              for name, V in self.values.items()}
         self.nonnegative = frozenset(name for name, V in self.values.items() if np.all(V >= 0.0))
+        self._compile()
+
+    def _compile(self):
+        """``self.function``: the outputs of :meth:`expressions` as one casadi function of x."""
         x = ca.SX.sym("x", len(self.variables))
         y = self.expressions([x[i] for i in range(len(self.variables))])
         self.function = ca.Function("surrogate", [x], [ca.vertcat(*y.values())], ["x"], ["y"])
@@ -439,7 +504,7 @@ def _model_on(models, setup, model_factory):
     the new drum set-up (its ``on``, e.g. the ROM at another drum speed), else a new one."""
     for _, model, _ in models.values():
         if hasattr(model, "on") and model.setup.finger is setup.finger \
-                and model.setup.finger_length_m == setup.finger_length_m:
+                and all(getattr(model.setup, k) == getattr(setup, k) for k in FINGER_KEYS):
             return model.on(setup)
     return model_factory(setup)
 

@@ -194,6 +194,13 @@ def _face_flattening(mesh, material, patch_nodes):
     return float(mean - u[centre, 1].mean())
 
 
+FINGER_KEYS = ("finger_length_m", "finger_material", "finger_semi_axes_m", "finger_section_elements",
+               "finger_elements_along", "drum_radius_m")
+"""The :class:`ccedi.fea.contact.drum.DrumSetup` fields a reduced model's chain is built on
+(with its finger mesh): a set-up that changes one needs a new model
+(:meth:`ReducedContactModel.on`)."""
+
+
 class ReducedContactModel:
     """Superelement-chain ROM of :class:`ccedi.fea.contact.drum.DrumSetup`'s finger, a
     :class:`ccedi.models.ContactModel`.
@@ -358,9 +365,7 @@ class ReducedContactModel:
             ``setup``'s finger (its mesh or its generator's inputs) or drum radius differs
         from this model's.
         """
-        keys = ("finger_length_m", "finger_material", "finger_semi_axes_m", "finger_section_elements",
-                "finger_elements_along", "drum_radius_m")
-        changed = [k for k in keys if getattr(setup, k) != getattr(self.setup, k)]
+        changed = [k for k in FINGER_KEYS if getattr(setup, k) != getattr(self.setup, k)]
         if setup.finger is not self.setup.finger:
             changed.append("finger mesh")
         if changed:

@@ -85,7 +85,9 @@ def feasible_region_figure(problem, optimum, *, front=(), checked=(), n=120):
                 plt.Line2D([], [], color="w", marker=".", mec="k", ls="", ms=8, label="Pareto front")]
     ax.set_xscale("log")
     ax.set_xlabel("mass-proportional damping alpha [1/s]")
-    ax.set_ylabel({"length_m": "finger length L", "drum_speed_rad_s": "drum speed"}[vl.name] + f" [{vl.unit}]")
+    ax.set_ylabel({"length_m": "finger length L", "drum_speed_rad_s": "drum speed",
+                   "semi_thickness_m": "section semi-axis b (bending direction)",
+                   "semi_width_m": "section semi-axis a (across)"}.get(vl.name, vl.label) + f" [{vl.unit}]")
     ax.set_title("Feasible region on the surrogate (lines: each requirement's boundary)", fontsize=10)
     ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(0.0, -0.12), ncol=2)
     fig.tight_layout()
@@ -247,3 +249,117 @@ def report_markdown(result):
               "`pareto.png` (the objective against the second output)."]
     return "\n".join(lines) + "\n"
 
+
+
+def finger_drawing(length_m, semi_axes_m, *, drum_radius_m, title=""):
+    """The chosen finger drawn to scale: its side on the drum (length, thickness) and its
+    elliptical section (width 2a, thickness 2b, b along the bending direction), in mm.
+
+    Parameters
+    ----------
+    length_m : float
+        Finger length [m].
+    semi_axes_m : tuple of float
+        Section semi-axes (a, b) [m].
+    drum_radius_m : float
+        Drum radius [m] (the root sits on it).
+    title : str, optional
+        Figure title (the compound and its design).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    a, b = (1e3 * x for x in semi_axes_m)
+    L, R = 1e3 * length_m, 1e3 * drum_radius_m
+    fig, (side, section) = plt.subplots(1, 2, figsize=(10, 4.2), gridspec_kw={"width_ratios": [3, 1]})
+    t = np.linspace(-0.35, 0.35, 60)
+    side.plot(R * np.cos(t), R * np.sin(t), "k-", lw=2, label=f"drum, radius {R:.4g} mm")
+    side.add_patch(matplotlib.patches.Rectangle((R, -b), L, 2 * b, fc="tab:orange", ec="k", alpha=0.8,
+                                                label="finger"))
+    side.annotate("", xy=(R, -b - 6), xytext=(R + L, -b - 6), arrowprops={"arrowstyle": "<->"})
+    side.text(R + L / 2, -b - 9, f"L = {L:.4g} mm ({L / 25.4:.4g} in)", ha="center", va="top")
+    side.text(R + L + 3, 0, f"2b = {2 * b:.3g} mm", va="center")
+    side.set_aspect("equal")
+    side.set_xlim(R * np.cos(0.35) - 5, R + L + 40)
+    side.set_ylim(-b - 25, b + 15)
+    side.set_xlabel("along the finger, from the drum axis [mm]")
+    side.set_ylabel("bending direction [mm]")
+    side.legend(fontsize=8, loc="upper right")
+    s = np.linspace(0, 2 * np.pi, 200)
+    section.fill(a * np.cos(s), b * np.sin(s), fc="tab:orange", ec="k", alpha=0.8)
+    section.set_aspect("equal")
+    section.set_xlabel(f"width 2a = {2 * a:.3g} mm [mm]")
+    section.set_ylabel(f"thickness 2b = {2 * b:.3g} mm (bending) [mm]")
+    section.set_title("section", fontsize=9)
+    fig.suptitle(title or "Chosen finger", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def catalogue_report_markdown(result):
+    """The compound ranking in words (Markdown), from the result ``ccedi design --compounds``
+    writes (:func:`ccedi.study.commands.design.write_catalogue_design`).
+
+    Parameters
+    ----------
+    result : dict
+        The catalogue design result.
+
+    Returns
+    -------
+    str
+    """
+    p, ranking = result["problem"], result["compounds"]
+    output = ranking["objective_output"]
+    unit = UNITS.get(output, "")
+    shown = {"m": "mm", "Pa": "MPa"}.get(unit, unit)
+    lines = ["# Compound design", "",
+             f"Catalogue `{result['catalogue']}` ({len(ranking['table'])} compounds). Each compound is designed over "
+             f"the finger length {p['length_bounds_in'][0]:.4g}-{p['length_bounds_in'][1]:.4g} in at its nominal E "
+             "(the middle of its range), its density and its damping alpha = tan delta x omega_1(L) at its nominal "
+             f"loss factor; the objective: minimise {_label(output)}. Damping: **{p['damping']}**. Requirements: "
+             + "; ".join(p["requirements"]) + ".", "",
+             "## Ranking", "",
+             "Compounds that meet every requirement rank by the objective, the others after them by their largest "
+             "shortfall (normalised). Robust margin: the smallest requirement margin over the compound's loss-factor "
+             "range at the chosen length.", "",
+             f"| rank | compound | meets | E [MPa] | rho [kg/m^3] | tan delta | alpha [1/s] | L [in] | objective "
+             f"[{shown}] | binds (or missed) | shortfall | robust margin |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in ranking["table"]:
+        lines.append(f"| {r['rank']} | {r['compound']} | {'yes' if r['feasible'] else '**no**'} | "
+                     f"{r['E_Pa'] / 1e6:.4g} | {r['rho_kg_m3']:.4g} | {r['tan_delta']:.3g} | {r['alpha_per_s']:.4g} | "
+                     f"{r['length_in']:.4g} | {_fmt(r['objective'], unit).split(' ')[0]} | {r['binding'] or '-'} | "
+                     f"{r['largest_shortfall']:.3g} | {r['robust_margin']:+.3f} |")
+    win = ranking["winner"]
+    if win is None:
+        lines += ["", "## No compound meets the requirements", "",
+                  f"The closest is **{ranking['table'][0]['compound']}**; relax the requirements above, widen the "
+                  "length range, or add a compound to the catalogue."]
+        return "\n".join(lines) + "\n"
+    d = ranking["designs"][win]
+    o = d["design"]
+    lines += ["", "## Chosen compound", "",
+              f"**{win}**: alpha = {o['alpha_per_s']:.4g} 1/s ({d['tie']}), L = {o['length_in']:.4g} in. "
+              f"Robust margin {ranking['table'][0]['robust_margin']:+.3f} ({d['robust_limit']}).", ""]
+    for flag in d["flags"]:
+        lines.append(f"- Flag: {flag}.")
+    fea = result.get("fea_check")
+    lines += ["| output | surrogate | FEA | error |", "|---|---|---|---|"]
+    for k in dict.fromkeys((output, *result["requirement_outputs"].values())):
+        if k not in o:
+            continue
+        f_value = fea["fea"].get(k) if fea else None
+        err = fea["relative_error"].get(k) if fea else None
+        lines.append(f"| {_label(k).rsplit(' [', 1)[0]} | {_fmt(o[k], UNITS.get(k, ''))} | "
+                     f"{_fmt(f_value, UNITS.get(k, ''))} | "
+                     f"{'-' if err is None else f'{err:+.1%}'} |")
+    if fea:
+        lines += ["", "Error: (surrogate - FEA) / |FEA|, a length's over at least 5 mm "
+                  "(`ccedi.design.model_error.output_error`)."]
+        lines += ["", f"Full FEA at the compound's own E, rho and alpha ({fea['wall_time_s']:.0f} s): "
+                  + ("meets every requirement." if fea["meets_requirements"] else "misses "
+                     + "; ".join(k for k, q in fea["requirements"].items() if not q["met"]) + ".")]
+    lines += ["", "Figure: `finger_drawing.png` (the chosen finger's length on the drum and its section, in mm)."]
+    return "\n".join(lines) + "\n"

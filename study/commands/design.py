@@ -17,11 +17,15 @@ from ccedi.study.commands.arguments import (
     add_scheduler_argument,
     load_config,
 )
-from ccedi.units import inch_to_m
+from ccedi.units import inch_to_m, m_to_inch
 
 MODEL_ERROR_FILE = Path(__file__).resolve().parents[2] / "data" / "design" / "rom_check.json"
 """The ROM-against-FEA check the design takes its model-error margins from
 (``validation/design_rom_check.py`` writes it)."""
+
+VARIED = ("length", "drum_speed", "semi_thickness", "semi_width")
+"""What ``--vary`` takes: the second design variable beside alpha (the section's semi-axes
+b, along the bending direction, and a, across)."""
 
 REQUIREMENT_FLAGS = (("--max-object-force-N", "max_object_force_N", 1.0),
                      ("--max-object-stress-Pa", "max_object_stress_Pa", 1.0),
@@ -63,11 +67,14 @@ def add_parsers(sub):
                    help="damping bounds [1/s]")
     d.add_argument("--length-bounds-in", type=float, nargs=2, default=(3.0, 8.0), metavar=("LO", "HI"),
                    help="finger length bounds [in]")
-    d.add_argument("--vary", choices=("length", "drum_speed"), default=None,
+    d.add_argument("--vary", choices=VARIED, default=None,
                    help="the second design variable beside alpha (default: length; drum_speed for a [finger] mesh, "
                         "whose length is fixed)")
     d.add_argument("--drum-speed-bounds-rpm", type=float, nargs=2, default=DesignOptions.drum_speed_bounds_rpm,
                    metavar=("LO", "HI"), help="drum speed bounds [rpm] (--vary drum_speed)")
+    d.add_argument("--section-bounds-mm", type=float, nargs=2, default=None, metavar=("LO", "HI"),
+                   help="bounds of the varied section semi-axis [mm] (--vary semi_thickness: b, along the bending "
+                        "direction, default 4 14; --vary semi_width: a, across, default 6 18) at the set-up's length")
     d.add_argument("--grid", type=int, nargs=2, default=(15, 11), metavar=("N_ALPHA", "N_SECOND"),
                    help="ROM runs of the surrogate grid along alpha and the second variable (cached in OUT)")
     d.add_argument("--validation-runs", type=int, default=20, help="off-grid ROM runs measuring the surrogate error")
@@ -77,6 +84,10 @@ def add_parsers(sub):
     d.add_argument("--starts", type=int, default=8, help="IPOPT starts")
     d.add_argument("--no-model-error", action="store_true",
                    help="do not tighten the requirements by the ROM's measured error against the FEA")
+    d.add_argument("--compounds", nargs="?", const="", default=None, metavar="CATALOGUE",
+                   help="design every compound of a catalogue CSV (no PATH: the bundled data/compounds.csv) with its "
+                        "own E, density and alpha = tan delta x omega_1(L), the length optimised, and rank them "
+                        "(report table, drawing of the winner)")
     add_scheduler_argument(d, default="local")
     d.add_argument("--no-fea-check", action="store_true", help="skip the full-FEA re-check (minutes per design)")
     d.add_argument("--fea-check-designs", type=int, default=3, choices=(1, 2, 3),
@@ -136,7 +147,7 @@ class DesignOptions:
         Damping bounds [1/s] (default :data:`ccedi.design.surrogate.CHECKED_ALPHA_PER_S`).
     length_bounds_in : tuple of float
         Finger length bounds [in].
-    vary : {"length", "drum_speed"} or None
+    vary : {"length", "drum_speed", "semi_thickness", "semi_width"} or None
         The second design variable beside alpha (None: the length for the generated
         finger, the drum speed for a finger mesh).
     drum_speed_bounds_rpm : tuple of float
@@ -172,6 +183,7 @@ class DesignOptions:
     alpha_bounds: tuple = (7.5, 600.0)
     length_bounds_in: tuple = (3.0, 8.0)
     vary: str | None = None
+    section_bounds_mm: tuple | None = None
     drum_speed_bounds_rpm: tuple = (10.0, 40.0)
     grid: tuple = (15, 11)
     validation_runs: int = 20
@@ -224,10 +236,15 @@ def cmd_design(args):
         weights=None if args.weights is None else parse_weights(args.weights),
         damping=args.damping or cfg["damping"]["kind"], alpha_of_length=args.alpha_of_length,
         alpha_bounds=tuple(args.alpha_bounds), length_bounds_in=tuple(args.length_bounds_in), vary=args.vary,
+        section_bounds_mm=None if args.section_bounds_mm is None else tuple(args.section_bounds_mm),
         drum_speed_bounds_rpm=tuple(args.drum_speed_bounds_rpm), grid=tuple(args.grid),
         validation_runs=args.validation_runs, pareto_points=args.pareto_points, pareto_output=args.pareto_output,
         starts=args.starts, model_error=not args.no_model_error, fea_check=not args.no_fea_check,
         fea_check_designs=args.fea_check_designs)
+    if args.compounds is not None:
+        write_catalogue_design(contact_setup(cfg), options, catalogue=args.compounds or None, json_path=args.json,
+                               out=args.out, scheduler=args.scheduler)
+        return
     write_design(contact_setup(cfg), options, json_path=args.json, out=args.out, scheduler=args.scheduler,
                  measured_alpha=cfg["material"]["alpha_per_s"], mesh_path=cfg["finger"]["mesh"] or None)
 
@@ -244,16 +261,19 @@ def second_variable(setup, o):
     Returns
     -------
     str
-        "length" or "drum_speed".
+        One of :data:`VARIED`.
 
     Raises
     ------
     InputError
-        The length asked of a finger mesh (its length is its own).
+        The length or the section asked of a finger mesh (its geometry is its own).
     """
     vary = o.vary or ("length" if setup.finger is None else "drum_speed")
-    if vary not in ("length", "drum_speed"):
-        raise InputError(f"--vary {vary!r}: must be length or drum_speed")
+    if vary not in VARIED:
+        raise InputError(f"--vary {vary!r}: must be one of {', '.join(VARIED)}")
+    if vary.startswith("semi_") and setup.finger is not None:
+        raise InputError(f"--vary {vary}: the finger is a given {setup.finger.element_type} mesh, whose section is "
+                         "its own; its design varies alpha and the drum speed (--vary drum_speed)")
     if vary == "length" and setup.finger is not None:
         raise InputError(f"--vary length: the finger is a given {setup.finger.element_type} mesh "
                          f"{setup.finger_length_m * 1e3:.4g} mm long, whose length is fixed; its design varies alpha "
@@ -268,17 +288,19 @@ def _check_options(setup, o):
     from ccedi.units import RPM
 
     vary = second_variable(setup, o)
-    if vary == "drum_speed" and o.alpha_of_length != "free":
+    if vary != "length" and o.alpha_of_length != "free":
         raise InputError(f"--alpha-of-length {o.alpha_of_length}: alpha tied to the length needs --vary length")
     if o.objective == "throughput" and vary != "drum_speed":
         raise InputError("--objective throughput maximises the drum speed: it needs --vary drum_speed")
     if o.objective == "throughput" and setup.cycle_time_s is not None:
         raise InputError(f"--objective throughput: [drum] cycle_time_s = {setup.cycle_time_s:g} s fixes the time "
                          "between objects whatever the drum speed; set objects_per_revolution instead")
-    for flag, (lo, hi), quantity in (("--alpha-bounds", o.alpha_bounds, QUANTITIES["alpha_per_s"]),
-                                     ("--length-bounds-in", o.length_bounds_in, QUANTITIES["length_in"]),
-                                     ("--drum-speed-bounds-rpm", o.drum_speed_bounds_rpm,
-                                      QUANTITIES["omega_rad_s"].in_unit(1.0 / RPM, "rpm"))):
+    bounds = [("--alpha-bounds", o.alpha_bounds, QUANTITIES["alpha_per_s"]),
+              ("--length-bounds-in", o.length_bounds_in, QUANTITIES["length_in"]),
+              ("--drum-speed-bounds-rpm", o.drum_speed_bounds_rpm, QUANTITIES["omega_rad_s"].in_unit(1.0 / RPM, "rpm"))]
+    if o.section_bounds_mm is not None:
+        bounds.append(("--section-bounds-mm", o.section_bounds_mm, QUANTITIES["section_semi_axis_m"].in_unit(1e3, "mm")))
+    for flag, (lo, hi), quantity in bounds:
         for value in (lo, hi):
             quantity.check(value, flag)
         if not 0.0 < lo < hi:
@@ -386,6 +408,7 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
         cached_rom_runs,
         design_space,
         grid_points,
+        section_space,
         speed_space,
         validation_errors,
         validation_points,
@@ -399,7 +422,8 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
     vary = second_variable(setup, o)
     out = Path(out)
     space = (design_space(tuple(o.alpha_bounds), tuple(o.length_bounds_in)) if vary == "length"
-             else speed_space(tuple(o.alpha_bounds), tuple(o.drum_speed_bounds_rpm)))
+             else speed_space(tuple(o.alpha_bounds), tuple(o.drum_speed_bounds_rpm)) if vary == "drum_speed"
+             else section_space(tuple(o.alpha_bounds), f"{vary}_m", o.section_bounds_mm))
     if o.alpha_bounds[0] < CHECKED_ALPHA_PER_S[0]:
         warnings.warn(ValidityWarning(
             f"alpha bounds reach {o.alpha_bounds[0]:g} 1/s, below {CHECKED_ALPHA_PER_S[0]:g} 1/s: the contact ROM's "
@@ -479,7 +503,8 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
     write_csv(out / "pareto.csv", pd.DataFrame([{k: v for k, v in d.as_dict(problem).items() if k != "margins"}
                                                 for d in front]))
     measured = None
-    current = setup.finger_length_m if vary == "length" else setup.omega_rad_s
+    current = {"length": setup.finger_length_m, "drum_speed": setup.omega_rad_s,
+               "semi_width": setup.finger_semi_axes_m[0], "semi_thickness": setup.finger_semi_axes_m[1]}[vary]
     if measured_alpha is not None and all(v.lo <= x <= v.hi for v, x in zip(space, (measured_alpha, current))):
         outputs = {k: float(v[0]) for k, v in surrogate.evaluate(np.array([[measured_alpha, current]])).items()}
         measured = type(optimum)(measured_alpha, current, outputs, float(problem.J(outputs))).as_dict(problem)
@@ -509,6 +534,124 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
           + (f"; FLAG: {', '.join(result['on_bounds'])}" if result["on_bounds"] else ""), flush=True)
     print(f"wrote {json_path}, {out}/design_report.md, feasible_region.png, pareto.png ({len(front)} front points)",
           flush=True)
+    return result
+
+
+def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, scheduler="local"):
+    """Design every compound of ``catalogue`` over the finger length
+    (:func:`ccedi.design.catalogue_design.design_compounds`: its nominal E, its density, alpha
+    = tan delta x omega_1(L)), rank them, re-check the winner with the full FEA at its own
+    material, and write the result JSON, ``design_report.md``, ``finger_drawing.png``,
+    ``compounds.csv`` (the ranked table) and the ROM cache.
+
+    Parameters
+    ----------
+    setup : ccedi.fea.contact.drum.DrumSetup
+        The drum test (its finger's density is the surrogate's; each compound's E and rho
+        replace its material).
+    options : DesignOptions
+        What is asked (requirements, objective, damping, length bounds, grid along alpha
+        and L, model error, FEA re-check, IPOPT starts).
+    catalogue : str or Path, optional
+        The compound catalogue CSV (default: the bundled ``data/compounds.csv``).
+    json_path : str or Path
+        Result JSON.
+    out : str or Path
+        Directory for the ROM cache, table, figure and report.
+    scheduler : str
+        ``serial``, ``local`` or a Dask scheduler address (the FEA re-check).
+
+    Returns
+    -------
+    dict
+        The ranking, the winner's FEA re-check and the surrogate's figures, as written.
+
+    Raises
+    ------
+    ccedi.errors.InputError
+        A catalogue that does not read, an option the compound design does not take (the
+        drum speed varied, alpha tied to the paper's rubber, a weighted or throughput
+        objective), a finger mesh, or an option out of range.
+    ccedi.errors.RequirementsUnmet
+        No compound meets the requirements; raised after the result and the report are
+        written.
+    """
+    from ccedi.design.catalogue_design import CATALOGUE_GRID, catalogue_surrogate, design_compounds
+    from ccedi.design.compounds import CATALOGUE, load_compounds
+    from ccedi.design.recheck import fea_check
+    from ccedi.design.requirements import Requirements
+    from ccedi.fea.material import NeoHookean
+    from ccedi.outputs import write_csv, write_figure, write_json, write_text
+    from ccedi.study.design_report import catalogue_report_markdown, finger_drawing
+
+    o = options
+    for bad, said in ((o.vary == "drum_speed", "--vary drum_speed"),
+                      (o.alpha_of_length != "free", f"--alpha-of-length {o.alpha_of_length}"),
+                      (o.objective in ("weighted", "throughput"), f"--objective {o.objective}")):
+        if bad:
+            raise InputError(f"--compounds with {said}: the compound design varies the length on each compound's "
+                             "own alpha and ranks an objective in a unit (object_force, object_stress, root_stress, "
+                             "recovery, ringing)")
+    if setup.finger is not None:
+        raise InputError("--compounds: the finger is a given mesh of fixed length; the compound design varies the "
+                         "length of the generated finger")
+    _check_options(setup, o)
+    compounds = load_compounds(catalogue)
+    req = o.requirements if o.requirements is not None else Requirements()
+    out = Path(out)
+
+    def tick(k, n):
+        if k % 100 == 0 or k == n:
+            print(f"ROM runs {k}/{n} (catalogue grid, {o.damping} damping)", flush=True)
+
+    t0 = time.perf_counter()
+    shape = (o.grid[0], o.grid[1], CATALOGUE_GRID[2])
+    surrogate, first_mode, _, cached = catalogue_surrogate(
+        setup, compounds.values(), length_bounds_in=tuple(o.length_bounds_in), shape=shape, damping=o.damping,
+        path=out / "rom_catalogue_grid.csv", progress=tick)
+    build_s = time.perf_counter() - t0
+    va = surrogate.variables[0]
+    errors, error_source = _model_error(replace(o, alpha_bounds=(va.lo, va.hi)), "length")
+    ranking = design_compounds(surrogate, compounds.values(), setup=setup, first_mode=first_mode, requirements=req,
+                               objective=o.objective, model_error=errors, damping=o.damping, n_starts=o.starts)
+    limits = ranking.designs[0].problem.limits
+    result = {
+        "feasible": ranking.winner is not None,
+        "catalogue": str(catalogue or CATALOGUE.relative_to(CATALOGUE.parents[1])),
+        "problem": {"damping": o.damping, "objective": o.objective, "length_bounds_in": list(o.length_bounds_in),
+                    "requirements": [lim.describe() for lim in req.limits()]},
+        "requirement_outputs": {lim.describe(): lim.output for lim in req.limits()},
+        "surrogate": {"kind": "cubic B-spline through ROM runs over (alpha, L, E at the set-up's density)",
+                      "variables": [{"name": v.name, "lo": float(v.shown(v.lo)), "hi": float(v.shown(v.hi)),
+                                     "unit": v.unit} for v in surrogate.variables],
+                      "grid": list(shape), "grid_from_cache": cached, "build_wall_time_s": build_s,
+                      "first_mode_fit_error": first_mode.fit_error},
+        "model_error_source": error_source,
+        "compounds": ranking.as_dict(),
+        "fea_check": None,
+    }
+    win = ranking.winner
+    if win is not None and o.fea_check:
+        c = win.compound
+        own = replace(setup, finger_material=NeoHookean(E=c.E_nominal_Pa, nu=setup.finger_material.nu,
+                                                        rho=c.rho_kg_m3))
+        result["fea_check"] = fea_check(own, [win.design], damping=o.damping, limits=limits, scheduler=scheduler,
+                                        variables=win.problem.surrogate.variables)[0]
+    shown = win or ranking.designs[0]
+    write_figure(out / "finger_drawing.png", finger_drawing(
+        shown.design.x, setup.finger_semi_axes_m, drum_radius_m=setup.drum_radius_m,
+        title=f"{shown.compound.name}: L = {m_to_inch(shown.design.x):.4g} in, alpha = "
+              f"{shown.design.alpha_per_s:.4g} 1/s" + ("" if win else " (closest; misses the requirements)")))
+    write_csv(out / "compounds.csv", ranking.table)
+    write_text(out / "design_report.md", catalogue_report_markdown(result))
+    write_json(json_path, result)
+    print("compounds ranked: " + ", ".join(f"{r['rank']}. {r['compound']}" + ("" if r["feasible"] else " (misses)")
+                                           for r in result["compounds"]["table"]), flush=True)
+    print(f"wrote {json_path}, {out}/design_report.md, finger_drawing.png, compounds.csv", flush=True)
+    if win is None:
+        raise RequirementsUnmet(f"no compound of {result['catalogue']} meets the requirements; the closest, "
+                                f"{shown.compound.name}, falls short by {shown.shortfall:.3g} (normalised): "
+                                + "; ".join(shown.binding))
     return result
 
 

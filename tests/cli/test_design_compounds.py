@@ -1,0 +1,87 @@
+"""``ccedi design --compounds [CATALOGUE]``: every compound of a catalogue designed over the
+length on its own E, density and alpha, ranked, the table and the drawing in the report;
+what the compound design cannot take, and a section design's bad bounds, are refused in one
+line before any ROM run."""
+import json
+
+import pytest
+from conftest import ROOT
+
+from ccedi.design.compounds import CATALOGUE, catalogue_text, load_compounds
+from ccedi.fea.material import NeoHookean
+from ccedi.rom.finger_identification import finger_omega1
+from ccedi.study.cli import main
+
+
+def _refused(capsys, argv, named):
+    rc = main(argv)
+    err = capsys.readouterr().err
+    assert rc == 1 and "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    assert named in err
+    return err
+
+
+@pytest.mark.parametrize("extra, named", [
+    (["--compounds", "--vary", "drum_speed"], "--vary drum_speed"),
+    (["--compounds", "--alpha-of-length", "paper"], "--alpha-of-length paper"),
+    (["--compounds", "--objective", "weighted", "--weights", "sensor_peak_force_N=1"], "--objective weighted"),
+    (["--compounds", "no_such_catalogue.csv"], "no_such_catalogue.csv"),
+    (["--vary", "semi_thickness", "--section-bounds-mm", "0.01", "5"], "--section-bounds-mm"),
+    (["--vary", "semi_width", "--section-bounds-mm", "9", "3"], "--section-bounds-mm"),
+    (["--vary", "semi_thickness", "--alpha-of-length", "fit"], "--alpha-of-length fit"),
+])
+def test_what_the_compound_design_cannot_take_is_refused_before_any_run(extra, named, tmp_path, capsys):
+    out = tmp_path / "out"
+    _refused(capsys, ["design", "--json", str(out / "d.json"), "--out", str(out), *extra], named)
+    assert not (out / "rom_catalogue_grid.csv").exists()
+
+
+def test_a_catalogue_is_ranked_the_damped_compound_first_on_its_own_alpha(tmp_path, capsys):
+    """The paper's over-damped rubber meets the default requirements; natural rubber, its
+    loss factor a tenth of it, rings past the 5 mm limit after breakaway and ranks second,
+    short of it. The winner's alpha is its loss factor times the FE first mode of its
+    finger at the chosen length."""
+    rows = load_compounds(CATALOGUE)
+    cat = tmp_path / "two.csv"
+    cat.write_text(catalogue_text([rows["natural_rubber"], rows["paper_finger_rubber"]]))
+    out = tmp_path / "out"
+    rc = main(["design", "--compounds", str(cat), "--grid", "4", "4", "--no-fea-check", "--starts", "2",
+               "--json", str(out / "d.json"), "--out", str(out)])
+    assert rc == 0, capsys.readouterr().err
+    result = json.loads((out / "d.json").read_text())
+    table = result["compounds"]["table"]
+    assert [r["compound"] for r in table] == ["paper_finger_rubber", "natural_rubber"]
+    assert table[0]["feasible"] and not table[1]["feasible"] and table[1]["largest_shortfall"] > 0
+    assert "ringing" in table[1]["binding"]
+    win = table[0]
+    paper = rows["paper_finger_rubber"]
+    omega = finger_omega1(win["length_in"], material=NeoHookean(E=paper.E_nominal_Pa, nu=0.49, rho=paper.rho_kg_m3))
+    assert win["alpha_per_s"] == pytest.approx(paper.tan_delta_nominal * omega, rel=0.005)
+    report = (out / "design_report.md").read_text()
+    assert "| 1 | paper_finger_rubber | yes |" in report and "| 2 | natural_rubber | **no** |" in report
+    assert (out / "finger_drawing.png").stat().st_size > 10_000 and (out / "compounds.csv").exists()
+    assert str(ROOT) not in result["catalogue"] or result["catalogue"] == str(cat)
+
+
+def test_the_section_is_designed_beside_alpha_and_the_rom_verifies_it(tmp_path, capsys):
+    """``--vary semi_thickness`` at the 5-in finger: the optimum's b inside its bounds, the
+    ROM built at each verified section, and the report's plane is (alpha, b)."""
+    out = tmp_path / "out"
+    rc = main(["design", "--vary", "semi_thickness", "--section-bounds-mm", "5", "12", "--config", str(_toml(tmp_path)),
+               "--grid", "4", "4", "--validation-runs", "1", "--pareto-points", "4", "--starts", "2", "--no-fea-check",
+               "--no-model-error", "--json", str(out / "d.json"), "--out", str(out)])
+    assert rc == 0, capsys.readouterr().err
+    result = json.loads((out / "d.json").read_text())
+    assert result["problem"]["variables"][1]["name"] == "semi_thickness_m"
+    b = result["optimum"]["semi_thickness_mm"]
+    assert 5.0 <= b <= 12.0
+    steps = result["rom_verification"]
+    assert steps and all(5.0 <= s["semi_thickness_mm"] <= 12.0 for s in steps)
+    assert all(s["model"]["sensor_peak_force_N"] > 0.0 for s in steps)
+    assert "b = " in (out / "design_report.md").read_text() and (out / "feasible_region.png").exists()
+
+
+def _toml(tmp_path):
+    path = tmp_path / "five_inch.toml"
+    path.write_text("[finger]\ncontact_length_in = 5.0\n")
+    return path
