@@ -22,6 +22,8 @@ What a design script needs (``examples/design_script.py``)::
 * :mod:`ccedi.design.catalogue_design`: the compound as a design variable: every compound
   of a catalogue designed over the length on one surrogate over (alpha, L, E)
   (:func:`catalogue_surrogate`), ranked (:func:`design_compounds`).
+* :mod:`ccedi.design.robust`: a compound's robust design over its batch spread of E and
+  tan delta (:class:`Spread`, :func:`robust_design`, :func:`violation_probabilities`).
 
 User-defined outputs plug into :func:`run_rom` (``extra_outputs``) and get limits as
 :class:`Limit` objects in ``Requirements(extra=...)``.
@@ -40,7 +42,8 @@ _EXPORTS = {
     "speed_space": "surrogate", "material_space": "surrogate", "section_space": "surrogate",
     "CompoundSurrogate": "catalogue_design", "CompoundTie": "catalogue_design", "FirstMode": "catalogue_design",
     "catalogue_space": "catalogue_design", "catalogue_surrogate": "catalogue_design",
-    "design_compounds": "catalogue_design",
+    "design_compounds": "catalogue_design", "Spread": "robust", "RobustDesign": "robust",
+    "robust_design": "robust", "violation_probabilities": "robust",
     "Compound": "compounds", "alpha_from_loss_factor": "compounds", "finger_damping": "compounds",
     "load_compounds": "compounds", "loss_factor_from_alpha": "compounds",
 }

@@ -254,10 +254,12 @@ class CompoundSurrogate(Surrogate):
         return {k: v * self.density_ratio if k in DENSITY_SCALED else v for k, v in out.items()}
 
 
-def catalogue_space(compounds, first_mode, length_bounds_in):
+def catalogue_space(compounds, first_mode, length_bounds_in, *, spread=None):
     """The (alpha, L, E') variables that hold every compound of ``compounds``: alpha over
     their loss-factor ranges at every length, E' their nominal moduli at the first mode's
-    reference density, both widened by :data:`RANGE_PAD` (and rounded to 4 digits).
+    reference density, both widened by :data:`RANGE_PAD` (and rounded to 4 digits), and
+    by a spread of E and the loss factor about their nominal values when one is given (a
+    robust design's samples, :class:`ccedi.design.robust.Spread`).
 
     Parameters
     ----------
@@ -266,6 +268,8 @@ def catalogue_space(compounds, first_mode, length_bounds_in):
         omega_1(L) (its reference density is the surrogate's).
     length_bounds_in : tuple of float
         (lo, hi) [in].
+    spread : ccedi.design.robust.Spread, optional
+        Relative half-widths of E and tan delta to cover besides. Default None.
 
     Returns
     -------
@@ -281,10 +285,13 @@ def catalogue_space(compounds, first_mode, length_bounds_in):
         raise InputError("the compound design needs at least one compound, got an empty catalogue")
     lengths = np.asarray(length_bounds_in, dtype=float)
     alphas, moduli = [], []
+    e, t = (0.0, 0.0) if spread is None else (spread.E_relative, spread.tan_delta_relative)
     for c in compounds:
         w = first_mode(lengths, E_Pa=c.E_nominal_Pa, rho_kg_m3=c.rho_kg_m3)
-        alphas += [c.tan_delta_min * w.min(), c.tan_delta_max * w.max()]
-        moduli.append(c.E_nominal_Pa * first_mode.rho_kg_m3 / c.rho_kg_m3)
+        alphas += [min(c.tan_delta_min, c.tan_delta_nominal * (1 - t)) * w.min() * np.sqrt(1 - e),
+                   max(c.tan_delta_max, c.tan_delta_nominal * (1 + t)) * w.max() * np.sqrt(1 + e)]
+        moduli += [c.E_nominal_Pa * (1 - e) * first_mode.rho_kg_m3 / c.rho_kg_m3,
+                   c.E_nominal_Pa * (1 + e) * first_mode.rho_kg_m3 / c.rho_kg_m3]
     bounds = [_rounded(f(v) * RANGE_PAD ** k) for v in (alphas, moduli) for f, k in ((min, -1), (max, 1))]
     return material_space(tuple(bounds[:2]), tuple(length_bounds_in), tuple(bounds[2:]))
 
@@ -296,7 +303,7 @@ def _rounded(x):
 
 
 def catalogue_surrogate(setup, compounds, *, length_bounds_in=(3.0, 8.0), shape=CATALOGUE_GRID, damping="relative",
-                        path=None, progress=None, first_mode=None):
+                        path=None, progress=None, first_mode=None, spread=None):
     """The ROM surrogate over (alpha, L, E') that serves every compound of ``compounds``
     (:func:`catalogue_space`), at ``setup``'s density.
 
@@ -319,6 +326,8 @@ def catalogue_surrogate(setup, compounds, *, length_bounds_in=(3.0, 8.0), shape=
         ``progress(done, total)`` after every run.
     first_mode : FirstMode, optional
         omega_1(L) of ``setup``'s finger (solved here when not given).
+    spread : ccedi.design.robust.Spread, optional
+        A spread of E and tan delta the surrogate must cover besides (:func:`catalogue_space`).
 
     Returns
     -------
@@ -337,7 +346,7 @@ def catalogue_surrogate(setup, compounds, *, length_bounds_in=(3.0, 8.0), shape=
         A finger mesh, no compound, or a grid with fewer than 4 points along a variable.
     """
     first_mode = first_mode or FirstMode.of(setup, length_bounds_in)
-    space = catalogue_space(compounds, first_mode, length_bounds_in)
+    space = catalogue_space(compounds, first_mode, length_bounds_in, spread=spread)
     if len(shape) != 3 or min(shape) < 4:
         raise InputError(f"the catalogue grid needs 3 sizes >= 4 (alpha, L, E), got {tuple(shape)}")
     points = grid_points(space, shape)
