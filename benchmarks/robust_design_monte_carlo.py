@@ -1,0 +1,100 @@
+"""Robust against nominal design, checked by a full-FEA Monte Carlo: the bundled catalogue
+designed under the ``parts`` requirements (the default requirements without the ringing
+limit, as validation/design_compounds.py), the winner's nominal optimum and its robust
+design (:func:`ccedi.design.robust.robust_design`, E +-15 %, tan delta +-30 %, 95 %), then
+``N_FEA`` samples of the compound's E and loss factor run through the full explicit FEA at
+both lengths (the same samples): each requirement's violation fraction with its Wilson
+95 % interval, beside the surrogate's violation probability at the same length.
+
+The catalogue surrogate is built wide enough for the spread (15 x 11 x 6 ROM runs, cached
+under benchmarks/cache/robust_design/); each FE run is one drum run of the finger at the
+sample's E and alpha (~0.5-1 minute here), ``--jobs`` at a time.
+
+Run: ``OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/robust_design_monte_carlo.py [--n N] [--jobs J]``;
+writes benchmarks/robust_design_monte_carlo.json.
+"""
+import argparse
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import replace
+from pathlib import Path
+
+from ccedi.design.catalogue_design import catalogue_surrogate, design_compounds
+from ccedi.design.compounds import alpha_from_loss_factor, load_compounds
+from ccedi.design.optimise import Design
+from ccedi.design.recheck import fea_check
+from ccedi.design.requirements import Requirements
+from ccedi.design.robust import Spread, robust_design, violation_probabilities
+from ccedi.fea.material import NeoHookean
+from ccedi.outputs import report_figures
+from ccedi.statistics import wilson_interval
+from ccedi.study.commands.fea import contact_setup
+from ccedi.study.config import validate
+from ccedi.units import m_to_inch
+
+OUT = Path(__file__).with_suffix(".json")
+CACHE = Path(__file__).parent / "cache" / "robust_design"
+REQUIREMENTS = {"max_ringing_amplitude_m": None}
+"""The ``parts`` set: the default requirements without the ringing limit."""
+N_FEA = 20
+SEED = 2032
+
+
+def one_run(setup, E_Pa, alpha_per_s, length_m, limits):
+    """The full FEA's requirement check of one sample (fea_check of one design)."""
+    own = replace(setup, finger_material=replace(setup.finger_material, E=float(E_Pa)))
+    d = Design(alpha_per_s=float(alpha_per_s), x=float(length_m), outputs={}, J=float("nan"))
+    row = fea_check(own, [d], limits=limits, progress=None)[0]
+    return {k: {"value": q["value"], "met": q["met"]} for k, q in row["requirements"].items()}, row["wall_time_s"]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--n", type=int, default=N_FEA, help="FE samples per design")
+    parser.add_argument("--jobs", type=int, default=2, help="FE runs at a time")
+    args = parser.parse_args()
+    t0 = time.perf_counter()
+    cfg = validate({})
+    setup = contact_setup(cfg)
+    requirements = Requirements(**REQUIREMENTS)
+    compounds = list(load_compounds().values())
+    CACHE.mkdir(parents=True, exist_ok=True)
+    surrogate, first_mode, runs, cached = catalogue_surrogate(setup, compounds, spread=Spread(),
+                                                              path=CACHE / "rom_catalogue_grid.csv",
+                                                              progress=lambda done, total: None)
+    built_s = time.perf_counter() - t0
+    winner = design_compounds(surrogate, compounds, setup=setup, first_mode=first_mode, requirements=requirements,
+                              verify=False).designs[0]
+    robust = robust_design(winner, surrogate)
+    c = winner.compound
+    E, tan_delta = Spread().samples(c, args.n, seed=SEED)
+    own = replace(setup, finger_material=NeoHookean(E=c.E_nominal_Pa, nu=setup.finger_material.nu, rho=c.rho_kg_m3))
+    limits = winner.problem.requirements.limits()
+    figures = {"requirements": REQUIREMENTS, "compound": c.name, "spread": {"E_relative": 0.15, "tan_delta_relative": 0.30},
+               "probability": 0.95, "surrogate_runs": len(runs), "surrogate_from_cache": cached,
+               "surrogate_build_s": built_s, "fea_samples": args.n, "designs": {}}
+    for label, length_m in (("nominal", winner.design.x), ("robust", robust.length_m)):
+        omega = first_mode(m_to_inch(length_m), E_Pa=E, rho_kg_m3=c.rho_kg_m3)
+        alphas = alpha_from_loss_factor(tan_delta, omega)
+        with ProcessPoolExecutor(max_workers=args.jobs) as pool:
+            results = list(pool.map(one_run, [own] * args.n, E, alphas, [length_m] * args.n, [limits] * args.n))
+        per_req = {}
+        for name in results[0][0]:
+            bad = sum(not r[0][name]["met"] for r in results)
+            per_req[name] = {"fea_violations": bad, "fea_fraction": bad / args.n,
+                             "fea_wilson95": list(wilson_interval(bad, args.n))}
+        surrogate_p = violation_probabilities(winner, surrogate, length_m=length_m,
+                                              samples=Spread().samples(c, 2000, seed=SEED + 1))
+        for name, p in surrogate_p.items():
+            per_req.setdefault(name, {})["surrogate_probability"] = p
+        figures["designs"][label] = {"length_in": m_to_inch(length_m), "alpha_nominal_per_s": float(winner.tie(m_to_inch(length_m))),
+                                     "requirements": per_req, "fea_wall_s": [r[1] for r in results]}
+        print(label, f"L {m_to_inch(length_m):.3f} in:", {k: (v.get("fea_violations"), v.get("surrogate_probability"))
+                                                        for k, v in per_req.items()}, flush=True)
+    figures["robust_feasible_on_surrogate"] = robust.feasible
+    figures["wall_time_s"] = time.perf_counter() - t0
+    report_figures(figures, OUT)
+
+
+if __name__ == "__main__":
+    main()
