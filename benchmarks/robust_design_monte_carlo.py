@@ -1,6 +1,5 @@
 """Robust against nominal design, checked by a full-FEA Monte Carlo: the bundled catalogue
-designed under the ``parts`` requirements (the default requirements without the ringing
-limit, as validation/design_compounds.py), the winner's nominal optimum and its robust
+designed under a requirement set (:data:`SETS`, default ``parts``), the winner's nominal optimum and its robust
 design (:func:`ccedi.design.robust.robust_design`, E +-15 %, tan delta +-30 %, 95 %), then
 ``N_FEA`` samples of the compound's E and loss factor run through the full explicit FEA at
 both lengths (the same samples): each requirement's violation fraction with its Wilson
@@ -10,8 +9,8 @@ The catalogue surrogate is built wide enough for the spread (15 x 11 x 6 ROM run
 under benchmarks/cache/robust_design/); each FE run is one drum run of the finger at the
 sample's E and alpha (~0.5-1 minute here), ``--jobs`` at a time.
 
-Run: ``OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/robust_design_monte_carlo.py [--n N] [--jobs J]``;
-writes benchmarks/robust_design_monte_carlo.json.
+Run: ``OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/robust_design_monte_carlo.py [--n N] [--jobs J] [--set SET]``;
+writes benchmarks/robust_design_monte_carlo.json (``--set live_birds``: ..._live_birds.json).
 """
 import argparse
 import time
@@ -34,8 +33,9 @@ from ccedi.units import m_to_inch
 
 OUT = Path(__file__).with_suffix(".json")
 CACHE = Path(__file__).parent / "cache" / "robust_design"
-REQUIREMENTS = {"max_ringing_amplitude_m": None}
-"""The ``parts`` set: the default requirements without the ringing limit."""
+SETS = {"parts": {"max_ringing_amplitude_m": None}, "live_birds": {}}
+"""Requirement sets (as validation/design_compounds.py): ``parts`` the default requirements
+without the ringing limit, ``live_birds`` the defaults."""
 N_FEA = 20
 SEED = 2032
 
@@ -52,11 +52,13 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--n", type=int, default=N_FEA, help="FE samples per design")
     parser.add_argument("--jobs", type=int, default=2, help="FE runs at a time")
+    parser.add_argument("--set", choices=sorted(SETS), default="parts", help="requirement set")
     args = parser.parse_args()
+    out = OUT if args.set == "parts" else OUT.with_name(f"{OUT.stem}_{args.set}.json")
     t0 = time.perf_counter()
     cfg = validate({})
     setup = contact_setup(cfg)
-    requirements = Requirements(**REQUIREMENTS)
+    requirements = Requirements(**SETS[args.set])
     compounds = list(load_compounds().values())
     CACHE.mkdir(parents=True, exist_ok=True)
     surrogate, first_mode, runs, cached = catalogue_surrogate(setup, compounds, spread=Spread(),
@@ -70,7 +72,7 @@ def main():
     E, tan_delta = Spread().samples(c, args.n, seed=SEED)
     own = replace(setup, finger_material=NeoHookean(E=c.E_nominal_Pa, nu=setup.finger_material.nu, rho=c.rho_kg_m3))
     limits = winner.problem.requirements.limits()
-    figures = {"requirements": REQUIREMENTS, "compound": c.name, "spread": {"E_relative": 0.15, "tan_delta_relative": 0.30},
+    figures = {"requirement_set": args.set, "requirements": SETS[args.set], "compound": c.name, "spread": {"E_relative": 0.15, "tan_delta_relative": 0.30},
                "probability": 0.95, "surrogate_runs": len(runs), "surrogate_from_cache": cached,
                "surrogate_build_s": built_s, "fea_samples": args.n, "designs": {}}
     for label, length_m in (("nominal", winner.design.x), ("robust", robust.length_m)):
@@ -93,7 +95,7 @@ def main():
                                                         for k, v in per_req.items()}, flush=True)
     figures["robust_feasible_on_surrogate"] = robust.feasible
     figures["wall_time_s"] = time.perf_counter() - t0
-    report_figures(figures, OUT)
+    report_figures(figures, out)
 
 
 if __name__ == "__main__":
