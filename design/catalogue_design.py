@@ -46,7 +46,7 @@ from ccedi.units import m_to_inch
 
 from .compounds import Compound, alpha_from_loss_factor
 from .optimise import OBJECTIVES, DesignProblem, binding, closest_design, on_bounds, solve
-from .outputs import DENSITY_SCALED, UNITS
+from .outputs import UNITS, density_scaled
 from .recheck import verified_optimum
 from .requirements import Requirements
 from .surrogate import Surrogate, cached_rom_runs, grid_points, material_space, run_rom
@@ -251,7 +251,7 @@ class CompoundSurrogate(Surrogate):
         dict
         """
         out = self.base.unit_expressions([*us, self.u_E])
-        return {k: v * self.density_ratio if k in DENSITY_SCALED else v for k, v in out.items()}
+        return density_scaled(out, self.density_ratio)
 
 
 def catalogue_space(compounds, first_mode, length_bounds_in, *, spread=None):

@@ -99,6 +99,26 @@ are k times theirs, the others (lengths, times) unchanged. :mod:`ccedi.design.ca
 designs every compound on one surrogate over E at one density by this similarity, which
 the contact ROM keeps to round-off (``tests/unit/design/test_catalogue_design.py``)."""
 
+
+def density_scaled(outputs, factor):
+    """Outputs of the finger whose E and rho are both ``factor`` times the one they were
+    computed for (:data:`DENSITY_SCALED`): those in force units times ``factor``, the
+    others unchanged.
+
+    Parameters
+    ----------
+    outputs : dict
+        {output: value} (numbers, arrays or casadi expressions).
+    factor : float
+        The common factor k of E and rho [-].
+
+    Returns
+    -------
+    dict
+        The scaled outputs.
+    """
+    return {k: v * factor if k in DENSITY_SCALED else v for k, v in outputs.items()}
+
 OBJECT_STRESS_SAMPLES = 12
 """Outputs at which the object's stress is solved (each is a static FE solve)."""
 

@@ -31,7 +31,7 @@ from ccedi.units import m_to_inch
 from .catalogue_design import CompoundDesign
 from .compounds import alpha_from_loss_factor
 from .optimise import OBJECTIVES
-from .outputs import DENSITY_SCALED
+from .outputs import density_scaled
 
 N_SAMPLES = 400
 """Samples of the uncertain inputs (a 5 % probability then has a binomial std of 1.1 %)."""
@@ -161,7 +161,7 @@ def violation_probabilities(design: CompoundDesign, surrogate, *, length_m, samp
                              f"surrogate's range {var.lo:.4g}-{var.hi:.4g}: build the catalogue surrogate with "
                              f"catalogue_space(..., spread=) at least as wide")
     X = np.column_stack([alpha, np.full(len(alpha), length_m), E_equivalent])
-    outputs = {k: v * ratio if k in DENSITY_SCALED else v for k, v in surrogate.evaluate(X).items()}
+    outputs = density_scaled(surrogate.evaluate(X), ratio)
     margins = design.problem.constraint_margins(outputs, alpha, length_m)
     return {k: float(np.mean(np.asarray(m) < 0.0)) for k, m in margins.items()}
 
