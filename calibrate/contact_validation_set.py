@@ -148,12 +148,12 @@ def write_validation_set(out_dir):
     out_dir = Path(out_dir)
     cases = validation_set()
     order = sorted(cases, key=lambda n: not (out_dir / "fe" / f"{cases[n][4]}.csv").is_file())
+    seeds = {name: 7000 + i for i, name in enumerate(sorted(cases))}
     manifest = {}
     for i, name in enumerate(order):
         truth, half, fraction, ar, run = cases[name]
         fe = cached_fe_force(out_dir / "fe" / f"{run}.csv", truth, GENERATOR_MESH)
-        seed = 7000 + sorted(cases).index(name)
-        frame, meta = record(truth, fe, seed, noise_fraction=fraction, noise_ar=ar)
+        frame, meta = record(truth, fe, seeds[name], noise_fraction=fraction, noise_ar=ar)
         write_csv(out_dir / f"{name}.csv", frame)
         write_json(out_dir / f"{name}.json", meta)
         manifest[name] = {"E_factor": truth.E_factor, "alpha_per_s": truth.alpha_per_s, "damping": truth.damping,
