@@ -15,7 +15,7 @@ writes benchmarks/robust_design_monte_carlo.json (``--set live_birds``: ..._live
 import argparse
 import time
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import replace
+from dataclasses import asdict, replace
 from pathlib import Path
 
 from ccedi.design.catalogue_design import catalogue_surrogate, design_compounds
@@ -60,19 +60,20 @@ def main():
     setup = contact_setup(cfg)
     requirements = Requirements(**SETS[args.set])
     compounds = list(load_compounds().values())
+    spread = Spread()
     CACHE.mkdir(parents=True, exist_ok=True)
-    surrogate, first_mode, runs, cached = catalogue_surrogate(setup, compounds, spread=Spread(),
+    surrogate, first_mode, runs, cached = catalogue_surrogate(setup, compounds, spread=spread,
                                                               path=CACHE / "rom_catalogue_grid.csv",
                                                               progress=lambda done, total: None)
     built_s = time.perf_counter() - t0
     winner = design_compounds(surrogate, compounds, setup=setup, first_mode=first_mode, requirements=requirements,
                               verify=False).designs[0]
-    robust = robust_design(winner, surrogate)
+    robust = robust_design(winner, surrogate, spread=spread)
     c = winner.compound
-    E, tan_delta = Spread().samples(c, args.n, seed=SEED)
+    E, tan_delta = spread.samples(c, args.n, seed=SEED)
     own = replace(setup, finger_material=NeoHookean(E=c.E_nominal_Pa, nu=setup.finger_material.nu, rho=c.rho_kg_m3))
     limits = winner.problem.requirements.limits()
-    figures = {"requirement_set": args.set, "requirements": SETS[args.set], "compound": c.name, "spread": {"E_relative": 0.15, "tan_delta_relative": 0.30},
+    figures = {"requirement_set": args.set, "requirements": SETS[args.set], "compound": c.name, "spread": asdict(spread),
                "probability": 0.95, "surrogate_runs": len(runs), "surrogate_from_cache": cached,
                "surrogate_build_s": built_s, "fea_samples": args.n, "designs": {}}
     for label, length_m in (("nominal", winner.design.x), ("robust", robust.length_m)):
@@ -86,7 +87,7 @@ def main():
             per_req[name] = {"fea_violations": bad, "fea_fraction": bad / args.n,
                              "fea_wilson95": list(wilson_interval(bad, args.n))}
         surrogate_p = violation_probabilities(winner, surrogate, length_m=length_m,
-                                              samples=Spread().samples(c, 2000, seed=SEED + 1))
+                                              samples=spread.samples(c, 2000, seed=SEED + 1))
         for name, p in surrogate_p.items():
             per_req.setdefault(name, {})["surrogate_probability"] = p
         figures["designs"][label] = {"length_in": m_to_inch(length_m), "alpha_nominal_per_s": float(winner.tie(m_to_inch(length_m))),
