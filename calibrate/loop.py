@@ -620,7 +620,9 @@ def summary(cal: Calibration):
         ``effects_found`` (per effect added: parameters and standard errors as fitted in
         its round and in the final model, error after, why, residual evidence and the
         candidates' scores), ``selected_effect``, final NRMSE, max error, parameters
-        and their standard errors (``final_stderr``), ``kind`` (of the record), ``calibrated`` (E_Pa and alpha_per_s of the
+        and their standard errors (``final_stderr``) and correlations
+        (``final_correlation``, {"p,q": r} for every pair of parameters p before q; what a
+        robust design's :class:`ccedi.design.robust.CalibratedSpread` reads), ``kind`` (of the record), ``calibrated`` (E_Pa and alpha_per_s of the
         final model and, for a contact record, ``drum``: the corrected [drum] keys; the
         inputs ``ccedi calibrate --write-config`` writes), ``model_error_std`` (the
         base model's own error std the stopping test allows besides the noise, record
@@ -659,6 +661,7 @@ def summary(cal: Calibration):
             "selected_effect": found[0]["name"] if found else None,
             "final_nrmse": fin.nrmse, "final_max_error_m": fin.max_error_m, "final_params": fin.values,
             "final_stderr": fin.stderr, "signal_unit": cal.experiment.signal_unit,
+            "final_correlation": {f"{p},{q}": r for (p, q), r in fin.correlation.items()},
             "kind": cal.experiment.kind,
             "calibrated": cal.model.calibrated(fin.values),
             "noise_floor_nrmse": cal.noise_floor_nrmse, "model_error_std": cal.model.model_error,

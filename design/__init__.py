@@ -23,7 +23,9 @@ What a design script needs (``examples/design_script.py``)::
   of a catalogue designed over the length on one surrogate over (alpha, L, E)
   (:func:`catalogue_surrogate`), ranked (:func:`design_compounds`).
 * :mod:`ccedi.design.robust`: a compound's robust design over its batch spread of E and
-  tan delta (:class:`Spread`, :func:`robust_design`, :func:`violation_probabilities`).
+  tan delta or a calibration's E-alpha covariance (:class:`Spread`,
+  :class:`CalibratedSpread`, :func:`robust_design`, :func:`violation_probabilities`), and the
+  catalogue ranked by robust designs (:func:`robust_catalogue`).
 
 User-defined outputs plug into :func:`run_rom` (``extra_outputs``) and get limits as
 :class:`Limit` objects in ``Requirements(extra=...)``.
@@ -43,7 +45,8 @@ _EXPORTS = {
     "CompoundSurrogate": "catalogue_design", "CompoundTie": "catalogue_design", "FirstMode": "catalogue_design",
     "catalogue_space": "catalogue_design", "catalogue_surrogate": "catalogue_design",
     "design_compounds": "catalogue_design", "Spread": "robust", "RobustDesign": "robust",
-    "robust_design": "robust", "violation_probabilities": "robust",
+    "robust_design": "robust", "violation_probabilities": "robust", "CalibratedSpread": "robust",
+    "robust_catalogue": "robust", "RobustCatalogue": "robust", "spread_check": "robust",
     "Compound": "compounds", "alpha_from_loss_factor": "compounds", "finger_damping": "compounds",
     "load_compounds": "compounds", "loss_factor_from_alpha": "compounds",
 }

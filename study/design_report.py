@@ -361,5 +361,53 @@ def catalogue_report_markdown(result):
         lines += ["", f"Full FEA at the compound's own E, rho and alpha ({fea['wall_time_s']:.0f} s): "
                   + ("meets every requirement." if fea["meets_requirements"] else "misses "
                      + "; ".join(k for k, q in fea["requirements"].items() if not q["met"]) + ".")]
+    if result.get("robust"):
+        lines += _robust_lines(result, ranking, unit)
     lines += ["", "Figure: `finger_drawing.png` (the chosen finger's length on the drum and its section, in mm)."]
     return "\n".join(lines) + "\n"
+
+
+def _robust_lines(result, ranking, unit):
+    """The robust designs' section of :func:`catalogue_report_markdown`: their ranking, the
+    nominal and the robust winner side by side per requirement, the robust winner's FEA."""
+    rb = result["robust"]
+    p = rb["probability"]
+    n = rb["designs"][0]["n_samples"] if rb["designs"] else 0
+    value = "{:.4g}".format if unit not in ("m", "Pa") else (lambda v: _fmt(v, unit).split(" ")[0])
+    lines = ["", "## Robust design", "",
+             f"The inputs not known exactly: {rb['spread']}. Each compound's robust design is the length of least "
+             f"objective (at its nominal inputs) where every requirement is met in at least {p:.0%} of {n} samples "
+             "of its E and loss factor on the surrogate (the same samples at every length); compounds with no such "
+             "length rank after, by their largest violation probability. Margins are normalised (>= 0: met); "
+             f"*kept* is the margin met in {p:.0%} of the samples.", "",
+             "| rank | compound | robust L [in] | objective | largest violation | nominal L [in] | objective | "
+             "largest violation |", "|---|---|---|---|---|---|---|---|"]
+    for k, d in enumerate(rb["designs"], start=1):
+        r, nom = d["robust"], d["nominal"]
+        lines.append(f"| {k} | {d['compound']} | {r['length_in']:.4g}{'' if d['feasible'] else ' (no robust length)'} | "
+                     f"{value(d['objective'])} | {max(r['violation'].values(), default=0.0):.1%} | "
+                     f"{nom['length_in']:.4g} | {value(d['nominal_objective'])} | "
+                     f"{max(nom['violation'].values(), default=0.0):.1%} |")
+    by_name = {d["compound"]: d for d in rb["designs"]}
+    nominal_name = ranking["winner"] or ranking["table"][0]["compound"]
+    robust_name = rb["winner"] or rb["designs"][0]["compound"]
+    nom, rob = by_name[nominal_name]["nominal"], by_name[robust_name]["robust"]
+    lines += ["", "### Nominal and robust design side by side", "",
+              f"Nominal: **{nominal_name}**, L = {nom['length_in']:.4g} in. Robust: **{robust_name}**, "
+              f"L = {rob['length_in']:.4g} in" + ("" if rb["winner"] else " (closest: no compound is robust)") + ".",
+              "", "| requirement | nominal: margin | kept | violated | robust: margin | kept | violated |",
+              "|---|---|---|---|---|---|---|"]
+    for req in nom["violation"]:
+        lines.append(f"| {req} | {nom['nominal_margin'][req]:+.3f} | {nom['margin_kept'][req]:+.3f} | "
+                     f"{nom['violation'][req]:.1%} | {rob['nominal_margin'][req]:+.3f} | "
+                     f"{rob['margin_kept'][req]:+.3f} | {rob['violation'][req]:.1%} |")
+    fea = rb.get("fea_check")
+    if fea:
+        lines += ["", f"Full FEA of the robust design at its compound's nominal E, rho and alpha "
+                  f"({fea['wall_time_s']:.0f} s): " + ("meets every requirement." if fea["meets_requirements"]
+                                                      else "misses " + "; ".join(
+                                                          k for k, q in fea["requirements"].items()
+                                                          if not q["met"]) + ".")]
+    lines += ["", "The violation probabilities are the surrogate's; `benchmarks/robust_design_monte_carlo.py` checks "
+              "them with a full-FEA Monte Carlo."]
+    return lines

@@ -88,6 +88,16 @@ def add_parsers(sub):
                    help="design every compound of a catalogue CSV (no PATH: the bundled data/compounds.csv) with its "
                         "own E, density and alpha = tan delta x omega_1(L), the length optimised, and rank them "
                         "(report table, drawing of the winner)")
+    d.add_argument("--robust", nargs="?", type=float, const=0.95, default=None, metavar="PROBABILITY",
+                   help="with --compounds: design each compound to meet every requirement with this probability "
+                        "(default 0.95) over its spread of E and tan delta, rank the robust designs and show them "
+                        "beside the nominal ones")
+    d.add_argument("--spread", type=float, nargs=2, default=None, metavar=("E_FRACTION", "TAN_DELTA_FRACTION"),
+                   help="with --robust: half-widths of the uniform spread of E and tan delta about the nominal "
+                        "values, fractions (default 0.15 0.30)")
+    d.add_argument("--spread-from", default=None, metavar="CALIBRATION_JSON",
+                   help="with --robust: E and alpha normal with the standard errors and correlation of a ccedi "
+                        "calibrate result JSON instead of --spread")
     add_scheduler_argument(d, default="local")
     d.add_argument("--no-fea-check", action="store_true", help="skip the full-FEA re-check (minutes per design)")
     d.add_argument("--fea-check-designs", type=int, default=3, choices=(1, 2, 3),
@@ -173,6 +183,11 @@ class DesignOptions:
     fea_check_designs : int
         How many of the recommended designs (:func:`ccedi.design.pareto.recommended`, the
         optimum first) the FEA re-checks, 1 to 3.
+    robust_probability : float or None
+        With the compound design: the probability every requirement is met with over the
+        compounds' spread (None: nominal designs only).
+    spread : ccedi.design.robust.Spread, ccedi.design.robust.CalibratedSpread or None
+        The spread of the robust design (None: the default Spread).
     """
 
     requirements: object = None
@@ -193,6 +208,8 @@ class DesignOptions:
     model_error: bool = True
     fea_check: bool = True
     fea_check_designs: int = 3
+    robust_probability: float | None = None
+    spread: object = None
 
 
 def options_from(cfg, **overrides):
@@ -240,13 +257,60 @@ def cmd_design(args):
         drum_speed_bounds_rpm=tuple(args.drum_speed_bounds_rpm), grid=tuple(args.grid),
         validation_runs=args.validation_runs, pareto_points=args.pareto_points, pareto_output=args.pareto_output,
         starts=args.starts, model_error=not args.no_model_error, fea_check=not args.no_fea_check,
-        fea_check_designs=args.fea_check_designs)
+        fea_check_designs=args.fea_check_designs, **robust_options(args))
     if args.compounds is not None:
         write_catalogue_design(contact_setup(cfg), options, catalogue=args.compounds or None, json_path=args.json,
                                out=args.out, scheduler=args.scheduler)
         return
     write_design(contact_setup(cfg), options, json_path=args.json, out=args.out, scheduler=args.scheduler,
                  measured_alpha=cfg["material"]["alpha_per_s"], mesh_path=cfg["finger"]["mesh"] or None)
+
+
+def robust_options(args):
+    """The robust design's DesignOptions fields from ``--robust``, ``--spread`` and
+    ``--spread-from``, checked before anything runs.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed ``ccedi design`` arguments.
+
+    Returns
+    -------
+    dict
+        ``robust_probability`` and ``spread``.
+
+    Raises
+    ------
+    InputError
+        A probability outside (0.5, 1), a spread outside [0, 0.9), both spreads, a
+        spread without ``--robust``, ``--robust`` without ``--compounds``, or a
+        calibration result that does not read.
+    """
+    from ccedi.design.robust import CalibratedSpread, Spread
+
+    if args.robust is None:
+        for flag, value in (("--spread", args.spread), ("--spread-from", args.spread_from)):
+            if value is not None:
+                raise InputError(f"{flag} is the robust design's spread: give --robust too")
+        return {}
+    if args.compounds is None:
+        raise InputError("--robust designs over a compound's spread: give --compounds too")
+    if not 0.5 < args.robust < 1.0:
+        raise InputError(f"--robust {args.robust!r}: the probability must be in (0.5, 1), e.g. 0.95")
+    if args.spread is not None and args.spread_from is not None:
+        raise InputError("--spread and --spread-from: give one spread")
+    if args.spread_from is not None:
+        spread = CalibratedSpread.from_calibration(args.spread_from)
+    elif args.spread is not None:
+        try:
+            spread = Spread(*args.spread)
+        except InputError:
+            raise InputError(f"--spread {args.spread[0]!r} {args.spread[1]!r}: each half-width must be a fraction "
+                             "in [0, 0.9), e.g. 0.15 0.30") from None
+    else:
+        spread = Spread()
+    return {"robust_probability": float(args.robust), "spread": spread}
 
 
 def second_variable(setup, o):
@@ -542,7 +606,10 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     (:func:`ccedi.design.catalogue_design.design_compounds`: its nominal E, its density, alpha
     = tan delta x omega_1(L)), rank them, re-check the winner with the full FEA at its own
     material, and write the result JSON, ``design_report.md``, ``finger_drawing.png``,
-    ``compounds.csv`` (the ranked table) and the ROM cache.
+    ``compounds.csv`` (the ranked table) and the ROM cache. With ``options.robust_probability``,
+    every compound's robust design over ``options.spread`` as well
+    (:func:`ccedi.design.robust.robust_catalogue`), ranked, shown beside the nominal ones,
+    the robust winner re-checked by the full FEA at its nominal inputs and drawn.
 
     Parameters
     ----------
@@ -573,13 +640,14 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
         drum speed varied, alpha tied to the paper's rubber, a weighted or throughput
         objective), a finger mesh, or an option out of range.
     ccedi.errors.RequirementsUnmet
-        No compound meets the requirements; raised after the result and the report are
-        written.
+        No compound meets the requirements (or, robust, none with the probability asked);
+        raised after the result and the report are written.
     """
     from ccedi.design.catalogue_design import CATALOGUE_GRID, catalogue_surrogate, design_compounds
     from ccedi.design.compounds import CATALOGUE, load_compounds
     from ccedi.design.recheck import fea_check
     from ccedi.design.requirements import Requirements
+    from ccedi.design.robust import Spread, robust_catalogue
     from ccedi.fea.material import NeoHookean
     from ccedi.outputs import write_csv, write_figure, write_json, write_text
     from ccedi.study.design_report import catalogue_report_markdown, finger_drawing
@@ -606,9 +674,10 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
 
     t0 = time.perf_counter()
     shape = (o.grid[0], o.grid[1], CATALOGUE_GRID[2])
+    spread = None if o.robust_probability is None else (o.spread or Spread())
     surrogate, first_mode, _, cached = catalogue_surrogate(
         setup, compounds.values(), length_bounds_in=tuple(o.length_bounds_in), shape=shape, damping=o.damping,
-        path=out / "rom_catalogue_grid.csv", progress=tick)
+        path=out / "rom_catalogue_grid.csv", progress=tick, spread=spread)
     build_s = time.perf_counter() - t0
     va = surrogate.variables[0]
     errors, error_source = _model_error(replace(o, alpha_bounds=(va.lo, va.hi)), "length")
@@ -629,29 +698,57 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
         "model_error_source": error_source,
         "compounds": ranking.as_dict(),
         "fea_check": None,
+        "robust": None,
     }
-    win = ranking.winner
-    if win is not None and o.fea_check:
-        c = win.compound
+    by_name = {d.compound.name: d for d in ranking.designs}
+
+    def checked(compound_design, design):
+        c = compound_design.compound
         own = replace(setup, finger_material=NeoHookean(E=c.E_nominal_Pa, nu=setup.finger_material.nu,
                                                         rho=c.rho_kg_m3))
-        result["fea_check"] = fea_check(own, [win.design], damping=o.damping, limits=limits, scheduler=scheduler,
-                                        variables=win.problem.surrogate.variables)[0]
-    shown = win or ranking.designs[0]
+        return fea_check(own, [design], damping=o.damping, limits=limits, scheduler=scheduler,
+                         variables=compound_design.problem.surrogate.variables)[0]
+
+    win = ranking.winner
+    if win is not None and o.fea_check:
+        result["fea_check"] = checked(win, win.design)
+    robust = None
+    if spread is not None:
+        robust = robust_catalogue(ranking, surrogate, spread=spread, probability=o.robust_probability)
+        result["robust"] = robust.as_dict() | {"fea_check": None}
+        if robust.winner is not None and o.fea_check:
+            result["robust"]["fea_check"] = checked(by_name[robust.winner.compound], robust.winner.design)
+    if robust is not None:
+        r = robust.winner or robust.designs[0]
+        name, length_m, alpha, met = r.compound, r.length_m, r.alpha_per_s, robust.winner is not None
+        note = f" (robust, {o.robust_probability:.0%})" if met else " (closest; no robust design)"
+    else:
+        shown = win or ranking.designs[0]
+        name, length_m, alpha, met = shown.compound.name, shown.design.x, shown.design.alpha_per_s, win is not None
+        note = "" if met else " (closest; misses the requirements)"
     write_figure(out / "finger_drawing.png", finger_drawing(
-        shown.design.x, setup.finger_semi_axes_m, drum_radius_m=setup.drum_radius_m,
-        title=f"{shown.compound.name}: L = {m_to_inch(shown.design.x):.4g} in, alpha = "
-              f"{shown.design.alpha_per_s:.4g} 1/s" + ("" if win else " (closest; misses the requirements)")))
+        length_m, setup.finger_semi_axes_m, drum_radius_m=setup.drum_radius_m,
+        title=f"{name}: L = {m_to_inch(length_m):.4g} in, alpha = {alpha:.4g} 1/s{note}"))
     write_csv(out / "compounds.csv", ranking.table)
     write_text(out / "design_report.md", catalogue_report_markdown(result))
     write_json(json_path, result)
     print("compounds ranked: " + ", ".join(f"{r['rank']}. {r['compound']}" + ("" if r["feasible"] else " (misses)")
                                            for r in result["compounds"]["table"]), flush=True)
+    if robust is not None:
+        print("robust designs ranked: " + ", ".join(
+            f"{k}. {d.compound}" + ("" if d.feasible else " (no robust length)")
+            for k, d in enumerate(robust.designs, start=1)), flush=True)
     print(f"wrote {json_path}, {out}/design_report.md, finger_drawing.png, compounds.csv", flush=True)
     if win is None:
+        closest = ranking.designs[0]
         raise RequirementsUnmet(f"no compound of {result['catalogue']} meets the requirements; the closest, "
-                                f"{shown.compound.name}, falls short by {shown.shortfall:.3g} (normalised): "
-                                + "; ".join(shown.binding))
+                                f"{closest.compound.name}, falls short by {closest.shortfall:.3g} (normalised): "
+                                + "; ".join(closest.binding))
+    if robust is not None and robust.winner is None:
+        r = robust.designs[0]
+        raise RequirementsUnmet(f"no compound of {result['catalogue']} meets every requirement with probability "
+                                f"{o.robust_probability:g}; the closest, {r.compound} at L = "
+                                f"{m_to_inch(r.length_m):.4g} in, misses one in {r.check.worst:.1%} of the samples")
     return result
 
 

@@ -11,6 +11,7 @@ import pytest
 from conftest import ROOT
 
 from ccedi.design.compounds import CATALOGUE, load_compounds, loss_factor_from_alpha
+from ccedi.design.robust import CalibratedSpread
 from ccedi.fea.material import NeoHookean
 from ccedi.rom.finger_identification import finger_omega1
 from ccedi.study.cli import main
@@ -46,6 +47,10 @@ def test_a_calibrated_record_becomes_a_catalogue_row(tmp_path, monkeypatch, caps
     assert row.tan_delta_min < loss_factor_from_alpha(alpha, omega_1) < row.tan_delta_max
     assert row.band_min_hz == pytest.approx(omega_1 / (2.0 * math.pi))
     assert result["compound"]["name"] == "sample_rubber" and result["compound"]["catalogue"] == "compounds.csv"
+    spread = CalibratedSpread.from_calibration(tmp_path / "low.json")   # the calibration's spread for design
+    assert spread.alpha_relative_std == pytest.approx(result["final_stderr"]["alpha_per_s"] / alpha)
+    assert spread.E_relative_std == pytest.approx(result["final_stderr"]["E_factor"] / result["final_params"]["E_factor"])
+    assert spread.correlation == result["final_correlation"]["alpha_per_s,E_factor"] and -1 < spread.correlation < 1
 
     # a second record under the same name replaces the row, in the catalogue named
     code, out, _ = _run(capsys, MEASURED / "control_high.csv", "--json", "high.json", "--add-compound",

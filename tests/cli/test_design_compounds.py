@@ -29,6 +29,12 @@ def _refused(capsys, argv, named):
     (["--vary", "semi_thickness", "--section-bounds-mm", "0.01", "5"], "--section-bounds-mm"),
     (["--vary", "semi_width", "--section-bounds-mm", "9", "3"], "--section-bounds-mm"),
     (["--vary", "semi_thickness", "--alpha-of-length", "fit"], "--alpha-of-length fit"),
+    (["--robust"], "give --compounds too"),
+    (["--compounds", "--robust", "1.5"], "--robust 1.5"),
+    (["--compounds", "--robust", "--spread", "0.2", "2"], "--spread 0.2 2.0"),
+    (["--compounds", "--spread", "0.1", "0.1"], "give --robust too"),
+    (["--compounds", "--robust", "--spread-from", "no_such_result.json"], "no_such_result.json"),
+    (["--compounds", "--robust", "--spread", "0.1", "0.1", "--spread-from", "x.json"], "give one spread"),
 ])
 def test_what_the_compound_design_cannot_take_is_refused_before_any_run(extra, named, tmp_path, capsys):
     out = tmp_path / "out"
@@ -61,6 +67,39 @@ def test_a_catalogue_is_ranked_the_damped_compound_first_on_its_own_alpha(tmp_pa
     assert "| 1 | paper_finger_rubber | yes |" in report and "| 2 | natural_rubber | **no** |" in report
     assert (out / "finger_drawing.png").stat().st_size > 10_000 and (out / "compounds.csv").exists()
     assert str(ROOT) not in result["catalogue"] or result["catalogue"] == str(cat)
+
+
+def test_robust_designs_are_ranked_beside_the_nominal_ones_within_the_asked_probability(tmp_path, capsys):
+    """``--robust 0.9 --spread 0.1 0.2``: every compound's robust length misses no requirement
+    in more than 10 % of the samples (or is marked as none), the robust ranking puts those
+    with a robust length first by their objective, the nominal winner's own check is on the
+    same samples, and the report shows both designs side by side with the spread as asked."""
+    rows = load_compounds(CATALOGUE)
+    cat = tmp_path / "two.csv"
+    cat.write_text(catalogue_text([rows["natural_rubber"], rows["paper_finger_rubber"]]))
+    out = tmp_path / "out"
+    rc = main(["design", "--compounds", str(cat), "--robust", "0.9", "--spread", "0.1", "0.2", "--grid", "4", "4",
+               "--no-fea-check", "--starts", "2", "--json", str(out / "d.json"), "--out", str(out)])
+    assert rc == 0, capsys.readouterr().err
+    result = json.loads((out / "d.json").read_text())
+    robust = result["robust"]
+    assert robust["probability"] == 0.9 and "E +-10%" in robust["spread"] and "tan delta +-20%" in robust["spread"]
+    designs = robust["designs"]
+    for d in designs:
+        worst = max(d["robust"]["violation"].values())
+        assert (worst <= 0.1 + 1e-12) == d["feasible"]
+        for req, v in d["robust"]["violation"].items():   # kept margin: the 10 % quantile
+            assert (d["robust"]["margin_kept"][req] < 0.0) == (v > 0.1)
+    feasible = [d["objective"] for d in designs if d["feasible"]]
+    assert feasible == sorted(feasible) and [d["feasible"] for d in designs] == sorted(
+        (d["feasible"] for d in designs), reverse=True)
+    assert robust["winner"] == "paper_finger_rubber"
+    nominal = next(r for r in result["compounds"]["table"] if r["compound"] == result["compounds"]["winner"])
+    own = next(d for d in designs if d["compound"] == nominal["compound"])["nominal"]
+    assert own["length_in"] == pytest.approx(nominal["length_in"])
+    report = (out / "design_report.md").read_text()
+    assert "## Robust design" in report and "### Nominal and robust design side by side" in report
+    assert "| 1 | paper_finger_rubber |" in report.split("## Robust design")[1]
 
 
 def test_the_section_is_designed_beside_alpha_and_the_rom_verifies_it(tmp_path, capsys):
