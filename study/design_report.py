@@ -15,6 +15,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ccedi.design.outputs import UNITS
+from ccedi.units import INCH
 
 matplotlib.use("Agg")                       # no screen: figures go to files
 
@@ -363,8 +364,27 @@ def catalogue_report_markdown(result):
                      + "; ".join(k for k, q in fea["requirements"].items() if not q["met"]) + ".")]
     if result.get("robust"):
         lines += _robust_lines(result, ranking, unit)
+    if result.get("drum_speed"):
+        lines += _drum_speed_lines(result["drum_speed"])
     lines += ["", "Figure: `finger_drawing.png` (the chosen finger's length on the drum and its section, in mm)."]
     return "\n".join(lines) + "\n"
+
+
+def _drum_speed_lines(check):
+    """The chosen finger's fastest drum (:func:`ccedi.design.drum_speed.fastest_drum_speed`)."""
+    lo, hi = check["speeds_rpm"][0], check["speeds_rpm"][-1]
+    head = (f"The chosen finger ({check['compound']}, L = {check['length_m'] / INCH:.4g} in, alpha = "
+            f"{check['alpha_per_s']:.4g} 1/s), its ROM run at {len(check['speeds_rpm'])} drum speeds over "
+            f"{lo:.4g}-{hi:.4g} rpm: ")
+    if check["fastest_rpm"] is None:
+        text = f"misses {check['binding']} even at {lo:.4g} rpm."
+    elif not check["binding"]:
+        text = (f"meets every requirement up to the fastest run, {hi:.4g} rpm (an object every "
+                f"{check['cycle_time_s']:.3g} s); widen --drum-speed-bounds-rpm to find its limit.")
+    else:
+        text = (f"meets every requirement up to **{check['fastest_rpm']:.3g} rpm** (an object every "
+                f"{check['cycle_time_s']:.3g} s); faster, {check['binding']} fails.")
+    return ["", "## Drum speed", "", head + text]
 
 
 def _robust_lines(result, ranking, unit):

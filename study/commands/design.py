@@ -609,7 +609,9 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     ``compounds.csv`` (the ranked table) and the ROM cache. With ``options.robust_probability``,
     every compound's robust design over ``options.spread`` as well
     (:func:`ccedi.design.robust.robust_catalogue`), ranked, shown beside the nominal ones,
-    the robust winner re-checked by the full FEA at its nominal inputs and drawn.
+    the robust winner re-checked by the full FEA at its nominal inputs and drawn. The chosen
+    finger's fastest drum (:func:`ccedi.design.drum_speed.fastest_drum_speed`, over
+    ``options.drum_speed_bounds_rpm``) is found by its ROM.
 
     Parameters
     ----------
@@ -645,6 +647,7 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     """
     from ccedi.design.catalogue_design import CATALOGUE_GRID, catalogue_surrogate, design_compounds
     from ccedi.design.compounds import CATALOGUE, load_compounds
+    from ccedi.design.drum_speed import fastest_drum_speed
     from ccedi.design.recheck import fea_check
     from ccedi.design.requirements import Requirements
     from ccedi.design.robust import Spread, robust_catalogue
@@ -699,6 +702,7 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
         "compounds": ranking.as_dict(),
         "fea_check": None,
         "robust": None,
+        "drum_speed": None,
     }
     by_name = {d.compound.name: d for d in ranking.designs}
 
@@ -718,6 +722,11 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
         result["robust"] = robust.as_dict() | {"fea_check": None}
         if robust.winner is not None and o.fea_check:
             result["robust"]["fea_check"] = checked(by_name[robust.winner.compound], robust.winner.design)
+    chosen = (by_name[robust.winner.compound], robust.winner.length_m) if robust is not None and robust.winner \
+        else (win, win.design.x) if robust is None and win is not None else None
+    if chosen is not None:
+        result["drum_speed"] = fastest_drum_speed(chosen[0], setup, length_m=chosen[1], damping=o.damping,
+                                                  speed_bounds_rpm=tuple(o.drum_speed_bounds_rpm)).as_dict()
     if robust is not None:
         r = robust.winner or robust.designs[0]
         name, length_m, alpha, met = r.compound, r.length_m, r.alpha_per_s, robust.winner is not None

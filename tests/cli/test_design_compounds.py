@@ -67,6 +67,10 @@ def test_a_catalogue_is_ranked_the_damped_compound_first_on_its_own_alpha(tmp_pa
     assert "| 1 | paper_finger_rubber | yes |" in report and "| 2 | natural_rubber | **no** |" in report
     assert (out / "finger_drawing.png").stat().st_size > 10_000 and (out / "compounds.csv").exists()
     assert str(ROOT) not in result["catalogue"] or result["catalogue"] == str(cat)
+    drum = result["drum_speed"]                  # the winner's fastest drum over the default 10-40 rpm
+    assert drum["compound"] == "paper_finger_rubber" and drum["length_m"] / 0.0254 == pytest.approx(win["length_in"])
+    assert drum["speeds_rpm"][0] == 10.0 and drum["speeds_rpm"][-1] == 40.0
+    assert (drum["fastest_rpm"] is None) == (drum["worst_margin"][0] < 0) and "## Drum speed" in report
 
 
 def test_robust_designs_are_ranked_beside_the_nominal_ones_within_the_asked_probability(tmp_path, capsys):

@@ -1,0 +1,149 @@
+"""The drum speed a chosen finger allows: the throughput a designer is paid for.
+
+A compound's design (:func:`ccedi.design.catalogue_design.design_compounds`) fixes the
+finger: its compound (E, rho), its length L and its damping alpha = tan delta x
+omega_1(L). The drum speed is then a question about that finger alone: the faster the drum,
+the shorter the time until the next object arrives (the cycle time, one revolution over
+the objects per revolution) and the less the finger has recovered by then. The contact
+ROM of the finger at its own material and length runs at ``n`` drum speeds over
+``speed_bounds_rpm`` (one model build, moved onto each drum speed); every requirement's
+margin at each speed carries the design's model-error tightening
+(:meth:`ccedi.design.optimise.DesignProblem.constraint_margins`). The fastest drum is the
+highest speed below which every requirement holds at every run speed, refined by linear
+interpolation of the worst margin to its zero between that speed and the next; the
+requirement that fails there binds.
+
+The answer is the ROM's; the full FEA re-check of the finger at that speed is the design's
+usual check (:func:`ccedi.design.recheck.fea_check` with the drum speed as the variable).
+"""
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ccedi.errors import InputError
+from ccedi.fea.material import NeoHookean
+from ccedi.units import RPM, m_to_inch
+
+from .catalogue_design import CompoundDesign
+from .outputs import setup_for_length
+from .surrogate import DRUM_SPEED_BOUNDS_RPM, run_rom, speed_space
+
+N_SPEEDS = 9
+"""Drum speeds the ROM runs at."""
+
+
+@dataclass(frozen=True)
+class DrumSpeedCheck:
+    """The fastest drum a finger allows (:func:`fastest_drum_speed`).
+
+    Parameters
+    ----------
+    compound : str
+        The compound's name.
+    length_m : float
+        The finger length [m].
+    alpha_per_s : float
+        Its damping [1/s].
+    speeds_rpm : list of float
+        The drum speeds run [rpm].
+    worst_margin : list of float
+        The smallest normalised requirement margin at each speed.
+    limiting : list of str
+        The requirement of that margin at each speed.
+    fastest_rpm : float or None
+        The fastest drum speed meeting every requirement [rpm] (None: not even the
+        slowest; the highest speed run when every speed run meets them).
+    cycle_time_s : float or None
+        The time between objects at ``fastest_rpm`` [s].
+    binding : str
+        The requirement that stops a faster drum ("" when the fastest speed run holds).
+    """
+
+    compound: str
+    length_m: float
+    alpha_per_s: float
+    speeds_rpm: list
+    worst_margin: list
+    limiting: list
+    fastest_rpm: float | None
+    cycle_time_s: float | None
+    binding: str
+
+    def as_dict(self):
+        """JSON form.
+
+        Returns
+        -------
+        dict
+        """
+        return {"compound": self.compound, "length_m": self.length_m, "alpha_per_s": self.alpha_per_s,
+                "speeds_rpm": self.speeds_rpm, "worst_margin": self.worst_margin, "limiting": self.limiting,
+                "fastest_rpm": self.fastest_rpm, "cycle_time_s": self.cycle_time_s, "binding": self.binding}
+
+
+def fastest_drum_speed(design: CompoundDesign, setup, *, length_m=None, speed_bounds_rpm=DRUM_SPEED_BOUNDS_RPM,
+                       n=N_SPEEDS, damping="relative", progress=None):
+    """The fastest drum speed at which a compound's finger meets every requirement (module
+    docstring).
+
+    Parameters
+    ----------
+    design : CompoundDesign
+        The compound's design (its compound, alpha tie and requirements).
+    setup : ccedi.fea.contact.drum.DrumSetup
+        The drum test (its objects per revolution; the compound's E and rho replace its
+        finger material).
+    length_m : float, optional
+        The finger length [m] (default: the design's optimum; e.g. a robust length).
+    speed_bounds_rpm : tuple of float, optional
+        (lo, hi) drum speeds [rpm], 0 < lo < hi <= 120 (default
+        :data:`ccedi.design.surrogate.DRUM_SPEED_BOUNDS_RPM`).
+    n : int, optional
+        Speeds run, >= 3.
+    damping : {"relative", "global"}, optional
+        Damping kind of the runs.
+    progress : callable, optional
+        ``progress(done, total)`` after every run.
+
+    Returns
+    -------
+    DrumSpeedCheck
+
+    Raises
+    ------
+    InputError
+        Speed bounds outside 0 < lo < hi <= 120 rpm, or fewer than 3 speeds.
+    """
+    lo, hi = (float(v) for v in speed_bounds_rpm)
+    if not 0.0 < lo < hi <= 120.0:
+        raise InputError(f"drum speed bounds {lo!r}-{hi!r} rpm: must be 0 < lo < hi <= 120")
+    if int(n) < 3:
+        raise InputError(f"drum speeds run = {n!r}: at least 3 needed")
+    c = design.compound
+    L = float(design.design.x if length_m is None else length_m)
+    alpha = float(design.tie(m_to_inch(L)))
+    own = setup_for_length(replace(setup, finger_material=NeoHookean(E=c.E_nominal_Pa, nu=setup.finger_material.nu,
+                                                                     rho=c.rho_kg_m3)), L)
+    speeds = np.linspace(lo, hi, int(n))
+    runs = run_rom(own, [(alpha, w * RPM) for w in speeds], damping=damping, progress=progress,
+                   variables=speed_space((alpha * 0.5, alpha * 2.0), (lo, hi)))
+    outputs = {k: runs[k].to_numpy() for k in runs.columns}
+    margins = design.problem.constraint_margins(outputs, np.full(len(speeds), alpha), np.full(len(speeds), L))
+    names = list(margins)
+    table = np.array([np.asarray(margins[k], dtype=float) for k in names])
+    table = np.where(np.isnan(table), -np.inf, table)
+    worst = table.min(axis=0)
+    limiting = [names[int(k)] for k in table.argmin(axis=0)]
+    ok = worst >= 0.0
+    if not ok[0]:
+        return DrumSpeedCheck(c.name, L, alpha, speeds.tolist(), worst.tolist(), limiting, None, None, limiting[0])
+    k = int(np.argmin(ok)) if not ok.all() else len(speeds)
+    if k == len(speeds):
+        fastest, binding = float(speeds[-1]), ""
+    else:
+        a, b = worst[k - 1], worst[k]
+        fastest = float(speeds[k - 1] + (speeds[k] - speeds[k - 1]) * a / (a - b)) if np.isfinite(b) else \
+            float(speeds[k - 1])
+        binding = limiting[k]
+    cycle = replace(own, omega_rad_s=fastest * RPM).cycle_s
+    return DrumSpeedCheck(c.name, L, alpha, speeds.tolist(), worst.tolist(), limiting, fastest, cycle, binding)
