@@ -73,6 +73,17 @@ def test_the_fea_correction_carries_the_ratio_of_the_training_runs_between_and_b
     assert correction.as_dict()["semi_thickness_mm"] == pytest.approx([5.5, 9.0, 12.0])
 
 
+def test_a_length_is_corrected_only_where_both_models_have_it():
+    """The recovery of a finger that has recovered (1e-9 m in one model, 1e-7 m in the
+    other) keeps ratio 1; where both read millimetres the FEA's ratio is taken."""
+    space = section_space((7.5, 600.0), "semi_thickness_m", (4.0, 14.0))
+    training = [(a, b * 1e-3) for a in (40.0, 250.0) for b in (5.5, 12.0)]
+    model = _runs(space, training).assign(recovery_deviation_m=[1e-9, 1e-9, 5e-3, 1e-9])
+    fea = model.assign(recovery_deviation_m=[1e-7, 1e-7, 4.5e-3, 2e-4])
+    correction = FeaCorrection.fit(space, model, fea, outputs=("recovery_deviation_m",))
+    np.testing.assert_allclose(correction.ratios["recovery_deviation_m"], [[1.0, 1.0], [0.9, 1.0]], rtol=1e-12)
+
+
 def test_an_fea_correction_needs_a_full_training_grid_of_the_same_points_and_positive_outputs():
     space = section_space((7.5, 600.0), "semi_thickness_m", (4.0, 14.0))
     training = [(a, b * 1e-3) for a in (40.0, 250.0) for b in (5.5, 12.0)]
