@@ -23,7 +23,7 @@ the design variables and interpolated between them, multiplies the model's grid 
 before the surrogate is fitted through them. The design's contact ROM carries the mean
 load of a finger to the object but not the full FE finger's friction chatter, whose
 ripple comes through the transducer: on the 5-in finger at alpha 40-60 1/s its peak force
-reads 6-12 % below the FEA's, more the thinner the section, and 3 % at 250 1/s. An
+reads 4-12 % below the FEA's, more the thinner the section, and 2-4 % at 250-600 1/s. An
 over-damped finger creeps back at the rate omega_1^2 / alpha of its first mode, whose
 omega_1^2 the chain has 1.1-1.7 % low: its recovery, exp(-omega_1^2 t / alpha) of its
 deflection, reads high by a fraction (+15 % at 0.47 mm, +10 % at 4.5 mm). Both are ratios
