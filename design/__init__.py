@@ -15,6 +15,8 @@ What a design script needs (``examples/design_script.py``)::
 * :mod:`ccedi.design.pareto`: the front of the objective against a second output;
 * :mod:`ccedi.design.recheck`: the full FEA re-check (:func:`fea_check`) and the optimum
   verified by a model run (:func:`verified_optimum`);
+* :mod:`ccedi.design.model_error`: the model against the full FEA: margins where it errs,
+  or the surrogate corrected by full-FEA runs at training designs (:class:`FeaCorrection`);
 * :mod:`ccedi.design.rubber`: the paper's rubber, alpha over length.
 * :mod:`ccedi.design.compounds`: the compound catalogue (:func:`load_compounds`) and a
   loss factor as alpha at a finger's first mode (:func:`alpha_from_loss_factor`,
@@ -51,7 +53,7 @@ _EXPORTS = {
     "robust_catalogue": "robust", "RobustCatalogue": "robust", "spread_check": "robust",
     "fastest_drum_speed": "drum_speed", "DrumSpeedCheck": "drum_speed",
     "Compound": "compounds", "alpha_from_loss_factor": "compounds", "finger_damping": "compounds",
-    "load_compounds": "compounds", "loss_factor_from_alpha": "compounds",
+    "load_compounds": "compounds", "loss_factor_from_alpha": "compounds", "FeaCorrection": "model_error",
 }
 """Name -> the module of :mod:`ccedi.design` that defines it. Loaded on first use (PEP 562):
 importing a ccedi package imports no third-party library, so that ``import ccedi.design``

@@ -9,10 +9,11 @@ from ccedi.fea.cases.beam_theory import drum_drag_tip_deflection, ellipse_sectio
 from ccedi.fea.cases.contact_study import tip_lag_series_m
 from ccedi.fea.contact.drum import DrumSetup, FullContactModel, finger_mesh
 from ccedi.fea.material import RUBBER
-from ccedi.fea.mesh import elliptical_cantilever, sm_a
+from ccedi.fea.mesh import SM_A_ROOT_REFINEMENT, elliptical_cantilever, sm_a
 from ccedi.fea.model import cantilever_model, face_node_weights
 from ccedi.fea.solvers.explicit import max_von_mises
 from ccedi.fea.solvers.static import static_solve
+from ccedi.rom import superelement
 from ccedi.rom.chain_dynamics import _face_point, _internal_forces, face_points
 from ccedi.rom.check import compare_contact
 from ccedi.rom.contact_rom import ReducedContactModel
@@ -83,6 +84,42 @@ def test_zone_deformations_are_the_chain_segments_natural_deformations(finger_8i
         segments = rec.zone_b - rec.zone_a == 1
         e = rec.deformations(P[None], TH[None], z, nonlinear=nonlinear)[0]
         np.testing.assert_allclose(e[segments], E[rec.zone_a[segments]], rtol=1e-12, atol=1e-15)
+
+
+def _bent_by_a_tip_moment(chain, turn_rad, until_station):
+    """Station centres and rotations of the co-rotational ``chain`` in equilibrium under a
+    tip moment (every segment carries end moments -M, +M and no axial or shear force: its
+    natural deformation is K_n^-1 [0, -M, M]), M such that the chain turns by
+    ``turn_rad`` from the root to station ``until_station``."""
+    def shape(moment):
+        P, TH = [np.zeros(2)], [0.0]
+        for K_n, l0 in zip(chain.natural_stiffness, chain.segment_length_m):
+            e = np.linalg.solve(K_n, [0.0, -moment, moment])
+            psi = TH[-1] - e[1]
+            P.append(P[-1] + (l0 + e[0]) * np.array([np.cos(psi), np.sin(psi)]))
+            TH.append(psi + e[2])
+        return np.array(P), np.array(TH)
+    unit = shape(1.0)[1][until_station]
+    return shape(turn_rad / unit)
+
+
+def test_root_stress_does_not_depend_on_the_root_zone_length(monkeypatch):
+    """A 5-in finger of section 12 x 13 mm bent by a tip moment until its 32.7 mm root zone
+    turns by 0.8 rad (as in the contact case): the clamp stress recovered from the zone's
+    end forces is the same within 2.5 % whether the zone ends at 20.5, 32.7 or 45 mm
+    (measured +1.0 and +1.7 % against the shortest). The zone's chord deformation, which
+    reads the turn of its end sections as a shortening, gave +11.6 % with the 45 mm zone."""
+    mesh = elliptical_cantilever(0.127, 5, 32, a=0.012, b=0.013, root_refinement=SM_A_ROOT_REFINEMENT)
+    stresses, ends = [], []
+    for depths in (0.5, 1.0, 1.6):
+        monkeypatch.setattr(superelement, "ROOT_ZONE_DEPTHS", depths)
+        chain = fit_tip_stiffness(finger_chain(mesh, RUBBER, 11), fe_tip_stiffness(mesh, RUBBER))
+        P, TH = _bent_by_a_tip_moment(chain, 0.8, until_station=3)
+        rec = stress_recovery(chain, RUBBER)
+        stresses.append(rec.max_von_mises(rec.deformations(P[None], TH[None], chain.station_z_m))[0])
+        ends.append(chain.station_z_m[chain.stress_zones[0].b])
+    assert ends == pytest.approx([0.0205, 0.0327, 0.0450], abs=5e-4)
+    assert stresses[1:] == pytest.approx([stresses[0]] * 2, rel=0.025)
 
 
 @pytest.mark.slow
