@@ -31,6 +31,8 @@ import casadi as ca
 import numpy as np
 import pandas as pd
 
+import ccedi.fea as fea_package
+import ccedi.rom as rom_package
 from ccedi.errors import InputError
 from ccedi.fea.contact.drum import DrumSetup, FullContactModel, ObjectStress
 from ccedi.outputs import write_csv, write_json
@@ -541,14 +543,33 @@ def validation_points(variables, n, seed=6):
     return [tuple(float(v.from_unit(u[i, j])) for j, v in enumerate(variables)) for i in range(n)]
 
 
+def model_source_sha256():
+    """SHA-256 of the source of the contact models a design runs: every module of
+    :mod:`ccedi.fea` and :mod:`ccedi.rom`, in path order.
+
+    Returns
+    -------
+    str
+        The hex digest.
+    """
+    digest = hashlib.sha256()
+    for package in (fea_package, rom_package):
+        root = Path(package.__file__).parent
+        for path in sorted(root.rglob("*.py")):
+            digest.update(path.relative_to(root).as_posix().encode())
+            digest.update(path.read_bytes())
+    return digest.hexdigest()
+
+
 def cached_rom_runs(setup: DrumSetup, points, path, *, damping="relative", progress=None, model_factory=rom_factory,
                     variables=None):
     """:func:`run_rom` results, cached in a CSV file.
 
     Read from the CSV ``path`` when its sidecar JSON records the same set-up (a finger
     mesh by the SHA-256 of its nodes and elements), variables, points, damping kind,
-    outputs (names and the source of :mod:`ccedi.design.outputs` that defines them) and
-    model; otherwise run and written there (with the sidecar).
+    outputs (names and the source of :mod:`ccedi.design.outputs` that defines them),
+    model and the source of the models (:func:`model_source_sha256`: a change to the FE or
+    the ROM code runs them again); otherwise run and written there (with the sidecar).
 
     Parameters
     ----------
@@ -580,6 +601,7 @@ def cached_rom_runs(setup: DrumSetup, points, path, *, damping="relative", progr
             "points": [list(map(float, p)) for p in points], "damping": damping,
             "output_step_s": OUTPUT_STEP_S, "outputs": list(OUTPUTS), "recovery_window_s": RECOVERY_WINDOW_S,
             "outputs_source_sha256": hashlib.sha256(Path(outputs_module.__file__).read_bytes()).hexdigest(),
+            "model_source_sha256": model_source_sha256(),
             "model_factory": f"{getattr(model_factory, '__module__', '')}."
                              f"{getattr(model_factory, '__qualname__', repr(model_factory))}"}
     sidecar = path.with_suffix(".json")

@@ -4,6 +4,7 @@ runs from a model factory (the conformance of each model: tests/unit/core/test_m
 import pandas as pd
 import pytest
 
+from ccedi.design import surrogate
 from ccedi.design.surrogate import cached_rom_runs, rom_factory, run_rom
 from ccedi.fea.cases.studies import finger_impulse_model
 from ccedi.fea.contact.drum import DrumSetup
@@ -46,7 +47,7 @@ def test_same_alpha_cr_search_on_full_and_reduced_impulse_models(finger_3in):
     assert crit["fea"].alpha_cr_per_s == pytest.approx(2.0 * omega1, rel=0.06)
 
 
-def test_design_builds_its_surrogate_runs_from_the_factory(tmp_path):
+def test_design_builds_its_surrogate_runs_from_the_factory(tmp_path, monkeypatch):
     calls = []
 
     def factory(setup):
@@ -64,4 +65,9 @@ def test_design_builds_its_surrogate_runs_from_the_factory(tmp_path):
     assert not cached and len(calls) == 2
     assert "factory" in (tmp_path / "grid.json").read_text()
     _, cached = cached_rom_runs(DrumSetup(), points, path)  # another model: the cache does not apply
+    assert not cached
+    _, cached = cached_rom_runs(DrumSetup(), points, path)
+    assert cached
+    monkeypatch.setattr(surrogate, "model_source_sha256", lambda: "the FE or ROM code changed")
+    _, cached = cached_rom_runs(DrumSetup(), points, path)  # the models' code changed: run again
     assert not cached
