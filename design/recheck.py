@@ -8,19 +8,24 @@ the full model meets each requirement.
 Any finger: a set-up whose finger is a given mesh (``DrumSetup(finger=mesh)``, hexahedra or
 tetrahedra) is re-checked with that mesh on the drum, at its own length and the design's
 drum speed; a design of another length is refused in one line
-(:func:`ccedi.design.outputs.setup_for_length`)."""
+(:func:`ccedi.design.outputs.setup_for_length`).
+
+The surrogate corrected by the full FEA (:func:`fea_correction`): the ROM and the full FEA
+run at a small tensor grid of the design variables, bounds included, and their ratio
+(:class:`ccedi.design.model_error.FeaCorrection`) multiplies the ROM's grid runs before the
+surrogate is fitted."""
 from dataclasses import replace
 from functools import partial
 
 from ccedi.distributed import map_runs
-from ccedi.errors import RequirementsUnmet
+from ccedi.errors import InputError, RequirementsUnmet
 from ccedi.fea.contact.drum import DrumSetup, FullContactModel, ObjectStress
 
-from .model_error import output_error
+from .model_error import FeaCorrection, output_error
 from .optimise import solve
 from .outputs import OUTPUTS, design_outputs, output_count, run_time_s, setup_at
 from .requirements import Requirements, met
-from .surrogate import design_space, rom_factory
+from .surrogate import cached_rom_runs, design_space, grid_points, rom_factory, run_rom
 
 
 def full_fea_factory(setup: DrumSetup):
@@ -37,6 +42,64 @@ def full_fea_factory(setup: DrumSetup):
     ccedi.fea.contact.drum.FullContactModel
     """
     return FullContactModel(setup, object_stress=False)
+
+
+TRAINING_LEVELS = (2, 5)
+"""Least and most training values per design variable of :func:`fea_correction`."""
+
+
+def fea_correction(setup: DrumSetup, variables, *, levels=(3, 3), damping="relative", directory=None, progress=None,
+                   model_factory=None):
+    """The correction of the ROM by the full FEA over the design variables: both models run
+    at the ``levels`` tensor grid of ``variables`` (their bounds included), the ratio fitted
+    (:meth:`ccedi.design.model_error.FeaCorrection.fit`).
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        The base set-up.
+    variables : tuple of ccedi.design.surrogate.Variable
+        The design variables.
+    levels : tuple of int, optional
+        Training values per variable, each in :data:`TRAINING_LEVELS`. Default (3, 3): nine
+        full FE runs.
+    damping : {"relative", "global"}, optional
+        Damping kind of the runs.
+    directory : pathlib.Path, optional
+        Where the runs are cached (``rom_training.csv``, ``fea_training.csv``); None: not cached.
+    progress : callable, optional
+        ``progress(done, total)`` after every full FE run.
+    model_factory : callable, optional
+        The reference model (default :func:`full_fea_factory`).
+
+    Returns
+    -------
+    correction : FeaCorrection
+    fea_runs : pandas.DataFrame
+        The reference model's training runs.
+    cached : bool
+        True when the reference runs were read from ``directory``.
+
+    Raises
+    ------
+    InputError
+        Levels outside :data:`TRAINING_LEVELS` or not one per variable.
+    """
+    lo, hi = TRAINING_LEVELS
+    if len(levels) != len(variables) or not all(isinstance(n, int) and lo <= n <= hi for n in levels):
+        raise InputError(f"FEA correction training levels {tuple(levels)!r}: one integer in [{lo}, {hi}] per design "
+                         f"variable ({len(variables)})")
+    reference = model_factory or full_fea_factory
+    points = grid_points(tuple(variables), tuple(levels))
+    if directory is None:
+        rom = run_rom(setup, points, damping=damping, variables=variables)
+        fea, cached = run_rom(setup, points, damping=damping, variables=variables, model_factory=reference,
+                              progress=progress), False
+    else:
+        rom, _ = cached_rom_runs(setup, points, directory / "rom_training.csv", damping=damping, variables=variables)
+        fea, cached = cached_rom_runs(setup, points, directory / "fea_training.csv", damping=damping,
+                                      variables=variables, model_factory=reference, progress=progress)
+    return FeaCorrection.fit(variables, rom, fea), fea, cached
 
 
 def model_run(d, setup, *, damping, model_factory, extra_outputs=None, variables=None, stress=None, progress=False):

@@ -82,6 +82,10 @@ def add_parsers(sub):
     d.add_argument("--pareto-output", default="ringing_amplitude_m",
                    help="the output traded against the objective on the Pareto front")
     d.add_argument("--starts", type=int, default=8, help="IPOPT starts")
+    d.add_argument("--fea-correction", type=int, nargs=2, default=None, metavar=("N_ALPHA", "N_SECOND"),
+                   help="correct the ROM surrogate by full FEA runs at an N_ALPHA x N_SECOND grid of the design "
+                        "variables, bounds included (2-5 each; minutes per run; cached in OUT); replaces the "
+                        "model-error margins")
     d.add_argument("--no-model-error", action="store_true",
                    help="do not tighten the requirements by the ROM's measured error against the FEA")
     d.add_argument("--compounds", nargs="?", const="", default=None, metavar="CATALOGUE",
@@ -183,6 +187,10 @@ class DesignOptions:
     fea_check_designs : int
         How many of the recommended designs (:func:`ccedi.design.pareto.recommended`, the
         optimum first) the FEA re-checks, 1 to 3.
+    fea_correction : tuple of int or None
+        Training grid of the surrogate's correction by the full FEA
+        (:func:`ccedi.design.recheck.fea_correction`) along alpha and the second variable
+        (None: no correction).
     robust_probability : float or None
         With the compound design: the probability every requirement is met with over the
         compounds' spread (None: nominal designs only).
@@ -208,6 +216,7 @@ class DesignOptions:
     model_error: bool = True
     fea_check: bool = True
     fea_check_designs: int = 3
+    fea_correction: tuple | None = None
     robust_probability: float | None = None
     spread: object = None
 
@@ -257,7 +266,8 @@ def cmd_design(args):
         drum_speed_bounds_rpm=tuple(args.drum_speed_bounds_rpm), grid=tuple(args.grid),
         validation_runs=args.validation_runs, pareto_points=args.pareto_points, pareto_output=args.pareto_output,
         starts=args.starts, model_error=not args.no_model_error, fea_check=not args.no_fea_check,
-        fea_check_designs=args.fea_check_designs, **robust_options(args))
+        fea_check_designs=args.fea_check_designs,
+        fea_correction=None if args.fea_correction is None else tuple(args.fea_correction), **robust_options(args))
     if args.compounds is not None:
         write_catalogue_design(contact_setup(cfg), options, catalogue=args.compounds or None, json_path=args.json,
                                out=args.out, scheduler=args.scheduler)
@@ -376,6 +386,9 @@ def _check_options(setup, o):
                          "raise the lower bound")
     if o.fea_check_designs not in (1, 2, 3):
         raise InputError(f"fea_check_designs must be 1, 2 or 3, got {o.fea_check_designs}")
+    if o.fea_correction is not None and not all(2 <= n <= 5 for n in o.fea_correction):
+        raise InputError(f"--fea-correction {' '.join(map(str, o.fea_correction))}: training values along alpha and "
+                         "the second variable, each 2 to 5 (full FE runs: their product)")
     for name, value, lo in (("--grid", min(o.grid), 4), ("--validation-runs", o.validation_runs, 1),
                             ("--pareto-points", o.pareto_points, 4), ("--starts", o.starts, 1)):
         _int_at_least(name, value, lo)
@@ -464,7 +477,7 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
     )
     from ccedi.design.pareto import pareto_front, recommended
     from ccedi.design.recheck import fea_check as recheck
-    from ccedi.design.recheck import full_fea_factory, verified_optimum
+    from ccedi.design.recheck import fea_correction, full_fea_factory, verified_optimum
     from ccedi.design.requirements import Requirements
     from ccedi.design.surrogate import (
         CHECKED_ALPHA_PER_S,
@@ -493,6 +506,8 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
             f"alpha bounds reach {o.alpha_bounds[0]:g} 1/s, below {CHECKED_ALPHA_PER_S[0]:g} 1/s: the contact ROM's "
             "peak force is 24-28 % below the FEA's at 3 1/s (the model-error margin carries it)"), stacklevel=2)
     errors, error_source = _model_error(o, vary)
+    if o.fea_correction is not None:
+        errors, error_source = {}, "none: the surrogate is corrected by the full FEA (--fea-correction)"
     fea_verifies = o.fea_check and not errors
 
     def tick(k, n):
@@ -504,6 +519,15 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
                                    progress=tick, variables=space)
     check_runs, _ = cached_rom_runs(setup, validation_points(space, o.validation_runs), out / "rom_validation.csv",
                                     damping=o.damping, progress=tick, variables=space)
+    correction = None
+    if o.fea_correction is not None:
+        def fe_tick(k, n):
+            print(f"full FE training runs {k}/{n} (the surrogate's correction)", flush=True)
+
+        correction, _, correction_cached = fea_correction(setup, space, levels=o.fea_correction, damping=o.damping,
+                                                          directory=out, progress=fe_tick,
+                                                          model_factory=full_fea_factory)
+        grid, check_runs = correction.apply(grid), correction.apply(check_runs)
     surrogate = Surrogate.fit(space, grid)
     build_s = time.perf_counter() - t0
     problem = DesignProblem(surrogate, requirements=req, objective=o.objective, weights=o.weights,
@@ -533,7 +557,9 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
         "model_error_source": error_source,
         "surrogate": {"kind": "cubic B-spline through ROM runs (casadi interpolant)", "grid": list(o.grid),
                       "grid_from_cache": cached, "build_wall_time_s": build_s,
-                      "off_grid_error": validation_errors(surrogate, check_runs)},
+                      "off_grid_error": validation_errors(surrogate, check_runs),
+                      "fea_correction": None if correction is None else
+                      correction.as_dict() | {"training_from_cache": correction_cached}},
     }
     try:
         optimum, info = solve(problem, n_starts=o.starts)
@@ -656,6 +682,9 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     from ccedi.study.design_report import catalogue_report_markdown, finger_drawing
 
     o = options
+    if o.fea_correction is not None:
+        raise InputError("--fea-correction corrects the two-variable design's surrogate; the compound design carries "
+                         "the model-error margins instead")
     for bad, said in ((o.vary == "drum_speed", "--vary drum_speed"),
                       (o.alpha_of_length != "free", f"--alpha-of-length {o.alpha_of_length}"),
                       (o.objective in ("weighted", "throughput"), f"--objective {o.objective}")):

@@ -3,11 +3,15 @@ length on its own E, density and alpha, ranked, the table and the drawing in the
 what the compound design cannot take, and a section design's bad bounds, are refused in one
 line before any ROM run."""
 import json
+from dataclasses import replace
+from functools import partial
 
 import pytest
 from conftest import ROOT
 
+from ccedi.design import recheck
 from ccedi.design.compounds import CATALOGUE, catalogue_text, load_compounds
+from ccedi.design.surrogate import rom_factory
 from ccedi.fea.material import NeoHookean
 from ccedi.rom.finger_identification import finger_omega1
 from ccedi.study.cli import main
@@ -35,6 +39,8 @@ def _refused(capsys, argv, named):
     (["--compounds", "--spread", "0.1", "0.1"], "give --robust too"),
     (["--compounds", "--robust", "--spread-from", "no_such_result.json"], "no_such_result.json"),
     (["--compounds", "--robust", "--spread", "0.1", "0.1", "--spread-from", "x.json"], "give one spread"),
+    (["--compounds", "--fea-correction", "2", "2"], "--fea-correction corrects the two-variable design"),
+    (["--vary", "semi_thickness", "--fea-correction", "2", "9"], "--fea-correction 2 9"),
 ])
 def test_what_the_compound_design_cannot_take_is_refused_before_any_run(extra, named, tmp_path, capsys):
     out = tmp_path / "out"
@@ -122,6 +128,31 @@ def test_the_section_is_designed_beside_alpha_and_the_rom_verifies_it(tmp_path, 
     assert steps and all(5.0 <= s["semi_thickness_mm"] <= 12.0 for s in steps)
     assert all(s["model"]["sensor_peak_force_N"] > 0.0 for s in steps)
     assert "b = " in (out / "design_report.md").read_text() and (out / "feasible_region.png").exists()
+
+
+def test_the_section_design_runs_on_a_surrogate_corrected_by_the_reference_model(tmp_path, capsys, monkeypatch):
+    """``--fea-correction 2 2``: the reference model (here a stand-in for the full FEA, the
+    ROM of a finger 20 % stiffer, so that the test runs in seconds) runs at the four corners
+    of (alpha, b); its force over the ROM's is the correction in the result and the report,
+    above 1 at every corner, and the model-error margins give way to it."""
+    stiffer = partial(_stiffer_rom, rom_factory)
+    monkeypatch.setattr(recheck, "full_fea_factory", stiffer)
+    out = tmp_path / "out"
+    rc = main(["design", "--vary", "semi_thickness", "--section-bounds-mm", "5", "12", "--config", str(_toml(tmp_path)),
+               "--grid", "4", "4", "--validation-runs", "1", "--pareto-points", "4", "--starts", "2", "--no-fea-check",
+               "--fea-correction", "2", "2", "--json", str(out / "d.json"), "--out", str(out)])
+    assert rc == 0, capsys.readouterr().err
+    result = json.loads((out / "d.json").read_text())
+    correction = result["surrogate"]["fea_correction"]
+    force = correction["ratio_fea_over_model"]["sensor_peak_force_N"]
+    assert len(force) == 2 and all(1.0 < r < 1.5 for row in force for r in row)
+    assert correction["semi_thickness_mm"] == pytest.approx([5.0, 12.0]) and not result["model_error"]
+    assert (out / "fea_training.csv").exists() and "## Surrogate corrected by the full FEA" in (
+        out / "design_report.md").read_text()
+
+
+def _stiffer_rom(factory, setup):
+    return factory(replace(setup, finger_material=replace(setup.finger_material, E=1.2 * setup.finger_material.E)))
 
 
 def _toml(tmp_path):
