@@ -751,8 +751,10 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
         result["robust"] = robust.as_dict() | {"fea_check": None}
         if robust.winner is not None and o.fea_check:
             result["robust"]["fea_check"] = checked(by_name[robust.winner.compound], robust.winner.design)
-    chosen = (by_name[robust.winner.compound], robust.winner.length_m) if robust is not None and robust.winner \
-        else (win, win.design.x) if robust is None and win is not None else None
+    if robust is not None:                       # the finger chosen: the robust winner, else the nominal one
+        chosen = None if robust.winner is None else (by_name[robust.winner.compound], robust.winner.length_m)
+    else:
+        chosen = None if win is None else (win, win.design.x)
     if chosen is not None:
         result["drum_speed"] = fastest_drum_speed(chosen[0], setup, length_m=chosen[1], damping=o.damping,
                                                   speed_bounds_rpm=tuple(o.drum_speed_bounds_rpm)).as_dict()
