@@ -46,3 +46,23 @@ def test_calibrating_a_control_record_finds_its_alpha_and_adds_nothing():
     assert adequacy == "control_low.csv: declared model adequate"
     assert float(params.split("alpha = ")[1].split(" 1/s")[0]) == pytest.approx(truth["alpha_per_s"], rel=0.1)
     assert effects.startswith("effects added: none")
+
+
+def test_robust_compounds_ranks_by_force_and_keeps_each_robust_design_within_five_percent():
+    """Three compounds: the robust ranking lists those with a robust length first by their
+    force, each missing no requirement in more than 5 % of its samples; the chosen finger is
+    the robust winner, with its fastest drum inside the 10-40 rpm searched."""
+    lines = _run("robust_compounds.py")
+    nominal = [line for line in lines if line.startswith("nominal ")]
+    robust = [line for line in lines if line.startswith("robust ")]
+    assert len(nominal) == len(robust) == 3
+    rows = [(float(line.split("force ")[1].split(" N")[0]),
+             float(line.split("largest violation ")[1].split("%")[0]) / 100.0,
+             "(no robust length)" in line) for line in robust]
+    feasible = [force for force, _, none in rows if not none]
+    assert feasible == sorted(feasible) and all(v <= 0.05 for _, v, none in rows if not none)
+    assert [none for *_, none in rows] == sorted(none for *_, none in rows)
+    chosen = lines[-1]
+    assert chosen.startswith("chosen: " + robust[0].split(". ")[1].split(":")[0])
+    if "drum up to " in chosen:
+        assert 10.0 <= float(chosen.split("drum up to ")[1].split(" rpm")[0]) <= 40.0
