@@ -20,13 +20,12 @@ from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, replace
 from pathlib import Path
 
-from ccedi.design.catalogue_design import catalogue_surrogate, design_compounds
+from ccedi.design.catalogue_design import catalogue_surrogate, compound_setup, design_compounds
 from ccedi.design.compounds import alpha_from_loss_factor, load_compounds
 from ccedi.design.optimise import Design
 from ccedi.design.recheck import fea_check
 from ccedi.design.requirements import Requirements
 from ccedi.design.robust import Spread, robust_catalogue, violation_probabilities
-from ccedi.fea.material import NeoHookean
 from ccedi.outputs import report_figures
 from ccedi.statistics import wilson_interval
 from ccedi.study.commands.fea import contact_setup
@@ -56,12 +55,11 @@ def checked_designs(robust):
     own nominal optimum when it is not robust itself), one per (E/rho, tan delta, length)."""
     win = robust.winner or robust.designs[0]
     by_name = {d.compound: d for d in robust.designs}
-    order = [d.compound.name for d in robust.nominal.designs]
-    ahead = order[:order.index(win.compound) + 1]
+    compounds = [n.compound for n in robust.nominal.designs]          # in the nominal ranking's order
+    ahead = compounds[:[c.name for c in compounds].index(win.compound) + 1]
     chosen, seen = [("robust: " + win.compound, win, win.length_m)], set()
-    for name in ahead:
-        d = by_name[name]
-        c = next(n.compound for n in robust.nominal.designs if n.compound.name == name)
+    for c in ahead:
+        name, d = c.name, by_name[c.name]
         key = (round(c.E_nominal_Pa / c.rho_kg_m3, 3), round(c.tan_delta_nominal, 6), round(d.nominal.length_m, 6))
         if key in seen or (name == win.compound and d.nominal.worst <= d.allowed):
             continue
@@ -104,7 +102,7 @@ def main():
         nominal = nominal_of[r.compound]
         c = nominal.compound
         E, tan_delta = spread.samples(c, args.n, seed=SEED)
-        own = replace(setup, finger_material=NeoHookean(E=c.E_nominal_Pa, nu=setup.finger_material.nu, rho=c.rho_kg_m3))
+        own = compound_setup(setup, c)
         omega = first_mode(m_to_inch(length_m), E_Pa=E, rho_kg_m3=c.rho_kg_m3)
         alphas = alpha_from_loss_factor(tan_delta, omega)
         with ProcessPoolExecutor(max_workers=args.jobs) as pool:

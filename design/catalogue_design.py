@@ -424,6 +424,25 @@ def _robust(problem, tie, design, length_in):
     return float(margins[name][k]), f"{name} at tan delta {taus[k]:.3g}"
 
 
+def compound_setup(setup, compound: Compound):
+    """``setup`` with the compound's nominal E and its density on the finger (its Poisson's
+    ratio kept): the drum test a compound's ROM and FEA runs use.
+
+    Parameters
+    ----------
+    setup : ccedi.fea.contact.drum.DrumSetup
+        The drum test.
+    compound : Compound
+        The compound.
+
+    Returns
+    -------
+    ccedi.fea.contact.drum.DrumSetup
+    """
+    return replace(setup, finger_material=NeoHookean(E=compound.E_nominal_Pa, nu=setup.finger_material.nu,
+                                                     rho=compound.rho_kg_m3))
+
+
 def _one(surrogate, compound, *, setup, first_mode, requirements, objective, model_error, verify, damping, n_starts):
     """The :class:`CompoundDesign` of ``compound``."""
     tie = CompoundTie(compound, first_mode)
@@ -431,8 +450,7 @@ def _one(surrogate, compound, *, setup, first_mode, requirements, objective, mod
                                reference_rho_kg_m3=first_mode.rho_kg_m3)
     problem = DesignProblem(sliced, requirements=requirements or Requirements(), objective=objective, alpha_of_length=tie,
                             model_error=model_error or {})
-    own = replace(setup, finger_material=NeoHookean(E=compound.E_nominal_Pa, nu=setup.finger_material.nu,
-                                                    rho=compound.rho_kg_m3))
+    own = compound_setup(setup, compound)
     steps = []
     try:
         design, _ = solve(problem, n_starts=n_starts)

@@ -21,10 +21,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ccedi.errors import InputError
-from ccedi.fea.material import NeoHookean
 from ccedi.units import RPM, m_to_inch
 
-from .catalogue_design import CompoundDesign
+from .catalogue_design import CompoundDesign, compound_setup
 from .outputs import setup_for_length
 from .surrogate import DRUM_SPEED_BOUNDS_RPM, run_rom, speed_space
 
@@ -122,8 +121,7 @@ def fastest_drum_speed(design: CompoundDesign, setup, *, length_m=None, speed_bo
     c = design.compound
     L = float(design.design.x if length_m is None else length_m)
     alpha = float(design.tie(m_to_inch(L)))
-    own = setup_for_length(replace(setup, finger_material=NeoHookean(E=c.E_nominal_Pa, nu=setup.finger_material.nu,
-                                                                     rho=c.rho_kg_m3)), L)
+    own = setup_for_length(compound_setup(setup, c), L)
     speeds = np.linspace(lo, hi, int(n))
     runs = run_rom(own, [(alpha, w * RPM) for w in speeds], damping=damping, progress=progress,
                    variables=speed_space((alpha * 0.5, alpha * 2.0), (lo, hi)))
@@ -137,10 +135,10 @@ def fastest_drum_speed(design: CompoundDesign, setup, *, length_m=None, speed_bo
     ok = worst >= 0.0
     if not ok[0]:
         return DrumSpeedCheck(c.name, L, alpha, speeds.tolist(), worst.tolist(), limiting, None, None, limiting[0])
-    k = int(np.argmin(ok)) if not ok.all() else len(speeds)
-    if k == len(speeds):
+    if ok.all():
         fastest, binding = float(speeds[-1]), ""
     else:
+        k = int(np.argmin(ok))                       # the first speed that misses a requirement
         a, b = worst[k - 1], worst[k]
         fastest = float(speeds[k - 1] + (speeds[k] - speeds[k - 1]) * a / (a - b)) if np.isfinite(b) else \
             float(speeds[k - 1])

@@ -403,7 +403,10 @@ def _robust_lines(result, ranking, unit):
     rb = result["robust"]
     p = rb["probability"]
     n = rb["designs"][0]["n_samples"] if rb["designs"] else 0
-    value = "{:.4g}".format if unit not in ("m", "Pa") else (lambda v: _fmt(v, unit).split(" ")[0])
+
+    def value(v):
+        return _fmt(v, unit).split(" ")[0]
+
     lines = ["", "## Robust design", "",
              f"The inputs not known exactly: {rb['spread']}. Each compound's robust design is the length of least "
              f"objective (at its nominal inputs) where every requirement is met in at least {p:.0%} of {n} samples "

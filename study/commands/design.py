@@ -671,13 +671,12 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
         No compound meets the requirements (or, robust, none with the probability asked);
         raised after the result and the report are written.
     """
-    from ccedi.design.catalogue_design import CATALOGUE_GRID, catalogue_surrogate, design_compounds
+    from ccedi.design.catalogue_design import CATALOGUE_GRID, catalogue_surrogate, compound_setup, design_compounds
     from ccedi.design.compounds import CATALOGUE, load_compounds
     from ccedi.design.drum_speed import fastest_drum_speed
     from ccedi.design.recheck import fea_check
     from ccedi.design.requirements import Requirements
     from ccedi.design.robust import Spread, robust_catalogue
-    from ccedi.fea.material import NeoHookean
     from ccedi.outputs import write_csv, write_figure, write_json, write_text
     from ccedi.study.design_report import catalogue_report_markdown, finger_drawing
 
@@ -736,9 +735,7 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     by_name = {d.compound.name: d for d in ranking.designs}
 
     def checked(compound_design, design):
-        c = compound_design.compound
-        own = replace(setup, finger_material=NeoHookean(E=c.E_nominal_Pa, nu=setup.finger_material.nu,
-                                                        rho=c.rho_kg_m3))
+        own = compound_setup(setup, compound_design.compound)
         return fea_check(own, [design], damping=o.damping, limits=limits, scheduler=scheduler,
                          variables=compound_design.problem.surrogate.variables)[0]
 
