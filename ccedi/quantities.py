@@ -71,6 +71,7 @@ QUANTITIES = {
     "rho_kg_m3": Quantity("kg/m^3", 1.0, 1e5),
     "length_in": Quantity("in", 1.0, 12.0),
     "section_semi_axis_m": Quantity("m", 1e-4, 0.1),
+    "taper_ratio": Quantity("-", 0.2, 2.0),
     "E_tolerance": Quantity("-", 0.0, 0.9),
     "alpha_per_s": Quantity("1/s", 0.0, 1e4),
     "force_N": Quantity("N", 1e-4, 100.0),

@@ -10,7 +10,8 @@ What a design script needs (``examples/design_script.py``)::
 * :mod:`ccedi.design.requirements`: the designer's limits (:class:`Requirements`, :class:`Limit`);
 * :mod:`ccedi.design.surrogate`: B-spline surrogate of the contact ROM over (alpha, L)
   (:func:`design_space`), (alpha, drum speed) (:func:`speed_space`), (alpha, a section
-  semi-axis) (:func:`section_space`) or (alpha, L, E) (:func:`material_space`);
+  semi-axis) (:func:`section_space`), (alpha, taper ratio) (:func:`taper_space`) or
+  (alpha, L, E) (:func:`material_space`);
 * :mod:`ccedi.design.optimise`: the problem, IPOPT, brute force, infeasibility, sensitivities;
 * :mod:`ccedi.design.pareto`: the front of the objective against a second output;
 * :mod:`ccedi.design.recheck`: the full FEA re-check (:func:`fea_check`) and the optimum
@@ -46,6 +47,7 @@ _EXPORTS = {
     "Limit": "requirements", "Requirements": "requirements", "met": "requirements",
     "Surrogate": "surrogate", "design_space": "surrogate", "grid_points": "surrogate", "run_rom": "surrogate",
     "speed_space": "surrogate", "material_space": "surrogate", "section_space": "surrogate",
+    "taper_space": "surrogate",
     "CompoundSurrogate": "catalogue_design", "CompoundTie": "catalogue_design", "FirstMode": "catalogue_design",
     "catalogue_space": "catalogue_design", "catalogue_surrogate": "catalogue_design",
     "design_compounds": "catalogue_design", "Spread": "robust", "RobustDesign": "robust",

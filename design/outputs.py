@@ -144,12 +144,14 @@ VARIABLES = {"alpha_per_s": ("alpha", "1/s", "alpha_per_s", 1.0),
              "drum_speed_rad_s": ("drum speed", "rpm", "drum_speed_rpm", RPM),
              "youngs_modulus_Pa": ("E", "MPa", "E_MPa", 1e6),
              "semi_width_m": ("a", "mm", "semi_width_mm", 1e-3),
-             "semi_thickness_m": ("b", "mm", "semi_thickness_mm", 1e-3)}
+             "semi_thickness_m": ("b", "mm", "semi_thickness_mm", 1e-3),
+             "taper_ratio": ("taper ratio", "-", "taper_ratio", 1.0)}
 """Design variables: SI name -> (label, unit shown, JSON key of the shown value, one shown
 unit in SI). alpha is not a set-up quantity (it is the run's damping); the finger's Young's
 modulus is set on its material at the set-up's density; the section's semi-axes are the
-generated finger's: a across the finger (the width 2a), b along the bending direction
-(the thickness 2b)."""
+generated finger's at its root: a across the finger (the width 2a), b along the bending
+direction (the thickness 2b); the taper ratio is its tip's semi-axes over its root's (both
+scale linearly along the length)."""
 
 
 def setup_at(base: DrumSetup, names, point):
@@ -172,7 +174,8 @@ def setup_at(base: DrumSetup, names, point):
     ------
     InputError
         An unknown variable, a length other than a finger mesh's own
-        (:func:`setup_for_length`), or a section on a finger mesh (:func:`setup_for_section`).
+        (:func:`setup_for_length`), or a section or a taper on a finger mesh
+        (:func:`setup_for_section`, :func:`setup_for_taper`).
     """
     setup = base
     for name, x in zip(names, point):
@@ -184,6 +187,8 @@ def setup_at(base: DrumSetup, names, point):
             setup = replace(setup, finger_material=replace(setup.finger_material, E=float(x)))
         elif name in ("semi_width_m", "semi_thickness_m"):
             setup = setup_for_section(setup, **{name: x})
+        elif name == "taper_ratio":
+            setup = setup_for_taper(setup, x)
         elif name != "alpha_per_s":
             raise InputError(f"design variable {name!r}: must be one of {', '.join(VARIABLES)}")
     return setup
@@ -244,6 +249,32 @@ def setup_for_section(base: DrumSetup, *, semi_width_m=None, semi_thickness_m=No
     a, b = base.finger_semi_axes_m
     return replace(base, finger_semi_axes_m=(float(a if semi_width_m is None else semi_width_m),
                                              float(b if semi_thickness_m is None else semi_thickness_m)))
+
+
+def setup_for_taper(base: DrumSetup, taper_ratio):
+    """``base`` with the generated finger tapered: its tip's semi-axes ``taper_ratio`` times
+    its root's, the root section kept.
+
+    Parameters
+    ----------
+    base : DrumSetup
+    taper_ratio : float
+        Tip over root semi-axes [-] (1: the prism).
+
+    Returns
+    -------
+    DrumSetup
+        A copy with the new taper (the finger is generated from it at each run).
+
+    Raises
+    ------
+    InputError
+        ``base.finger`` is a mesh (its shape is its own), or the ratio is out of range.
+    """
+    if base.finger is not None:
+        raise InputError(f"design taper: the finger is a given {base.finger.element_type} mesh, whose shape is "
+                         "its own; only the generated finger takes a taper")
+    return replace(base, finger_taper_ratio=float(taper_ratio))
 
 
 def run_time_s(setup: DrumSetup):

@@ -16,8 +16,8 @@ rise of the peak force of under-damped 4.5-5.5-in fingers over the whole alpha r
 and predicted 10 N where the ROM gives 14.5 N.) A further set of ROM runs off the grid
 measures the interpolation error (:func:`validation_errors`).
 
-More variables (the section's semi-axes, :func:`section_space`; the drum speed; the
-finger's Young's modulus, :func:`material_space`) only need another :class:`Variable` and a way to set them on the
+More variables (the section's semi-axes, :func:`section_space`; the taper,
+:func:`taper_space`; the drum speed; the finger's Young's modulus, :func:`material_space`) only need another :class:`Variable` and a way to set them on the
 :class:`ccedi.fea.contact.drum.DrumSetup` (:func:`ccedi.design.outputs.setup_at`).
 """
 import hashlib
@@ -116,7 +116,7 @@ class Variable:
         -------
         str
         """
-        return f"{self.label} = {self.shown(x):.4g} {self.unit}"
+        return f"{self.label} = {self.shown(x):.4g}" + ("" if self.unit == "-" else f" {self.unit}")
 
     def to_unit(self, x):
         """u in [-1, 1] for the value(s) ``x`` (numpy or casadi).
@@ -261,6 +261,35 @@ def section_space(alpha_bounds_per_s=CHECKED_ALPHA_PER_S, semi_axis="semi_thickn
         raise InputError(f"section semi-axis must be one of {', '.join(SECTION_BOUNDS_MM)}, got {semi_axis!r}")
     return (_variable("alpha_per_s", alpha_bounds_per_s, log=True),
             _variable(semi_axis, bounds_mm or SECTION_BOUNDS_MM[semi_axis]))
+
+
+TAPER_BOUNDS = (0.4, 1.0)
+"""Default taper ratio range of a design over the taper [-]: from a tip 0.4 times the
+root's semi-axes to the prism (:func:`taper_space`)."""
+
+
+def taper_space(alpha_bounds_per_s=CHECKED_ALPHA_PER_S, taper_bounds=TAPER_BOUNDS):
+    """The (alpha [1/s], taper ratio [-]) design variables: the design of the generated
+    finger's taper at a given length and root section.
+
+    Parameters
+    ----------
+    alpha_bounds_per_s : tuple, optional
+        (lo, hi) [1/s] (default :data:`CHECKED_ALPHA_PER_S`).
+    taper_bounds : tuple, optional
+        (lo, hi) of the tip's semi-axes over the root's [-] (default :data:`TAPER_BOUNDS`).
+
+    Returns
+    -------
+    tuple of Variable
+        alpha (log-spaced) and the taper ratio.
+
+    Raises
+    ------
+    InputError
+        Bounds not 0 < lo < hi.
+    """
+    return _variable("alpha_per_s", alpha_bounds_per_s, log=True), _variable("taper_ratio", taper_bounds)
 
 
 def material_space(alpha_bounds_per_s, length_bounds_in, modulus_bounds_Pa):

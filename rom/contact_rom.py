@@ -194,8 +194,8 @@ def _face_flattening(mesh, material, patch_nodes):
     return float(mean - u[centre, 1].mean())
 
 
-FINGER_KEYS = ("finger_length_m", "finger_material", "finger_semi_axes_m", "finger_section_elements",
-               "finger_elements_along", "drum_radius_m")
+FINGER_KEYS = ("finger_length_m", "finger_material", "finger_semi_axes_m", "finger_taper_ratio",
+               "finger_section_elements", "finger_elements_along", "drum_radius_m")
 """The :class:`ccedi.fea.contact.drum.DrumSetup` fields a reduced model's chain is built on
 (with its finger mesh): a set-up that changes one needs a new model
 (:meth:`ReducedContactModel.on`)."""

@@ -80,6 +80,9 @@ SCHEMA = {
         "section_semi_axes_m": _key("section_semi_axis_m", list(SEMI_AXES),
                                     "elliptical section semi-axes [a along x, b along y, the bending direction]",
                                     True, 2, 2),
+        "contact_taper_ratio": _key("taper_ratio", 1.0,
+                                    "the drum contact and design finger's tip semi-axes over its root's "
+                                    "section_semi_axes_m, linear along the length (1: the prism; not with a mesh)"),
         "mesh": Key(str, "-", None, None, None,
                     "finger mesh file instead of the generated elliptical finger (Gmsh .msh, Abaqus .inp, .vtu, "
                     ".vtk, LS-DYNA .k; relative to this file): hexahedra or 4-/10-node tetrahedra, length along z"),
@@ -277,6 +280,10 @@ def validate(data, source="config", base_dir=None):
     if out["finger"]["mesh"] is None:
         for key in ("impulse_length_in", "contact_length_in"):
             check_section_fits(out, out["finger"][key], f"[finger] {key}")
+    elif out["finger"]["contact_taper_ratio"] != 1.0:
+        raise InputError(f"[finger] contact_taper_ratio = {out['finger']['contact_taper_ratio']:g}: the finger is the "
+                         "mesh of [finger] mesh, whose shape is its own; a taper is for the generated finger (leave "
+                         "it 1)")
     drum_setup(out)             # the set-up as a whole: the object must clear the drum, ...
     return out
 
@@ -463,19 +470,20 @@ def requirements(cfg):
 
 def drum_setup(cfg, finger=None):
     """The :class:`ccedi.fea.contact.drum.DrumSetup` of the validated inputs ``cfg``: the generated
-    finger of ``[finger] contact_length_in``, or the mesh ``finger`` (e.g.
+    finger of ``[finger] contact_length_in`` and ``contact_taper_ratio``, or the mesh ``finger`` (e.g.
     :func:`configured_mesh`), whose own length then holds and ``contact_length_in`` is not
     used. An inconsistent set-up is an InputError naming the [drum] section."""
     material, semi_axes = finger_inputs(cfg)
     d = cfg["drum"]
     length_m = None if finger is not None else inch_to_m(cfg["finger"]["contact_length_in"])
+    taper = 1.0 if finger is not None else cfg["finger"]["contact_taper_ratio"]
     try:
         return DrumSetup(drum_radius_m=d["drum_radius_m"], omega_rad_s=d["omega_rad_s"], theta0_rad=d["theta0_rad"],
                          object_center_m=tuple(d["object_center_m"]), object_semi_axes_m=tuple(d["object_semi_axes_m"]),
                          friction=d["friction"], contact_damping_ratio=d["contact_damping_ratio"],
                          objects_per_revolution=d["objects_per_revolution"], cycle_time_s=d["cycle_time_s"],
                          finger_length_m=length_m, finger_material=material,
-                         finger_semi_axes_m=semi_axes, finger=finger)
+                         finger_semi_axes_m=semi_axes, finger_taper_ratio=taper, finger=finger)
     except InputError as err:
         raise InputError(f"[drum]: {err}") from None
 

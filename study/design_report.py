@@ -262,9 +262,10 @@ def report_markdown(result):
 
 
 
-def finger_drawing(length_m, semi_axes_m, *, drum_radius_m, title=""):
+def finger_drawing(length_m, semi_axes_m, *, drum_radius_m, taper_ratio=1.0, title=""):
     """The chosen finger drawn to scale: its side on the drum (length, thickness) and its
-    elliptical section (width 2a, thickness 2b, b along the bending direction), in mm.
+    elliptical section (width 2a, thickness 2b, b along the bending direction), in mm;
+    a tapered finger's tip section dashed inside its root's.
 
     Parameters
     ----------
@@ -274,6 +275,8 @@ def finger_drawing(length_m, semi_axes_m, *, drum_radius_m, title=""):
         Section semi-axes (a, b) [m].
     drum_radius_m : float
         Drum radius [m] (the root sits on it).
+    taper_ratio : float, optional
+        The tip's semi-axes over the root's [-] (default 1, the prism).
     title : str, optional
         Figure title (the compound and its design).
 
@@ -286,23 +289,29 @@ def finger_drawing(length_m, semi_axes_m, *, drum_radius_m, title=""):
     fig, (side, section) = plt.subplots(1, 2, figsize=(10, 4.2), gridspec_kw={"width_ratios": [3, 1]})
     t = np.linspace(-0.35, 0.35, 60)
     side.plot(R * np.cos(t), R * np.sin(t), "k-", lw=2, label=f"drum, radius {R:.4g} mm")
-    side.add_patch(matplotlib.patches.Rectangle((R, -b), L, 2 * b, fc="tab:orange", ec="k", alpha=0.8,
-                                                label="finger"))
-    side.annotate("", xy=(R, -b - 6), xytext=(R + L, -b - 6), arrowprops={"arrowstyle": "<->"})
-    side.text(R + L / 2, -b - 9, f"L = {L:.4g} mm ({L / 25.4:.4g} in)", ha="center", va="top")
-    side.text(R + L + 3, 0, f"2b = {2 * b:.3g} mm", va="center")
+    tip = taper_ratio * b
+    h = max(b, tip)
+    side.add_patch(matplotlib.patches.Polygon([(R, -b), (R + L, -tip), (R + L, tip), (R, b)], fc="tab:orange",
+                                              ec="k", alpha=0.8, label="finger"))
+    side.annotate("", xy=(R, -h - 6), xytext=(R + L, -h - 6), arrowprops={"arrowstyle": "<->"})
+    side.text(R + L / 2, -h - 9, f"L = {L:.4g} mm ({L / 25.4:.4g} in)", ha="center", va="top")
+    side.text(R + L + 3, 0, f"2b = {2 * b:.3g} mm" if taper_ratio == 1.0
+              else f"root 2b = {2 * b:.3g} mm\ntip {2 * tip:.3g} mm\n(taper {taper_ratio:.3g})", va="center")
     side.set_aspect("equal")
     side.set_xlim(R * np.cos(0.35) - 5, R + L + 40)
-    side.set_ylim(-b - 25, b + 15)
+    side.set_ylim(-h - 25, h + 15)
     side.set_xlabel("along the finger, from the drum axis [mm]")
     side.set_ylabel("bending direction [mm]")
     side.legend(fontsize=8, loc="upper right")
     s = np.linspace(0, 2 * np.pi, 200)
     section.fill(a * np.cos(s), b * np.sin(s), fc="tab:orange", ec="k", alpha=0.8)
+    if taper_ratio != 1.0:
+        section.plot(taper_ratio * a * np.cos(s), taper_ratio * b * np.sin(s), "k--", lw=1, label="tip")
+        section.legend(fontsize=8, loc="lower right")
     section.set_aspect("equal")
     section.set_xlabel(f"width 2a = {2 * a:.3g} mm [mm]")
     section.set_ylabel(f"thickness 2b = {2 * b:.3g} mm (bending) [mm]")
-    section.set_title("section", fontsize=9)
+    section.set_title("section" if taper_ratio == 1.0 else "root section", fontsize=9)
     fig.suptitle(title or "Chosen finger", fontsize=10)
     fig.tight_layout()
     return fig

@@ -412,8 +412,6 @@ def _warnings(out):
             f"validity (<code>ccedi.fea.solvers.validity</code>); they are shown below as computed.</p><ul>{items}</ul>")
 
 
-GENERATED_FINGER_KEYS = ("impulse_length_in", "contact_length_in", "section_semi_axes_m")
-"""``[finger]`` keys of the generated elliptical finger (a ``[finger] mesh`` sets its own geometry)."""
 MESH_KEYS = ("mesh", "mesh_unit", "clamp", "tip", "bending_direction")
 """``[finger]`` keys of an imported mesh."""
 
@@ -441,14 +439,14 @@ def used_inputs(cfg, ran):
         ``(section, key, value)``: the material; with a ``[finger] mesh``, the mesh's keys
         (and the generated finger's length and section only where a paper step ran on it);
         otherwise the generated finger's length of the impulse steps, its contact length
-        where the contact or design ran, its section; the drum where the contact or design
+        and taper where the contact or design ran, its section; the drum where the contact or design
         ran; the damping kind and the requirements where the design ran (the damping kind
         also for a contact sweep that is not the paper's).
     """
     mesh = cfg["finger"]["mesh"] is not None
     paper = bool(ran & {"table1", "steel_rod", "mesh", "damping_fits"})
     drum = bool(ran & {"contact", "design"})
-    finger = list(MESH_KEYS) if mesh else ["impulse_length_in"] + ["contact_length_in"] * drum
+    finger = list(MESH_KEYS) if mesh else ["impulse_length_in"] + ["contact_length_in", "contact_taper_ratio"] * drum
     if paper or not mesh:
         finger += [k for k in ("impulse_length_in", "section_semi_axes_m") if k not in finger]
     material = [k for k in cfg["material"] if k != "alpha_per_s" or ("design" in ran and cfg["material"][k] is not None)]

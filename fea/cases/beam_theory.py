@@ -7,8 +7,15 @@ Elliptical section with semi-axes a (along x) and b (along y, the bending direct
     omega_i = (beta_i L)^2 sqrt(E I / (rho A L^4))                [rad/s]
 
 with beta_i L = 1.8751, 4.6941, 7.8548 (clamped-free).
+
+A tapered cantilever whose section stays similar to its root's, every length scaled by
+s(z) = 1 - (1 - lambda) z / L (lambda the taper ratio, tip over root), has
+A(z) = A_0 s^2 and I(z) = I_0 s^4; its tip stiffness is then exactly lambda times the
+prism's, k_tip = 3 E I_0 lambda / L^3 (:func:`tapered_tip_stiffness_eb`), and its
+frequencies are solved numerically (:func:`tapered_cantilever_frequencies`).
 """
 import numpy as np
+import scipy.linalg
 
 from ccedi.errors import InputError, require_finite_positive
 from ccedi.fea.mesh import SEMI_AXIS_MAJOR, SEMI_AXIS_MINOR
@@ -67,6 +74,86 @@ def tip_stiffness_eb(E, length_m, second_moment):
         Tip stiffness k [N/m] (broadcast over array arguments).
     """
     return 3.0 * E * second_moment / length_m**3
+
+
+def tapered_tip_stiffness_eb(E, length_m, second_moment, taper_ratio):
+    """Euler-Bernoulli tip stiffness of the similar-section tapered cantilever,
+    ``k = 3 E I_0 lambda / L^3`` (module docstring): the tip deflection
+    P / (E I_0) int_0^L (L - z)^2 / s(z)^4 dz = P L^3 / (3 E I_0 lambda).
+
+    Parameters
+    ----------
+    E : float
+        Young's modulus [Pa].
+    length_m : float
+        Cantilever length L [m].
+    second_moment : float
+        Second moment of area I_0 of the root section [m^4].
+    taper_ratio : float
+        lambda, the tip's lengths over the root's [-], > 0.
+
+    Returns
+    -------
+    float
+        Tip stiffness k [N/m].
+    """
+    return tip_stiffness_eb(E, length_m, second_moment) * taper_ratio
+
+
+def tapered_cantilever_frequencies(E, rho, length_m, *, area, second_moment, taper_ratio, n_modes=1,
+                                   n_elements=50):
+    """The first ``n_modes`` clamped-free Euler-Bernoulli bending frequencies of the
+    similar-section tapered cantilever (module docstring), from ``n_elements`` cubic
+    Hermite beam elements whose section varies within each element, integrated exactly
+    (5-point Gauss). At the default 50 elements the first frequency is converged to
+    1e-7 (the prism's against :func:`cantilever_frequencies`; lambda = 0.4 against 25 and
+    100 elements); many more elements lose digits to the stiffness matrix's conditioning.
+
+    Parameters
+    ----------
+    E : float
+        Young's modulus [Pa].
+    rho : float
+        Density [kg/m^3].
+    length_m : float
+        Cantilever length L [m].
+    area : float
+        Root section area A_0 [m^2].
+    second_moment : float
+        Root second moment of area I_0 about the bending axis [m^4].
+    taper_ratio : float
+        lambda, the tip's lengths over the root's [-], > 0.
+    n_modes : int, optional
+        Number of frequencies. Default 1.
+    n_elements : int, optional
+        Beam elements. Default 50.
+
+    Returns
+    -------
+    numpy.ndarray
+        Angular frequencies omega_i, shape (n_modes,), ascending [rad/s].
+
+    Raises
+    ------
+    InputError
+        ``taper_ratio`` not a finite number > 0.
+    """
+    lam = require_finite_positive("taper_ratio (tip over root)", taper_ratio)
+    h = 1.0 / n_elements                                 # in units of L, E I_0 and rho A_0: well conditioned
+    xi, w = np.polynomial.legendre.leggauss(5)
+    t = 0.5 * (xi + 1.0)                                 # Gauss points on the element, 0..1
+    N = np.stack([1 - 3 * t**2 + 2 * t**3, h * (t - 2 * t**2 + t**3), 3 * t**2 - 2 * t**3, h * (t**3 - t**2)])
+    B = np.stack([-6 + 12 * t, h * (-4 + 6 * t), 6 - 12 * t, h * (6 * t - 2)]) / h**2
+    n = 2 * (n_elements + 1)
+    K, M = np.zeros((n, n)), np.zeros((n, n))
+    for e in range(n_elements):
+        s = 1.0 - (1.0 - lam) * (e + t) * h
+        dofs = slice(2 * e, 2 * e + 4)
+        K[dofs, dofs] += (B * (0.5 * h * w * s**4)) @ B.T
+        M[dofs, dofs] += (N * (0.5 * h * w * s**2)) @ N.T
+    free = slice(2, n)                                   # the root's deflection and slope clamped
+    omega2 = scipy.linalg.eigh(K[free, free], M[free, free], eigvals_only=True, subset_by_index=(0, n_modes - 1))
+    return np.sqrt(omega2 * E * second_moment / (rho * area * length_m**4))
 
 
 def cantilever_frequencies(E, rho, length_m, *, area, second_moment, n_modes=1):

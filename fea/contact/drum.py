@@ -105,7 +105,11 @@ class DrumSetup:
     finger_material, object_material : NeoHookean
         Materials.
     finger_semi_axes_m : tuple
-        Finger section semi-axes [m].
+        Finger section semi-axes [m] (at the root).
+    finger_taper_ratio : float
+        The generated finger's tip semi-axes over its root's [-] (the section scales
+        linearly along the length, :func:`ccedi.fea.mesh.elliptical_cantilever`); 1: the
+        prism. Must be 1 with a ``finger`` mesh, whose shape is its own.
     finger_section_elements : int
         Elements across the finger section.
     finger_elements_along : int or None
@@ -142,6 +146,7 @@ class DrumSetup:
     theta0_rad: float = CALIBRATED_THETA0_RAD
     finger_material: NeoHookean = RUBBER
     finger_semi_axes_m: tuple = SEMI_AXES
+    finger_taper_ratio: float = 1.0
     object_material: NeoHookean = AL6061
     finger_section_elements: int = 5
     finger_elements_along: int | None = None
@@ -154,7 +159,7 @@ class DrumSetup:
         q = QUANTITIES
         checks = {"drum_radius_m": q["drum_radius_m"], "omega_rad_s": q["omega_rad_s"], "friction": q["friction"],
                   "contact_damping_ratio": q["contact_damping_ratio"], "finger_length_m": q["length_m"], "theta0_rad": q["angle_rad"],
-                  "object_angle_rad": q["angle_rad"]}
+                  "object_angle_rad": q["angle_rad"], "finger_taper_ratio": q["taper_ratio"]}
         for name, quantity in checks.items():
             quantity.check(getattr(self, name), f"DrumSetup {name}")
         for name, quantity in (("object_center_m", q["object_position_m"]),
@@ -183,6 +188,9 @@ class DrumSetup:
         if self.finger is None:
             object.__setattr__(self, "finger_length_m", DEFAULT_FINGER_LENGTH_M if length is None else length)
             return
+        if self.finger_taper_ratio != 1.0:
+            raise InputError(f"DrumSetup finger_taper_ratio = {self.finger_taper_ratio!r}: the finger is a given "
+                             f"mesh, whose shape is its own; a taper is for the generated finger only (leave it 1)")
         mounted = mounted_finger(self.finger)
         object.__setattr__(self, "finger", mounted)
         own = finger_length_of(mounted)
@@ -204,9 +212,10 @@ class DrumSetup:
     @property
     def finger_thickness_m(self):
         """The finger's thickness along its bending direction y [m]: 2 b of the generated
-        finger's section, the largest extent along y of a ``finger`` mesh."""
+        finger's thickest section (the root's, or the tip's when it widens), the largest
+        extent along y of a ``finger`` mesh."""
         if self.finger is None:
-            return 2.0 * self.finger_semi_axes_m[1]
+            return 2.0 * self.finger_semi_axes_m[1] * max(1.0, self.finger_taper_ratio)
         y = self.finger.nodes[:, 1]
         return float(y.max() - y.min())
 
@@ -309,7 +318,7 @@ def finger_mesh(setup: DrumSetup):
     """The finger's mesh in its own frame (root at z = 0): ``setup.finger`` if given, else
     SM-A (5 x 5 in the section, ~4 mm along, refined at the root as
     :func:`ccedi.fea.mesh.sm_a`) unless ``finger_section_elements`` /
-    ``finger_elements_along`` say otherwise.
+    ``finger_elements_along`` say otherwise, tapered by ``finger_taper_ratio``.
 
     Parameters
     ----------
@@ -326,7 +335,7 @@ def finger_mesh(setup: DrumSetup):
     n_along = setup.finger_elements_along or sm_a_elements_along(L)
     a, b = setup.finger_semi_axes_m
     return elliptical_cantilever(L, setup.finger_section_elements, n_along, a=a, b=b,
-                                 root_refinement=SM_A_ROOT_REFINEMENT)
+                                 root_refinement=SM_A_ROOT_REFINEMENT, taper_ratio=setup.finger_taper_ratio)
 
 
 def finger_on_drum(setup: DrumSetup, alpha, damping="global"):

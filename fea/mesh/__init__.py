@@ -201,8 +201,14 @@ def along_lengths(length_m, n_along, root_refinement=0.0):
     return length_m * w / w.sum()
 
 
-def elliptical_cantilever(length_m, n_section, n_along, *, a=SEMI_AXIS_MAJOR, b=SEMI_AXIS_MINOR, root_refinement=0.0):
+def elliptical_cantilever(length_m, n_section, n_along, *, a=SEMI_AXIS_MAJOR, b=SEMI_AXIS_MINOR, root_refinement=0.0,
+                          taper_ratio=1.0):
     """Hex mesh of a straight elliptical cantilever along +z, root face at z = 0.
+
+    Its section is the ellipse of semi-axes (a, b) at the root, scaled along the length by
+    s(z) = 1 - (1 - lambda) z / L, lambda the taper ratio: the tip's semi-axes are
+    (lambda a, lambda b), every section is similar to the root's and the volume is the
+    prism's times (1 + lambda + lambda^2) / 3.
 
     Node sets: ``root`` (z = 0, clamped) and ``tip`` (z = L).
 
@@ -221,6 +227,9 @@ def elliptical_cantilever(length_m, n_section, n_along, *, a=SEMI_AXIS_MAJOR, b=
     root_refinement : float, optional
         Root refinement g of the element lengths along the length (:func:`along_lengths`),
         in [0, 1). Default 0 (uniform).
+    taper_ratio : float, optional
+        lambda, the tip's semi-axes over the root's, within
+        :data:`ccedi.quantities.QUANTITIES` ``taper_ratio``. Default 1 (the prism).
 
     Returns
     -------
@@ -231,7 +240,8 @@ def elliptical_cantilever(length_m, n_section, n_along, *, a=SEMI_AXIS_MAJOR, b=
     ------
     InputError
         If a length or semi-axis is not a finite number > 0, an element count is not an
-        integer >= 1, or ``root_refinement`` is not in [0, 1).
+        integer >= 1, ``root_refinement`` is not in [0, 1) or ``taper_ratio`` is out of
+        its range.
     """
     length_m = require_finite_positive("length_m (finger length, m)", length_m)
     for name, n in (("n_section", n_section), ("n_along", n_along)):
@@ -239,11 +249,13 @@ def elliptical_cantilever(length_m, n_section, n_along, *, a=SEMI_AXIS_MAJOR, b=
             raise InputError(f"{name} must be an integer >= 1, got {n!r}")
     a = require_finite_positive("a (section semi-axis along x, m)", a)
     b = require_finite_positive("b (section semi-axis along y, m)", b)
+    taper_ratio = QUANTITIES["taper_ratio"].check(taper_ratio, "taper_ratio (tip over root semi-axes)")
     n, nz = int(n_section), int(n_along)
     sec = ellipse_section(a, b, n).reshape(-1, 2)
     z = np.concatenate([[0.0], np.cumsum(along_lengths(length_m, nz, root_refinement))])
     z[-1] = length_m
-    nodes = np.column_stack([np.tile(sec, (nz + 1, 1)), np.repeat(z, len(sec))])
+    scale = np.repeat(1.0 - (1.0 - taper_ratio) * z / length_m, len(sec))
+    nodes = np.column_stack([np.tile(sec, (nz + 1, 1)) * scale[:, None], np.repeat(z, len(sec))])
     m = n + 1
     k, j, i = np.meshgrid(np.arange(nz), np.arange(n), np.arange(n), indexing="ij")
     base = (k * m * m + j * m + i).ravel()

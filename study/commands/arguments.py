@@ -78,8 +78,8 @@ FINGER_KEYS = MATERIAL_KEYS + ("finger.section_semi_axes_m", "finger.mesh", "fin
                                "finger.tip", "finger.bending_direction")
 """The keys that make a finger: its material and section, or its mesh."""
 IMPULSE_FINGER_KEYS = FINGER_KEYS + ("finger.impulse_length_in",)
-CONTACT_KEYS = FINGER_KEYS + ("finger.contact_length_in", "drum")
-"""The finger on the drum: the drum set-up and the contact finger's length."""
+CONTACT_KEYS = FINGER_KEYS + ("finger.contact_length_in", "finger.contact_taper_ratio", "drum")
+"""The finger on the drum: the drum set-up and the contact finger's length and taper."""
 
 
 def add_config_argument(parser, uses):

@@ -23,9 +23,10 @@ MODEL_ERROR_FILE = Path(__file__).resolve().parents[2] / "data" / "design" / "ro
 """The ROM-against-FEA check the design takes its model-error margins from
 (``validation/design_rom_check.py`` writes it)."""
 
-VARIED = ("length", "drum_speed", "semi_thickness", "semi_width")
+VARIED = ("length", "drum_speed", "semi_thickness", "semi_width", "taper")
 """What ``--vary`` takes: the second design variable beside alpha (the section's semi-axes
-b, along the bending direction, and a, across)."""
+b, along the bending direction, and a, across; the taper ratio, the tip's semi-axes over
+the root's)."""
 
 REQUIREMENT_FLAGS = (("--max-object-force-N", "max_object_force_N", 1.0),
                      ("--max-object-stress-Pa", "max_object_stress_Pa", 1.0),
@@ -75,6 +76,9 @@ def add_parsers(sub):
     d.add_argument("--section-bounds-mm", type=float, nargs=2, default=None, metavar=("LO", "HI"),
                    help="bounds of the varied section semi-axis [mm] (--vary semi_thickness: b, along the bending "
                         "direction, default 4 14; --vary semi_width: a, across, default 6 18) at the set-up's length")
+    d.add_argument("--taper-bounds", type=float, nargs=2, default=DesignOptions.taper_bounds, metavar=("LO", "HI"),
+                   help="bounds of the taper ratio, the tip's semi-axes over the root's [-] (--vary taper; default "
+                        "0.4 1: down to a tip 0.4 times the root section, up to the prism) at the set-up's length")
     d.add_argument("--grid", type=int, nargs=2, default=(15, 11), metavar=("N_ALPHA", "N_SECOND"),
                    help="ROM runs of the surrogate grid along alpha and the second variable (cached in OUT)")
     d.add_argument("--validation-runs", type=int, default=20, help="off-grid ROM runs measuring the surrogate error")
@@ -161,9 +165,14 @@ class DesignOptions:
         Damping bounds [1/s] (default :data:`ccedi.design.surrogate.CHECKED_ALPHA_PER_S`).
     length_bounds_in : tuple of float
         Finger length bounds [in].
-    vary : {"length", "drum_speed", "semi_thickness", "semi_width"} or None
+    vary : {"length", "drum_speed", "semi_thickness", "semi_width", "taper"} or None
         The second design variable beside alpha (None: the length for the generated
         finger, the drum speed for a finger mesh).
+    section_bounds_mm : tuple of float or None
+        Bounds of the varied section semi-axis [mm] (None: the default of
+        :data:`ccedi.design.surrogate.SECTION_BOUNDS_MM`).
+    taper_bounds : tuple of float
+        Bounds of the taper ratio [-] (default :data:`ccedi.design.surrogate.TAPER_BOUNDS`).
     drum_speed_bounds_rpm : tuple of float
         Drum speed bounds [rpm] (default :data:`ccedi.design.surrogate.DRUM_SPEED_BOUNDS_RPM`).
     grid : tuple of int
@@ -207,6 +216,7 @@ class DesignOptions:
     length_bounds_in: tuple = (3.0, 8.0)
     vary: str | None = None
     section_bounds_mm: tuple | None = None
+    taper_bounds: tuple = (0.4, 1.0)
     drum_speed_bounds_rpm: tuple = (10.0, 40.0)
     grid: tuple = (15, 11)
     validation_runs: int = 20
@@ -263,6 +273,7 @@ def cmd_design(args):
         damping=args.damping or cfg["damping"]["kind"], alpha_of_length=args.alpha_of_length,
         alpha_bounds=tuple(args.alpha_bounds), length_bounds_in=tuple(args.length_bounds_in), vary=args.vary,
         section_bounds_mm=None if args.section_bounds_mm is None else tuple(args.section_bounds_mm),
+        taper_bounds=tuple(args.taper_bounds),
         drum_speed_bounds_rpm=tuple(args.drum_speed_bounds_rpm), grid=tuple(args.grid),
         validation_runs=args.validation_runs, pareto_points=args.pareto_points, pareto_output=args.pareto_output,
         starts=args.starts, model_error=not args.no_model_error, fea_check=not args.no_fea_check,
@@ -345,7 +356,7 @@ def second_variable(setup, o):
     vary = o.vary or ("length" if setup.finger is None else "drum_speed")
     if vary not in VARIED:
         raise InputError(f"--vary {vary!r}: must be one of {', '.join(VARIED)}")
-    if vary.startswith("semi_") and setup.finger is not None:
+    if (vary.startswith("semi_") or vary == "taper") and setup.finger is not None:
         raise InputError(f"--vary {vary}: the finger is a given {setup.finger.element_type} mesh, whose section is "
                          "its own; its design varies alpha and the drum speed (--vary drum_speed)")
     if vary == "length" and setup.finger is not None:
@@ -374,6 +385,8 @@ def _check_options(setup, o):
               ("--drum-speed-bounds-rpm", o.drum_speed_bounds_rpm, QUANTITIES["omega_rad_s"].in_unit(1.0 / RPM, "rpm"))]
     if o.section_bounds_mm is not None:
         bounds.append(("--section-bounds-mm", o.section_bounds_mm, QUANTITIES["section_semi_axis_m"].in_unit(1e3, "mm")))
+    if vary == "taper":
+        bounds.append(("--taper-bounds", o.taper_bounds, QUANTITIES["taper_ratio"]))
     for flag, (lo, hi), quantity in bounds:
         for value in (lo, hi):
             quantity.check(value, flag)
@@ -487,6 +500,7 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
         grid_points,
         section_space,
         speed_space,
+        taper_space,
         validation_errors,
         validation_points,
     )
@@ -500,6 +514,7 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
     out = Path(out)
     space = (design_space(tuple(o.alpha_bounds), tuple(o.length_bounds_in)) if vary == "length"
              else speed_space(tuple(o.alpha_bounds), tuple(o.drum_speed_bounds_rpm)) if vary == "drum_speed"
+             else taper_space(tuple(o.alpha_bounds), tuple(o.taper_bounds)) if vary == "taper"
              else section_space(tuple(o.alpha_bounds), f"{vary}_m", o.section_bounds_mm))
     if o.alpha_bounds[0] < CHECKED_ALPHA_PER_S[0]:
         warnings.warn(ValidityWarning(
@@ -594,7 +609,8 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
                                                 for d in front]))
     measured = None
     current = {"length": setup.finger_length_m, "drum_speed": setup.omega_rad_s,
-               "semi_width": setup.finger_semi_axes_m[0], "semi_thickness": setup.finger_semi_axes_m[1]}[vary]
+               "semi_width": setup.finger_semi_axes_m[0], "semi_thickness": setup.finger_semi_axes_m[1],
+               "taper": setup.finger_taper_ratio}[vary]
     if measured_alpha is not None and all(v.lo <= x <= v.hi for v, x in zip(space, (measured_alpha, current))):
         outputs = {k: float(v[0]) for k, v in surrogate.evaluate(np.array([[measured_alpha, current]])).items()}
         measured = type(optimum)(measured_alpha, current, outputs, float(problem.J(outputs))).as_dict(problem)
@@ -764,7 +780,7 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
         name, length_m, alpha, met = shown.compound.name, shown.design.x, shown.design.alpha_per_s, win is not None
         note = "" if met else " (closest; misses the requirements)"
     write_figure(out / "finger_drawing.png", finger_drawing(
-        length_m, setup.finger_semi_axes_m, drum_radius_m=setup.drum_radius_m,
+        length_m, setup.finger_semi_axes_m, drum_radius_m=setup.drum_radius_m, taper_ratio=setup.finger_taper_ratio,
         title=f"{name}: L = {m_to_inch(length_m):.4g} in, alpha = {alpha:.4g} 1/s{note}"))
     write_csv(out / "compounds.csv", ranking.table)
     write_text(out / "design_report.md", catalogue_report_markdown(result))

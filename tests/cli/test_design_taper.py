@@ -1,0 +1,76 @@
+"""``ccedi design --vary taper``: the generated finger's taper (its tip's semi-axes over its
+root's) designed beside alpha at its length. A tapered finger is softer and lighter: it
+pushes the object less, and less impulse goes into it; a minimum impulse then sets the
+taper. Bad bounds, and a taper asked of a finger mesh, are refused in one line before
+any run; ``[finger] contact_taper_ratio`` reaches the drum set-up."""
+import json
+
+import numpy as np
+import pytest
+
+from ccedi.fea.contact.drum import finger_mesh
+from ccedi.fea.mesh.gmsh_fingers import write_tapered_finger
+from ccedi.study.cli import main
+from ccedi.study.commands.fea import contact_setup
+from ccedi.study.config import load
+
+
+def _toml(tmp_path, text="[finger]\ncontact_length_in = 5.0\n"):
+    path = tmp_path / "finger.toml"
+    path.write_text(text)
+    return path
+
+
+def _design(tmp_path, capsys, *extra):
+    out = tmp_path / "out"
+    rc = main(["design", "--vary", "taper", "--config", str(_toml(tmp_path)), "--grid", "5", "5",
+               "--validation-runs", "2", "--pareto-points", "4", "--starts", "2", "--no-fea-check",
+               "--json", str(out / "d.json"), "--out", str(out), *extra])
+    assert rc == 0, capsys.readouterr().err
+    return json.loads((out / "d.json").read_text()), out
+
+
+def test_a_minimum_impulse_sets_the_taper_of_the_least_force(tmp_path, capsys):
+    """Least object force with the impulse at least 6 N s (the 5-in prism gives 7.5-9 N s,
+    a 0.4 taper about 4): the taper comes down from the prism until the impulse binds,
+    strictly between its bounds; the ROM verifies it (every verification run at a taper
+    within the bounds, the impulse within 3 % of 6 N s at the last)."""
+    result, out = _design(tmp_path, capsys, "--min-contact-impulse-N-s", "6")
+    assert result["problem"]["variables"][1]["name"] == "taper_ratio"
+    taper = result["optimum"]["taper_ratio"]
+    assert 0.45 < taper < 0.95
+    assert any("impulse" in b for b in result["binding"])
+    steps = result["rom_verification"]
+    assert steps and all(0.4 <= s["taper_ratio"] <= 1.0 for s in steps)
+    assert steps[-1]["model"]["contact_impulse_N_s"] == pytest.approx(6.0, rel=0.03)
+    assert "taper ratio = " in (out / "design_report.md").read_text()
+
+
+@pytest.mark.parametrize("extra, named", [
+    (["--vary", "taper", "--taper-bounds", "0.1", "0.8"], "--taper-bounds"),
+    (["--vary", "taper", "--taper-bounds", "0.9", "0.5"], "--taper-bounds 0.9 0.5"),
+    (["--vary", "taper", "--alpha-of-length", "paper"], "--alpha-of-length paper"),
+])
+def test_bad_taper_requests_are_refused_before_any_run(extra, named, tmp_path, capsys):
+    out = tmp_path / "out"
+    rc = main(["design", "--json", str(out / "d.json"), "--out", str(out), *extra])
+    err = capsys.readouterr().err
+    assert rc == 1 and "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    assert named in err and not (out / "rom_grid.csv").exists()
+
+
+def test_a_taper_on_a_finger_mesh_is_refused_and_the_generated_finger_takes_it(tmp_path, capsys):
+    write_tapered_finger(tmp_path / "finger.msh", 0.012, order=1)
+    text = '[finger]\nmesh = "finger.msh"\nclamp = "clamp"\ntip = "tip"\n'
+    rc = main(["design", "--vary", "taper", "--config", str(_toml(tmp_path, text)), "--json",
+               str(tmp_path / "d.json"), "--out", str(tmp_path)])
+    err = capsys.readouterr().err
+    assert rc == 1 and "--vary taper" in err and len(err.strip().splitlines()) == 1, err
+    rc = main(["design", "--config", str(_toml(tmp_path, text + "contact_taper_ratio = 0.5\n")), "--json",
+               str(tmp_path / "d.json"), "--out", str(tmp_path)])
+    err = capsys.readouterr().err
+    assert rc == 1 and "contact_taper_ratio = 0.5" in err and len(err.strip().splitlines()) == 1, err
+    setup = contact_setup(load(_toml(tmp_path, "[finger]\ncontact_length_in = 5.0\ncontact_taper_ratio = 0.6\n")))
+    tip = finger_mesh(setup).nodes[finger_mesh(setup).node_sets["tip"]]
+    assert setup.finger_taper_ratio == 0.6
+    np.testing.assert_allclose(np.abs(tip[:, 1]).max(), 0.6 * setup.finger_semi_axes_m[1], rtol=1e-12)
