@@ -22,14 +22,25 @@ told apart), by :func:`ccedi.design.model_error.output_error`: relative for forc
 stresses and the impulse; lengths (recovery, ringing, contact patch, first contact)
 relative to max(|FEA|, 5 mm), the scale of their requirements.
 
+``--variable taper`` checks the taper the same way: the surrogate over (alpha, taper
+ratio lambda, the tip's semi-axes over the root's, 0.4-1) of the 5-in finger with the
+paper's root section, corrected at alpha {40, 250, 600} 1/s x lambda {0.5, 0.75, 0.95},
+checked at lambda = 0.4 (alpha 60 1/s) and 0.6 (alpha 300 1/s), far from the paper's
+prism (lambda = 1), and at its optimum for the least object force with a contact impulse
+of at least 6 N s (under the default 2 N s the least force lies at the taper's lower
+bound; 6 N s sets it between).
+
 Relative damping; 176 grid and 20 off-grid ROM runs (~1 min); twelve FE runs of 1-2.5 min
 each on the 2-core AMD VM (the grid and the nine training runs cached).
 
-Run: ``OPENBLAS_NUM_THREADS=1 .venv/bin/python validation/design_section_check.py``;
-writes validation/design_section_check.json.
+Run: ``OPENBLAS_NUM_THREADS=1 .venv/bin/python validation/design_section_check.py
+[--variable semi_thickness|taper]``; writes validation/design_section_check.json or
+validation/design_taper_check.json.
 """
+import argparse
 import time
 from pathlib import Path
+from typing import NamedTuple
 
 import pandas as pd
 
@@ -44,6 +55,7 @@ from ccedi.design.surrogate import (
     rom_factory,
     run_rom,
     section_space,
+    taper_space,
     validation_errors,
     validation_points,
 )
@@ -51,32 +63,67 @@ from ccedi.fea.contact.drum import DrumSetup
 from ccedi.outputs import report_figures
 from ccedi.units import INCH
 
-OUT = Path(__file__).with_suffix(".json")
-CACHE = Path(__file__).parent / "cache" / "design_section"
+HERE = Path(__file__).parent
 GRID = (16, 11)
-TRAINING_ALPHA_PER_S = (40.0, 250.0, 600.0)
-TRAINING_B_MM = (5.5, 9.0, 12.0)
-FAR_DESIGNS = ((60.0, 4.5), (60.0, 13.0))
-"""(alpha [1/s], b [mm]) of the two checked designs far from the paper's section."""
 TOLERANCE = 0.05
+
+
+class GeometryCheck(NamedTuple):
+    """One geometry variable's check: its design space beside alpha, the full-FEA training
+    designs of the correction, the two checked designs far from the paper's prism, the
+    requirements the optimum is designed to, and where the cache and the result go."""
+
+    space: tuple
+    training: tuple
+    far_designs: tuple
+    requirements: Requirements
+    cache: Path
+    out: Path
+
+
+CHECKS = {
+    "semi_thickness": GeometryCheck(
+        space=section_space((7.5, 600.0), "semi_thickness_m", (4.0, 14.0)),
+        training=tuple((a, b * 1e-3) for a in (40.0, 250.0, 600.0) for b in (5.5, 9.0, 12.0)),
+        far_designs=((60.0, 4.5e-3), (60.0, 13.0e-3)), requirements=Requirements(),
+        cache=HERE / "cache" / "design_section", out=HERE / "design_section_check.json"),
+    "taper": GeometryCheck(
+        space=taper_space((7.5, 600.0), (0.4, 1.0)),
+        training=tuple((a, t) for a in (40.0, 250.0, 600.0) for t in (0.5, 0.75, 0.95)),
+        far_designs=((60.0, 0.4), (300.0, 0.6)), requirements=Requirements(min_contact_impulse_N_s=6.0),
+        cache=HERE / "cache" / "design_taper", out=HERE / "design_taper_check.json"),
+}
+"""The checks by ``--variable``: (alpha [1/s], the variable [SI]) of every design."""
 
 
 def _errors(outputs, fea, names):
     return {k: output_error(k, outputs[k], fea[k]) for k in names}
 
 
-def main():
-    setup = DrumSetup(finger_length_m=5.0 * INCH)
-    space = section_space((7.5, 600.0), "semi_thickness_m", (4.0, 14.0))
-    requirements = Requirements()
+def check(setup, c: GeometryCheck):
+    """The corrected surrogate of check ``c`` against the full FEA (module docstring).
+
+    Parameters
+    ----------
+    setup : DrumSetup
+        The drum test at the finger's length.
+    c : GeometryCheck
+
+    Returns
+    -------
+    dict
+        The result JSON.
+    """
+    space, requirements = c.space, c.requirements
+    variable = space[1]
     constrained = sorted({lim.output for lim in requirements.limits()})
     t0 = time.perf_counter()
-    grid, cached = cached_rom_runs(setup, grid_points(space, GRID), CACHE / "grid.csv", variables=space)
+    grid, cached = cached_rom_runs(setup, grid_points(space, GRID), c.cache / "grid.csv", variables=space)
     build_s = time.perf_counter() - t0
-    training = [(a, b * 1e-3) for a in TRAINING_ALPHA_PER_S for b in TRAINING_B_MM]
-    rom_training = run_rom(setup, training, variables=space)
-    fea_levels = [cached_rom_runs(setup, [p for p in training if p[0] == a], CACHE / f"training_fea_a{a:g}.csv",
-                                  variables=space, model_factory=full_fea_factory) for a in TRAINING_ALPHA_PER_S]
+    alphas = sorted({a for a, _ in c.training})
+    rom_training = run_rom(setup, list(c.training), variables=space)
+    fea_levels = [cached_rom_runs(setup, [p for p in c.training if p[0] == a], c.cache / f"training_fea_a{a:g}.csv",
+                                  variables=space, model_factory=full_fea_factory) for a in alphas]
     fea_training = pd.concat([runs for runs, _ in fea_levels], ignore_index=True)
     fea_cached = [cached for _, cached in fea_levels]
     correction = FeaCorrection.fit(space, rom_training, fea_training)
@@ -87,8 +134,7 @@ def main():
     optimum, info = solve(problem)
     plain_optimum, _ = solve(DesignProblem(uncorrected, requirements=requirements))
     designs = []
-    for alpha, b_mm in FAR_DESIGNS:
-        x = (alpha, b_mm * 1e-3)
+    for x in c.far_designs:
         outputs = {k: float(v[0]) for k, v in surrogate.evaluate([x]).items()}
         designs.append(Design(*x, outputs, float(problem.J(outputs))))
     designs.append(optimum)
@@ -98,7 +144,7 @@ def main():
         rom = model_run(d, setup, damping="relative", model_factory=rom_factory, variables=space)["outputs"]
         plain = {k: float(v[0]) for k, v in uncorrected.evaluate([(d.alpha_per_s, d.x)]).items()}
         errors = _errors(d.outputs, row["fea"], constrained)
-        checks.append({"design": role, "alpha_per_s": d.alpha_per_s, "semi_thickness_mm": d.x * 1e3,
+        checks.append({"design": role, "alpha_per_s": d.alpha_per_s, variable.key: float(variable.shown(d.x)),
                        "fea": {k: row["fea"][k] for k in constrained},
                        "surrogate_error": errors,
                        "uncorrected_surrogate_error": _errors(plain, row["fea"], constrained),
@@ -111,16 +157,24 @@ def main():
                        "within_5_percent": all(abs(e) <= TOLERANCE for e in errors.values() if e is not None),
                        "fea_meets_requirements": row["meets_requirements"],
                        "fea_wall_time_s": row["wall_time_s"]})
-    report_figures({"length_in": 5.0, "semi_width_mm": setup.finger_semi_axes_m[0] * 1e3,
-                    "grid": list(GRID), "grid_from_cache": cached, "build_wall_time_s": build_s,
-                    "off_grid_error": {k: off_grid[k] for k in constrained},
-                    "correction": {**correction.as_dict(), "training_fea_from_cache": fea_cached},
-                    "constrained_outputs": constrained, "tolerance": TOLERANCE,
-                    "design": {**optimum.as_dict(problem), "binding": binding(problem, optimum),
-                               "status": info["status"]},
-                    "uncorrected_design": {"alpha_per_s": plain_optimum.alpha_per_s,
-                                           "semi_thickness_mm": plain_optimum.x * 1e3},
-                    "fea_checks": checks}, OUT)
+    return {"length_in": setup.finger_length_m / INCH, "root_semi_axes_mm": [x * 1e3 for x in setup.finger_semi_axes_m],
+            "variable": variable.name, "requirements": [lim.describe() for lim in requirements.limits()],
+            "grid": list(GRID), "grid_from_cache": cached, "build_wall_time_s": build_s,
+            "off_grid_error": {k: off_grid[k] for k in constrained},
+            "correction": {**correction.as_dict(), "training_fea_from_cache": fea_cached},
+            "constrained_outputs": constrained, "tolerance": TOLERANCE,
+            "design": {**optimum.as_dict(problem), "binding": binding(problem, optimum), "status": info["status"]},
+            "uncorrected_design": {"alpha_per_s": plain_optimum.alpha_per_s,
+                                   variable.key: float(variable.shown(plain_optimum.x))},
+            "fea_checks": checks}
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--variable", choices=tuple(CHECKS), default="semi_thickness",
+                        help="the geometry variable beside alpha (default semi_thickness)")
+    c = CHECKS[parser.parse_args(argv).variable]
+    report_figures(check(DrumSetup(finger_length_m=5.0 * INCH), c), c.out)
 
 
 if __name__ == "__main__":
