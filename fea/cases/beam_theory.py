@@ -76,7 +76,7 @@ def tip_stiffness_eb(E, length_m, second_moment):
     return 3.0 * E * second_moment / length_m**3
 
 
-def tapered_tip_stiffness_eb(E, length_m, second_moment, taper_ratio):
+def tapered_tip_stiffness_eb(E, length_m, second_moment, *, taper_ratio):
     """Euler-Bernoulli tip stiffness of the similar-section tapered cantilever,
     ``k = 3 E I_0 lambda / L^3`` (module docstring): the tip deflection
     P / (E I_0) int_0^L (L - z)^2 / s(z)^4 dz = P L^3 / (3 E I_0 lambda).

@@ -58,7 +58,7 @@ def test_the_beam_references_hold_for_the_prism_and_the_integral():
         rtol=1e-6)
     lam = 0.4
     flexibility = quad(lambda z: (LENGTH_M - z) ** 2 / (1 - (1 - lam) * z / LENGTH_M) ** 4, 0, LENGTH_M)[0]
-    assert tapered_tip_stiffness_eb(RUBBER.E, LENGTH_M, inertia, lam) == pytest.approx(
+    assert tapered_tip_stiffness_eb(RUBBER.E, LENGTH_M, inertia, taper_ratio=lam) == pytest.approx(
         RUBBER.E * inertia / flexibility, rel=1e-9)
     coarse, fine = (tapered_cantilever_frequencies(RUBBER.E, RUBBER.rho, LENGTH_M, area=area, second_moment=inertia,
                                                    taper_ratio=lam, n_elements=n)[0] for n in (25, 100))
@@ -77,7 +77,7 @@ def test_fe_tapered_finger_against_the_tapered_euler_bernoulli_beam(taper_ratio)
     model = cantilever_model(_finger(taper_ratio), RUBBER)
     prism = cantilever_model(_finger(1.0), RUBBER)
     ratio = tip_deflection(prism, 1.0, linear=True) / tip_deflection(model, 1.0, linear=True)
-    exact = tapered_tip_stiffness_eb(RUBBER.E, LENGTH_M, inertia, taper_ratio) / tip_stiffness_eb(
+    exact = tapered_tip_stiffness_eb(RUBBER.E, LENGTH_M, inertia, taper_ratio=taper_ratio) / tip_stiffness_eb(
         RUBBER.E, LENGTH_M, inertia)
     assert ratio == pytest.approx(exact, rel=0.04)
     omega_beam = tapered_cantilever_frequencies(RUBBER.E, RUBBER.rho, LENGTH_M, area=area, second_moment=inertia,
