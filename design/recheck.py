@@ -14,11 +14,12 @@ The surrogate corrected by the full FEA (:func:`fea_correction`): the ROM and th
 run at a small tensor grid of the design variables, bounds included, and their ratio
 (:class:`ccedi.design.model_error.FeaCorrection`) multiplies the ROM's grid runs before the
 surrogate is fitted."""
+import time
 from dataclasses import replace
 from functools import partial
 
 from ccedi.distributed import map_runs
-from ccedi.errors import InputError, RequirementsUnmet
+from ccedi.errors import InputError, RequirementsUnmet, SolverError
 from ccedi.fea.contact.drum import DrumSetup, FullContactModel, ObjectStress
 
 from .model_error import FeaCorrection, output_error
@@ -143,13 +144,22 @@ def model_run(d, setup, *, damping, model_factory, extra_outputs=None, variables
 def _check_one(d, setup, damping, limits, model_factory, extra_outputs, variables, done):
     """The full-model row of :func:`fea_check` for design ``d``: a run of ``done`` at the
     same design, else a new one (the object stress solver is built in the worker: its
-    factorisation cannot be sent to it)."""
-    run = next((r for r in done if r["alpha_per_s"] == d.alpha_per_s and r["x"] == d.x), None) or model_run(
-        d, setup, damping=damping, model_factory=model_factory, extra_outputs=extra_outputs, variables=variables)
-    full = run["outputs"]
+    factorisation cannot be sent to it). A run the solver stops (an element inverted, an
+    unstable step) gives a row with ``failed``, its outputs None and every requirement
+    unmet, so that the other designs' rows and the result are kept."""
     keys = [k for k in (*OUTPUTS, *(extra_outputs or {})) if k in d.outputs]
-    return {"alpha_per_s": d.alpha_per_s, variables[1].key: float(variables[1].shown(d.x)), "damping": damping,
-            "surrogate": {k: d.outputs[k] for k in keys}, "fea": full,
+    row = {"alpha_per_s": d.alpha_per_s, variables[1].key: float(variables[1].shown(d.x)), "damping": damping,
+           "surrogate": {k: d.outputs[k] for k in keys}, "failed": None}
+    t0 = time.perf_counter()
+    try:
+        run = next((r for r in done if r["alpha_per_s"] == d.alpha_per_s and r["x"] == d.x), None) or model_run(
+            d, setup, damping=damping, model_factory=model_factory, extra_outputs=extra_outputs, variables=variables)
+    except SolverError as err:
+        return {**row, "failed": str(err), "fea": dict.fromkeys(keys), "relative_error": dict.fromkeys(keys),
+                "requirements": {lim.describe(): {"value": None, "margin": None, "met": False} for lim in limits},
+                "meets_requirements": False, "warnings": [str(err)], "wall_time_s": time.perf_counter() - t0}
+    full = run["outputs"]
+    return {**row, "fea": full,
             "relative_error": {k: output_error(k, d.outputs[k], full[k]) for k in keys},
             "requirements": {name: {"value": v, "margin": m, "met": ok} for name, (v, m, ok) in met(limits, full).items()},
             "meets_requirements": all(ok for _, _, ok in met(limits, full).values()),
@@ -201,7 +211,8 @@ def fea_check(setup: DrumSetup, designs, *, damping="relative", limits=(), model
         ``drum_speed_rpm`` [rpm]), ``damping``, ``surrogate`` and ``fea``
         (the full model's outputs), ``relative_error`` of the surrogate per output
         (:func:`ccedi.design.model_error.output_error`), ``requirements`` ({requirement: value, margin, met} on the full model),
-        ``meets_requirements``, ``warnings``, ``wall_time_s`` [s].
+        ``meets_requirements``, ``warnings``, ``wall_time_s`` [s], ``failed`` (None, or the
+        solver's message when it stopped the run: the outputs are then None).
 
     Raises
     ------
@@ -216,11 +227,11 @@ def fea_check(setup: DrumSetup, designs, *, damping="relative", limits=(), model
     rows = map_runs(check, designs, scheduler=scheduler, label="FEA re-check")
     for r in rows if progress else ():
         missed = [name for name, q in r["requirements"].items() if not q["met"]]
-        progress(f"FEA check alpha = {r['alpha_per_s']:.4g} 1/s, {variables[1].label} = "
-                 f"{r[variables[1].key]:.4g} {variables[1].unit} "
-                 f"({r['wall_time_s']:.0f} s): " + ("meets every requirement" if not missed
-                                                    else "misses " + "; ".join(missed)) + "; surrogate error "
-                 + ", ".join(f"{k} {v:+.1%}" for k, v in r["relative_error"].items() if v is not None))
+        head = (f"FEA check alpha = {r['alpha_per_s']:.4g} 1/s, {variables[1].label} = "
+                f"{r[variables[1].key]:.4g} {variables[1].unit} ({r['wall_time_s']:.0f} s): ")
+        progress(head + (f"the FE run failed: {r['failed']}" if r["failed"] else (
+            "meets every requirement" if not missed else "misses " + "; ".join(missed)) + "; surrogate error "
+            + ", ".join(f"{k} {v:+.1%}" for k, v in r["relative_error"].items() if v is not None)))
     return rows
 
 
@@ -262,7 +273,9 @@ def verified_optimum(problem, setup: DrumSetup, *, damping="relative", model_fac
     steps : list of dict
         Per solve: alpha [1/s], the second variable in its shown unit, the model's
         outputs, the requirements it missed, and ``run`` (the :func:`model_run`, for
-        :func:`fea_check`'s ``done``).
+        :func:`fea_check`'s ``done``). A run the model's solver stops ends the
+        verification: its step has ``model`` None and ``failed`` (the solver's message),
+        and the design returned is the one it was run at, not verified.
 
     Raises
     ------
@@ -276,8 +289,13 @@ def verified_optimum(problem, setup: DrumSetup, *, damping="relative", model_fac
     steps = []
     design = start if start is not None else solve(problem, n_starts=n_starts)[0]
     for _ in range(iterations):
-        run = model_run(design, setup, damping=damping, model_factory=factory, extra_outputs=extra_outputs,
-                        variables=variables, stress=stress, progress=True)
+        try:
+            run = model_run(design, setup, damping=damping, model_factory=factory, extra_outputs=extra_outputs,
+                            variables=variables, stress=stress, progress=True)
+        except SolverError as err:
+            steps.append({"alpha_per_s": design.alpha_per_s, variables[1].key: float(variables[1].shown(design.x)),
+                          "model": None, "missed": [], "failed": str(err)})
+            break
         model = run["outputs"]
         missed = [lim for lim in problem.limits if model.get(lim.output) is None
                   or lim.margin(model[lim.output], problem.bound(lim, design.alpha_per_s, design.x)) < 0.0]

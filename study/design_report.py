@@ -151,15 +151,25 @@ def _verification(result, second):
     where the model run at a design missed a requirement, its bound was shifted by the
     surrogate's error there and the problem solved again."""
     steps = result.get("rom_verification") or []
-    if not any(s["missed"] for s in steps):
+    if not any(s["missed"] or s.get("failed") for s in steps):
         return []
     lines = ["", f"## Verification by the {result['problem'].get('verified_by', 'ROM')}", "",
              "The surrogate's optimum was run by the model; where it missed a requirement, that requirement's bound "
              "was shifted by the surrogate's error there and the problem solved again:", ""]
     for s in steps:
-        lines.append(f"- {_design(s, second)}: " + ("meets every requirement" if not s["missed"]
-                                                   else "misses " + "; ".join(s["missed"])))
+        lines.append(f"- {_design(s, second)}: " + (
+            f"**the run failed** ({s['failed']}): the design below is the surrogate's, not verified" if s.get("failed")
+            else "meets every requirement" if not s["missed"] else "misses " + "; ".join(s["missed"])))
     return lines
+
+
+def _fea_verdict(row):
+    """What a :func:`ccedi.design.recheck.fea_check` row says, in one sentence."""
+    if row.get("failed"):
+        return f"**the FE run failed** ({row['failed']}); the design is not checked."
+    if row["meets_requirements"]:
+        return "meets every requirement."
+    return "misses " + "; ".join(k for k, q in row["requirements"].items() if not q["met"]) + "."
 
 
 def report_markdown(result):
@@ -211,7 +221,7 @@ def report_markdown(result):
     for name, margin in o["margins"].items():
         out = result["requirement_outputs"].get(name)
         unit = UNITS.get(out, "")
-        f_row = fea["requirements"].get(name) if fea else None
+        f_row = fea["requirements"].get(name) if fea and not fea.get("failed") else None
         lines.append(f"| {name} | {_fmt(o.get(out), unit)} | {margin:+.3f} | {'yes' if name in result['binding'] else ''} "
                      f"| {_fmt(f_row['value'], unit) if f_row else '-'} | "
                      f"{('yes' if f_row['met'] else '**no**') if f_row else '-'} |")
@@ -252,7 +262,8 @@ def report_markdown(result):
         for r in result["fea_check"]:
             name = _design(r, v)
             lines.append(f"| {name}: surrogate | " + " | ".join(_fmt(r["surrogate"][k], UNITS[k]) for k in keys) + " |")
-            lines.append(f"| FEA ({'meets' if r['meets_requirements'] else 'misses'} the requirements) | "
+            said = "**run failed**" if r.get("failed") else "meets" if r["meets_requirements"] else "misses"
+            lines.append(f"| FEA ({said}{'' if r.get('failed') else ' the requirements'}) | "
                          + " | ".join(_fmt(r["fea"][k], UNITS[k]) for k in keys) + " |")
             lines.append("| error | " + " | ".join("-" if r["relative_error"][k] is None
                                                    else f"{r['relative_error'][k]:+.1%}" for k in keys) + " |")
@@ -379,8 +390,7 @@ def catalogue_report_markdown(result):
         lines += ["", "Error: (surrogate - FEA) / |FEA|, a length's over at least 5 mm "
                   "(`ccedi.design.model_error.output_error`)."]
         lines += ["", f"Full FEA at the compound's own E, rho and alpha ({fea['wall_time_s']:.0f} s): "
-                  + ("meets every requirement." if fea["meets_requirements"] else "misses "
-                     + "; ".join(k for k, q in fea["requirements"].items() if not q["met"]) + ".")]
+                  + _fea_verdict(fea)]
     if result.get("robust"):
         lines += _robust_lines(result, ranking, unit)
     if result.get("drum_speed"):
@@ -446,10 +456,7 @@ def _robust_lines(result, ranking, unit):
     fea = rb.get("fea_check")
     if fea:
         lines += ["", f"Full FEA of the robust design at its compound's nominal E, rho and alpha "
-                  f"({fea['wall_time_s']:.0f} s): " + ("meets every requirement." if fea["meets_requirements"]
-                                                      else "misses " + "; ".join(
-                                                          k for k, q in fea["requirements"].items()
-                                                          if not q["met"]) + ".")]
+                  f"({fea['wall_time_s']:.0f} s): " + _fea_verdict(fea)]
     lines += ["", "The violation probabilities are the surrogate's; `benchmarks/robust_design_monte_carlo.py` checks "
               "them with a full-FEA Monte Carlo."]
     return lines

@@ -141,6 +141,10 @@ def check(setup, c: GeometryCheck):
     fea = fea_check(setup, designs, limits=requirements.limits(), variables=space)
     checks = []
     for role, d, row in zip(("far", "far", "optimum"), designs, fea):
+        if row["failed"]:
+            checks.append({"design": role, "alpha_per_s": d.alpha_per_s, variable.key: float(variable.shown(d.x)),
+                           "failed": row["failed"], "fea_wall_time_s": row["wall_time_s"]})
+            continue
         rom = model_run(d, setup, damping="relative", model_factory=rom_factory, variables=space)["outputs"]
         plain = {k: float(v[0]) for k, v in uncorrected.evaluate([(d.alpha_per_s, d.x)]).items()}
         errors = _errors(d.outputs, row["fea"], constrained)

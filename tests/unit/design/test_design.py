@@ -24,12 +24,13 @@ from ccedi.design import (
     pareto_front,
     sensitivities,
     solve,
+    verified_optimum,
 )
 from ccedi.design.model_error import model_errors, output_error
 from ccedi.design.outputs import overshoot, rom_segments, settling_time_s, setup_at
 from ccedi.design.rubber import alpha_of_length
 from ccedi.design.surrogate import cached_rom_runs, grid_points, run_rom, speed_space
-from ccedi.errors import InputError, RequirementsUnmet
+from ccedi.errors import InputError, RequirementsUnmet, SolverError
 from ccedi.fea.contact.drum import DrumSetup, ObjectStress
 from ccedi.rom.ccedi import paper_alpha
 from ccedi.rom.contact_rom import ReducedContactModel
@@ -256,6 +257,50 @@ def test_fea_check_compares_like_with_like(surrogate):
         assert abs(check["relative_error"][k]) < 1e-6, k
     assert check["fea"]["sensor_peak_force_N"] == pytest.approx(row.sensor_peak_force_N, rel=1e-9)
     assert set(check["requirements"]) == {lim.describe() for lim in problem.limits}
+
+
+class _StoppedModel:
+    """A contact model whose solver stops every run (an inverted element, say)."""
+
+    def __init__(self, setup):
+        self.setup = setup
+
+    def run(self, alpha, **kwargs):
+        raise SolverError(f"element 7 inverted (J <= 0) at alpha {alpha:g}: refine it")
+
+
+def test_a_run_the_solver_stops_is_reported_and_the_other_designs_kept(surrogate):
+    """The re-check of two designs, the model's solver stopping the longer finger's run:
+    that row says so (outputs None, every requirement unmet, the solver's message), the
+    other keeps its outputs; the verification stops at such a run and returns the design
+    it ran, unverified, with the message in its step."""
+    sur, runs = surrogate
+    problem = DesignProblem(sur)
+    designs = []
+    for k in (2, len(runs) - 3):
+        row = runs.iloc[k]
+        d = replace(brute_force(problem), alpha_per_s=float(row.alpha_per_s), x=float(row.length_m))
+        d.outputs = {k: float(v[0]) for k, v in sur.evaluate([[d.alpha_per_s, d.x]]).items()}
+        designs.append(d)
+    short = min(d.x for d in designs)
+
+    def model(setup):
+        if setup.finger_length_m > short:
+            return _StoppedModel(setup)
+        return ReducedContactModel(setup, n_segments=rom_segments(setup.finger_length_m))
+
+    said = []
+    rows = fea_check(DrumSetup(), designs, damping="relative", limits=problem.limits, model_factory=model,
+                     progress=said.append)
+    ok, stopped = sorted(rows, key=lambda r: r["length_in"])
+    assert ok["failed"] is None and ok["fea"]["sensor_peak_force_N"] > 0.0
+    assert "element 7 inverted" in stopped["failed"] and not stopped["meets_requirements"]
+    assert all(v is None for v in stopped["fea"].values()) and all(v is None for v in stopped["relative_error"].values())
+    assert not any(q["met"] for q in stopped["requirements"].values())
+    assert sum("the FE run failed: element 7 inverted" in line for line in said) == 1
+    long_design = max(designs, key=lambda d: d.x)
+    design, _, steps = verified_optimum(problem, DrumSetup(), model_factory=_StoppedModel, start=long_design)
+    assert design is long_design and steps[-1]["model"] is None and "inverted" in steps[-1]["failed"]
 
 
 def test_user_defined_output_and_limit(surrogate):
