@@ -23,12 +23,13 @@ stresses and the impulse; lengths (recovery, ringing, contact patch, first conta
 relative to max(|FEA|, 5 mm), the scale of their requirements.
 
 ``--variable taper`` checks the taper the same way: the surrogate over (alpha, taper
-ratio lambda, the tip's semi-axes over the root's, 0.4-1) of the 5-in finger with the
-paper's root section, corrected at alpha {40, 250, 600} 1/s x lambda {0.5, 0.75, 0.95},
-checked at lambda = 0.4 (alpha 60 1/s) and 0.6 (alpha 300 1/s), far from the paper's
-prism (lambda = 1), and at its optimum for the least object force with a contact impulse
-of at least 6 N s (under the default 2 N s the least force lies at the taper's lower
-bound; 6 N s sets it between).
+ratio lambda, the tip's semi-axes over the root's, 0.6-1,
+:data:`ccedi.design.surrogate.TAPER_BOUNDS`) of the 5-in finger with the paper's root
+section, corrected at alpha {40, 250, 600} 1/s x lambda {0.65, 0.8, 0.95}, checked at
+lambda = 0.6 (alpha 60 1/s) and 0.7 (alpha 300 1/s), far from the paper's prism
+(lambda = 1), and at its optimum for the least object force with a contact impulse of at
+least 6 N s (under the default 2 N s the least force lies at the taper's lower bound;
+6 N s sets it between).
 
 Relative damping; 176 grid and 20 off-grid ROM runs (~1 min); twelve FE runs of 1-2.5 min
 each on the 2-core AMD VM (the grid and the nine training runs cached).
@@ -88,9 +89,9 @@ CHECKS = {
         far_designs=((60.0, 4.5e-3), (60.0, 13.0e-3)), requirements=Requirements(),
         cache=HERE / "cache" / "design_section", out=HERE / "design_section_check.json"),
     "taper": GeometryCheck(
-        space=taper_space((7.5, 600.0), (0.4, 1.0)),
-        training=tuple((a, t) for a in (40.0, 250.0, 600.0) for t in (0.5, 0.75, 0.95)),
-        far_designs=((60.0, 0.4), (300.0, 0.6)), requirements=Requirements(min_contact_impulse_N_s=6.0),
+        space=taper_space((7.5, 600.0), (0.6, 1.0)),
+        training=tuple((a, t) for a in (40.0, 250.0, 600.0) for t in (0.65, 0.8, 0.95)),
+        far_designs=((60.0, 0.6), (300.0, 0.7)), requirements=Requirements(min_contact_impulse_N_s=6.0),
         cache=HERE / "cache" / "design_taper", out=HERE / "design_taper_check.json"),
 }
 """The checks by ``--variable``: (alpha [1/s], the variable [SI]) of every design."""

@@ -78,7 +78,8 @@ def add_parsers(sub):
                         "direction, default 4 14; --vary semi_width: a, across, default 6 18) at the set-up's length")
     d.add_argument("--taper-bounds", type=float, nargs=2, default=DesignOptions.taper_bounds, metavar=("LO", "HI"),
                    help="bounds of the taper ratio, the tip's semi-axes over the root's [-] (--vary taper; default "
-                        "0.4 1: down to a tip 0.4 times the root section, up to the prism) at the set-up's length")
+                        "0.6 1: down to a tip 0.6 times the root section, up to the prism; below 0.6 the full FE "
+                        "tip is crushed by the contact) at the set-up's length")
     d.add_argument("--grid", type=int, nargs=2, default=(15, 11), metavar=("N_ALPHA", "N_SECOND"),
                    help="ROM runs of the surrogate grid along alpha and the second variable (cached in OUT)")
     d.add_argument("--validation-runs", type=int, default=20, help="off-grid ROM runs measuring the surrogate error")
@@ -172,7 +173,8 @@ class DesignOptions:
         Bounds of the varied section semi-axis [mm] (None: the default of
         :data:`ccedi.design.surrogate.SECTION_BOUNDS_MM`).
     taper_bounds : tuple of float
-        Bounds of the taper ratio [-] (default :data:`ccedi.design.surrogate.TAPER_BOUNDS`).
+        Bounds of the taper ratio [-] (default :data:`ccedi.design.surrogate.TAPER_BOUNDS`;
+        a lower bound below it is warned of).
     drum_speed_bounds_rpm : tuple of float
         Drum speed bounds [rpm] (default :data:`ccedi.design.surrogate.DRUM_SPEED_BOUNDS_RPM`).
     grid : tuple of int
@@ -216,7 +218,7 @@ class DesignOptions:
     length_bounds_in: tuple = (3.0, 8.0)
     vary: str | None = None
     section_bounds_mm: tuple | None = None
-    taper_bounds: tuple = (0.4, 1.0)
+    taper_bounds: tuple = (0.6, 1.0)
     drum_speed_bounds_rpm: tuple = (10.0, 40.0)
     grid: tuple = (15, 11)
     validation_runs: int = 20
@@ -494,6 +496,7 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
     from ccedi.design.requirements import Requirements
     from ccedi.design.surrogate import (
         CHECKED_ALPHA_PER_S,
+        TAPER_BOUNDS,
         Surrogate,
         cached_rom_runs,
         design_space,
@@ -516,6 +519,11 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
              else speed_space(tuple(o.alpha_bounds), tuple(o.drum_speed_bounds_rpm)) if vary == "drum_speed"
              else taper_space(tuple(o.alpha_bounds), tuple(o.taper_bounds)) if vary == "taper"
              else section_space(tuple(o.alpha_bounds), f"{vary}_m", o.section_bounds_mm))
+    if vary == "taper" and o.taper_bounds[0] < TAPER_BOUNDS[0]:
+        warnings.warn(ValidityWarning(
+            f"--taper-bounds reach {o.taper_bounds[0]:g}, below {TAPER_BOUNDS[0]:g}: the full FE finger's thin tip is "
+            "crushed by the contact there (an element inverted at 0.4 on the 5-in finger); its FEA re-check may "
+            "fail"), stacklevel=2)
     if o.alpha_bounds[0] < CHECKED_ALPHA_PER_S[0]:
         warnings.warn(ValidityWarning(
             f"alpha bounds reach {o.alpha_bounds[0]:g} 1/s, below {CHECKED_ALPHA_PER_S[0]:g} 1/s: the contact ROM's "
