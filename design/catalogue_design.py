@@ -388,6 +388,9 @@ class CompoundDesign:
         The ROM runs at the compound's own E and rho that verified the optimum.
     flags : list of str
         A variable on its bound (:func:`ccedi.design.optimise.on_bounds`).
+    drum : ccedi.design.drum_speed.DrumSpeedCheck or None
+        The fastest drum the design's finger allows (:func:`ccedi.design.drum_speed.with_drum_speeds`;
+        None: not searched, or the design misses the requirements).
     """
 
     compound: Compound
@@ -402,6 +405,7 @@ class CompoundDesign:
     robust_limit: str
     verification: list = field(default_factory=list)
     flags: list = field(default_factory=list)
+    drum: object = None
 
     @property
     def objective_value(self):
@@ -485,10 +489,14 @@ class CatalogueDesign:
         by their largest shortfall.
     objective : str
         The objective's name (:data:`ccedi.design.optimise.OBJECTIVES`).
+    rank_by : {"objective", "fastest_drum"}, optional
+        What orders the compounds that meet the requirements: their objective, or their
+        fastest drum, fastest first (:func:`ccedi.design.drum_speed.with_drum_speeds`).
     """
 
     designs: list
     objective: str
+    rank_by: str = "objective"
 
     @property
     def winner(self):
@@ -499,9 +507,12 @@ class CatalogueDesign:
     def table(self):
         """The ranked table (pandas.DataFrame): rank, compound, feasible, E [Pa], rho
         [kg/m^3], tan delta, alpha [1/s], L [in], the objective and its unit, the binding
-        (or missed) requirements, the largest shortfall, the robust margin, and the margin
-        of every requirement (``margin: <requirement>``)."""
+        (or missed) requirements, the largest shortfall, the robust margin, the margin
+        of every requirement (``margin: <requirement>``), and, when the drum speeds were
+        searched, each design's fastest drum [rpm] and the requirement that stops a faster
+        one (``drum_binding``; "" when the fastest speed run holds)."""
         output = OBJECTIVES[self.objective]
+        searched = any(d.drum is not None for d in self.designs)
         rows = []
         for rank, d in enumerate(self.designs, start=1):
             c = d.compound
@@ -511,23 +522,27 @@ class CatalogueDesign:
                    "objective_unit": UNITS[output], "binding": "; ".join(d.binding),
                    "largest_shortfall": d.shortfall, "robust_margin": d.robust_margin}
             row.update({f"margin: {k}": v for k, v in d.margins.items()})
+            if searched:
+                row.update({"fastest_drum_rpm": None if d.drum is None else d.drum.fastest_rpm,
+                            "drum_binding": None if d.drum is None else d.drum.binding})
             rows.append(row)
         return pd.DataFrame(rows)
 
     def as_dict(self):
-        """JSON form: the objective, the table's rows, and per compound its design
+        """JSON form: the objective, what ranks, the table's rows, and per compound its design
         (:meth:`ccedi.design.optimise.Design.as_dict`), the robust margin's requirement, its
-        verification runs and flags.
+        verification runs, flags and fastest drum (``drum_speed``, None when not searched).
 
         Returns
         -------
         dict
         """
-        return {"objective": self.objective, "objective_output": OBJECTIVES[self.objective],
+        return {"objective": self.objective, "objective_output": OBJECTIVES[self.objective], "rank_by": self.rank_by,
                 "table": self.table.to_dict(orient="records"),
                 "designs": {d.compound.name: {"feasible": d.feasible, "tie": str(d.tie),
                                               "design": d.design.as_dict(d.problem), "robust_limit": d.robust_limit,
                                               "verification": d.verification, "flags": d.flags,
+                                              "drum_speed": None if d.drum is None else d.drum.as_dict(),
                                               "requirements": [lim.describe() for lim in d.problem.limits]}
                             for d in self.designs},
                 "winner": None if self.winner is None else self.winner.compound.name}

@@ -325,6 +325,7 @@ def catalogue_report_markdown(result):
     output = ranking["objective_output"]
     unit = UNITS.get(output, "")
     shown = {"m": "mm", "Pa": "MPa"}.get(unit, unit)
+    drum = any("fastest_drum_rpm" in r for r in ranking["table"])
     lines = ["# Compound design", "",
              f"Catalogue `{result['catalogue']}` ({len(ranking['table'])} compounds). Each compound is designed over "
              f"the finger length {p['length_bounds_in'][0]:.4g}-{p['length_bounds_in'][1]:.4g} in at its nominal E "
@@ -332,17 +333,24 @@ def catalogue_report_markdown(result):
              f"loss factor; the objective: minimise {_label(output)}. Damping: **{p['damping']}**. Requirements: "
              + "; ".join(p["requirements"]) + ".", "",
              "## Ranking", "",
-             "Compounds that meet every requirement rank by the objective, the others after them by their largest "
-             "shortfall (normalised). Robust margin: the smallest requirement margin over the compound's loss-factor "
-             "range at the chosen length.", "",
+             "Compounds that meet every requirement rank by "
+             + ("their fastest drum, fastest first (ties by the objective)" if ranking.get("rank_by") == "fastest_drum"
+                else "the objective")
+             + ", the others after them by their largest shortfall (normalised). Robust margin: the smallest "
+             "requirement margin over the compound's loss-factor range at the chosen length."
+             + (" Fastest drum: the fastest drum speed at which the ROM of the compound's finger (its material, "
+                "length and alpha) meets every requirement, and the requirement that fails on a faster drum "
+                "(`ccedi.design.drum_speed.with_drum_speeds`)." if drum else ""), "",
              f"| rank | compound | meets | E [MPa] | rho [kg/m^3] | tan delta | alpha [1/s] | L [in] | objective "
-             f"[{shown}] | binds (or missed) | shortfall | robust margin |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             f"[{shown}] | binds (or missed) | shortfall | robust margin |"
+             + (" fastest drum [rpm] | stops a faster drum |" if drum else ""),
+             "|---" * (14 if drum else 12) + "|"]
     for r in ranking["table"]:
         lines.append(f"| {r['rank']} | {r['compound']} | {'yes' if r['feasible'] else '**no**'} | "
                      f"{r['E_Pa'] / 1e6:.4g} | {r['rho_kg_m3']:.4g} | {r['tan_delta']:.3g} | {r['alpha_per_s']:.4g} | "
                      f"{r['length_in']:.4g} | {_fmt(r['objective'], unit).split(' ')[0]} | {r['binding'] or '-'} | "
-                     f"{r['largest_shortfall']:.3g} | {r['robust_margin']:+.3f} |")
+                     f"{r['largest_shortfall']:.3g} | {r['robust_margin']:+.3f} |"
+                     + (f" {_drum_cell(r)} |" if drum else ""))
     win = ranking["winner"]
     if win is None:
         lines += ["", "## No compound meets the requirements", "",
@@ -378,6 +386,15 @@ def catalogue_report_markdown(result):
         lines += _drum_speed_lines(result["drum_speed"])
     lines += ["", "Figure: `finger_drawing.png` (the chosen finger's length on the drum and its section, in mm)."]
     return "\n".join(lines) + "\n"
+
+
+def _drum_cell(row):
+    """The ranking table's fastest drum [rpm] and the requirement that stops a faster one."""
+    if not row["feasible"]:
+        return "- | -"
+    if row["fastest_drum_rpm"] is None or np.isnan(row["fastest_drum_rpm"]):
+        return f"none | {row['drum_binding']} (even at the slowest speed run)"
+    return f"{row['fastest_drum_rpm']:.3g} | {row['drum_binding'] or 'none up to the fastest speed run'}"
 
 
 def _drum_speed_lines(check):

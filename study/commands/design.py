@@ -92,6 +92,12 @@ def add_parsers(sub):
                    help="design every compound of a catalogue CSV (no PATH: the bundled data/compounds.csv) with its "
                         "own E, density and alpha = tan delta x omega_1(L), the length optimised, and rank them "
                         "(report table, drawing of the winner)")
+    d.add_argument("--no-drum-speed", action="store_true",
+                   help="with --compounds: do not search each feasible compound's fastest drum (9 ROM runs each, over "
+                        "--drum-speed-bounds-rpm)")
+    d.add_argument("--rank-by", choices=("objective", "fastest_drum"), default="objective",
+                   help="with --compounds: order the compounds that meet the requirements by the objective (default) "
+                        "or by their fastest drum, fastest first")
     d.add_argument("--robust", nargs="?", type=float, const=0.95, default=None, metavar="PROBABILITY",
                    help="with --compounds: design each compound to meet every requirement with this probability "
                         "(default 0.95) over its spread of E and tan delta, rank the robust designs and show them "
@@ -196,6 +202,11 @@ class DesignOptions:
         compounds' spread (None: nominal designs only).
     spread : ccedi.design.robust.Spread, ccedi.design.robust.CalibratedSpread or None
         The spread of the robust design (None: the default Spread).
+    drum_speed : bool
+        With the compound design: search every feasible compound's fastest drum
+        (:func:`ccedi.design.drum_speed.with_drum_speeds`).
+    rank_by : {"objective", "fastest_drum"}
+        With the compound design: what orders the compounds that meet the requirements.
     """
 
     requirements: object = None
@@ -219,6 +230,8 @@ class DesignOptions:
     fea_correction: tuple | None = None
     robust_probability: float | None = None
     spread: object = None
+    drum_speed: bool = True
+    rank_by: str = "objective"
 
 
 def options_from(cfg, **overrides):
@@ -267,7 +280,11 @@ def cmd_design(args):
         validation_runs=args.validation_runs, pareto_points=args.pareto_points, pareto_output=args.pareto_output,
         starts=args.starts, model_error=not args.no_model_error, fea_check=not args.no_fea_check,
         fea_check_designs=args.fea_check_designs,
-        fea_correction=None if args.fea_correction is None else tuple(args.fea_correction), **robust_options(args))
+        fea_correction=None if args.fea_correction is None else tuple(args.fea_correction),
+        drum_speed=not args.no_drum_speed, rank_by=args.rank_by, **robust_options(args))
+    if args.compounds is None and (args.no_drum_speed or args.rank_by != "objective"):
+        raise InputError(f"{'--no-drum-speed' if args.no_drum_speed else '--rank-by ' + args.rank_by}: the fastest "
+                         "drum per compound belongs to the compound design: give --compounds too")
     if args.compounds is not None:
         write_catalogue_design(contact_setup(cfg), options, catalogue=args.compounds or None, json_path=args.json,
                                out=args.out, scheduler=args.scheduler)
@@ -637,7 +654,9 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     (:func:`ccedi.design.robust.robust_catalogue`), ranked, shown beside the nominal ones,
     the robust winner re-checked by the full FEA at its nominal inputs and drawn. The chosen
     finger's fastest drum (:func:`ccedi.design.drum_speed.fastest_drum_speed`, over
-    ``options.drum_speed_bounds_rpm``) is found by its ROM.
+    ``options.drum_speed_bounds_rpm``) is found by its ROM; unless ``options.drum_speed`` is
+    False, every feasible compound's is, in the ranking, which ``options.rank_by`` may order
+    by it (:func:`ccedi.design.drum_speed.with_drum_speeds`).
 
     Parameters
     ----------
@@ -666,14 +685,15 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     ccedi.errors.InputError
         A catalogue that does not read, an option the compound design does not take (the
         drum speed varied, alpha tied to the paper's rubber, a weighted or throughput
-        objective), a finger mesh, or an option out of range.
+        objective: the fastest-drum ranking is ``rank_by``), a finger mesh, ranking by the
+        fastest drum without searching it, or an option out of range.
     ccedi.errors.RequirementsUnmet
         No compound meets the requirements (or, robust, none with the probability asked);
         raised after the result and the report are written.
     """
     from ccedi.design.catalogue_design import CATALOGUE_GRID, catalogue_surrogate, compound_setup, design_compounds
     from ccedi.design.compounds import CATALOGUE, load_compounds
-    from ccedi.design.drum_speed import fastest_drum_speed
+    from ccedi.design.drum_speed import fastest_drum_speed, with_drum_speeds
     from ccedi.design.recheck import fea_check
     from ccedi.design.requirements import Requirements
     from ccedi.design.robust import Spread, robust_catalogue
@@ -690,7 +710,9 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
         if bad:
             raise InputError(f"--compounds with {said}: the compound design varies the length on each compound's "
                              "own alpha and ranks an objective in a unit (object_force, object_stress, root_stress, "
-                             "recovery, ringing)")
+                             "recovery, ringing); --rank-by fastest_drum ranks by the fastest drum")
+    if o.rank_by == "fastest_drum" and not o.drum_speed:
+        raise InputError("--rank-by fastest_drum with --no-drum-speed: ranking by the fastest drum needs it searched")
     if setup.finger is not None:
         raise InputError("--compounds: the finger is a given mesh of fixed length; the compound design varies the "
                          "length of the generated finger")
@@ -714,6 +736,12 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     errors, error_source = _model_error(replace(o, alpha_bounds=(va.lo, va.hi)), "length")
     ranking = design_compounds(surrogate, compounds.values(), setup=setup, first_mode=first_mode, requirements=req,
                                objective=o.objective, model_error=errors, damping=o.damping, n_starts=o.starts)
+    if o.drum_speed:
+        def drum_tick(k, n):
+            print(f"fastest drum {k}/{n} (the feasible compounds' ROM over drum speeds)", flush=True)
+
+        ranking = with_drum_speeds(ranking, setup, speed_bounds_rpm=tuple(o.drum_speed_bounds_rpm), damping=o.damping,
+                                   rank_by=o.rank_by, progress=drum_tick)
     limits = ranking.designs[0].problem.limits
     result = {
         "feasible": ranking.winner is not None,
@@ -752,7 +780,9 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
         chosen = None if robust.winner is None else (by_name[robust.winner.compound], robust.winner.length_m)
     else:
         chosen = None if win is None else (win, win.design.x)
-    if chosen is not None:
+    if chosen is not None and chosen[0].drum is not None and chosen[1] == chosen[0].design.x:
+        result["drum_speed"] = chosen[0].drum.as_dict()
+    elif chosen is not None:
         result["drum_speed"] = fastest_drum_speed(chosen[0], setup, length_m=chosen[1], damping=o.damping,
                                                   speed_bounds_rpm=tuple(o.drum_speed_bounds_rpm)).as_dict()
     if robust is not None:

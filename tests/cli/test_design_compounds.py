@@ -1,5 +1,6 @@
 """``ccedi design --compounds [CATALOGUE]``: every compound of a catalogue designed over the
-length on its own E, density and alpha, ranked, the table and the drawing in the report;
+length on its own E, density and alpha, ranked, each feasible one with its fastest drum, the
+table and the drawing in the report;
 what the compound design cannot take, and a section design's bad bounds, are refused in one
 line before any ROM run."""
 import json
@@ -39,6 +40,10 @@ def _refused(capsys, argv, named):
     (["--compounds", "--spread", "0.1", "0.1"], "give --robust too"),
     (["--compounds", "--robust", "--spread-from", "no_such_result.json"], "no_such_result.json"),
     (["--compounds", "--robust", "--spread", "0.1", "0.1", "--spread-from", "x.json"], "give one spread"),
+    (["--compounds", "--objective", "throughput"], "--rank-by fastest_drum ranks by the fastest drum"),
+    (["--rank-by", "fastest_drum"], "--rank-by fastest_drum: the fastest drum per compound belongs to the compound"),
+    (["--no-drum-speed"], "--no-drum-speed: the fastest drum per compound belongs to the compound design"),
+    (["--compounds", "--rank-by", "fastest_drum", "--no-drum-speed"], "--rank-by fastest_drum with --no-drum-speed"),
     (["--compounds", "--fea-correction", "2", "2"], "--fea-correction corrects the two-variable design"),
     (["--vary", "semi_thickness", "--fea-correction", "2", "9"], "--fea-correction 2 9"),
 ])
@@ -77,6 +82,9 @@ def test_a_catalogue_is_ranked_the_damped_compound_first_on_its_own_alpha(tmp_pa
     assert drum["compound"] == "paper_finger_rubber" and drum["length_m"] / 0.0254 == pytest.approx(win["length_in"])
     assert drum["speeds_rpm"][0] == 10.0 and drum["speeds_rpm"][-1] == 40.0
     assert (drum["fastest_rpm"] is None) == (drum["worst_margin"][0] < 0) and "## Drum speed" in report
+    assert win["fastest_drum_rpm"] == drum["fastest_rpm"] and win["drum_binding"] == drum["binding"]
+    assert table[1]["fastest_drum_rpm"] is None and "| fastest drum [rpm] | stops a faster drum |" in report
+    assert result["compounds"]["designs"]["paper_finger_rubber"]["drum_speed"] == drum
 
 
 def test_robust_designs_are_ranked_beside_the_nominal_ones_within_the_asked_probability(tmp_path, capsys):
