@@ -1,8 +1,8 @@
 """The drum speed a chosen finger allows: the throughput a designer is paid for.
 
 A compound's design (:func:`ccedi.design.catalogue_design.design_compounds`) fixes the
-finger: its compound (E, rho), its length L and its damping alpha = tan delta x
-omega_1(L). The drum speed is then a question about that finger alone: the faster the drum,
+finger: its compound (E, rho), its length L (and, when designed, its section's
+semi-thickness b) and its damping alpha = tan delta x omega_1(L). The drum speed is then a question about that finger alone: the faster the drum,
 the shorter the time until the next object arrives (the cycle time, one revolution over
 the objects per revolution) and the less the finger has recovered by then. The contact
 ROM of the finger at its own material and length runs at ``n`` drum speeds over
@@ -133,7 +133,7 @@ def fastest_drum_speed(design: CompoundDesign, setup, *, length_m=None, speed_bo
     c = design.compound
     L = float(design.design.x if length_m is None else length_m)
     alpha = float(design.tie(m_to_inch(L)))
-    own = setup_for_length(compound_setup(setup, c), L)
+    own = setup_for_length(compound_setup(setup, c, design.semi_thickness_m), L)
     speeds = np.linspace(lo, hi, int(n))
     runs = run_rom(own, [(alpha, w * RPM) for w in speeds], damping=damping, progress=progress,
                    variables=speed_space((alpha * 0.5, alpha * 2.0), (lo, hi)))
