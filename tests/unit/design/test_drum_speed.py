@@ -1,7 +1,7 @@
 """The fastest drum a compound's finger allows: the ROM of the finger at its own material,
 length and alpha run over drum speeds; the speed where a recovery requirement starts to
-fail, checked by ROM runs either side of it, for the winner and for every feasible compound
-of a ranking (which may rank by it); bad bounds refused in one line."""
+fail, checked by ROM runs either side of it, for the winner, for every feasible compound of
+a ranking (which may rank by it) and on a designed section; bad bounds refused in one line."""
 import math
 
 import numpy as np
@@ -11,7 +11,7 @@ import pytest
 from ccedi.design.catalogue_design import FirstMode, catalogue_space, design_compounds
 from ccedi.design.compounds import Compound
 from ccedi.design.drum_speed import fastest_drum_speed, with_drum_speeds
-from ccedi.design.outputs import setup_for_length
+from ccedi.design.outputs import setup_for_length, setup_for_section
 from ccedi.design.requirements import Limit, Requirements
 from ccedi.design.surrogate import Surrogate, grid_points, run_rom, speed_space
 from ccedi.errors import InputError
@@ -46,12 +46,14 @@ def paper_rubber_design():
     return _flat_ranking([_compound("paper_like", 2.0)]).designs[0]
 
 
-def _bracketed(check, name="recovery_deviation_m", bound=0.001):
-    """ROM runs 5 % slower and 5 % faster than ``check``'s fastest drum: (slower, faster)."""
+def _bracketed(check, semi_thickness_m=None):
+    """Recovery of ROM runs 5 % slower and 5 % faster than ``check``'s fastest drum (at the
+    semi-thickness given, else the set-up's): (slower, faster)."""
     own = setup_for_length(DrumSetup(), check.length_m)
+    own = own if semi_thickness_m is None else setup_for_section(own, semi_thickness_m=semi_thickness_m)
     runs = run_rom(own, [(check.alpha_per_s, f * check.fastest_rpm * RPM) for f in (0.95, 1.05)],
                    variables=speed_space((1.0, 1e3), (1.0, 200.0)))
-    return tuple(runs[name])
+    return tuple(runs["recovery_deviation_m"])
 
 
 def test_the_fastest_drum_is_where_the_finger_no_longer_recovers_in_time(paper_rubber_design):
@@ -107,3 +109,25 @@ def test_bad_drum_speed_settings_are_refused(paper_rubber_design):
                          ({"speed_bounds_rpm": (10.0, 500.0)}, "<= 120"), ({"n": 2}, "at least 3")):
         with pytest.raises(InputError, match=said):
             fastest_drum_speed(paper_rubber_design, DrumSetup(), **kwargs)
+
+
+def test_a_designed_section_is_the_one_the_fastest_drum_is_found_on():
+    """A compound designed over (L, b) on a flat surrogate whose force rises with b (the
+    thinnest section, 4 mm, chosen): its fastest drum is found on the 4-mm finger, between
+    ROM runs of that finger 5 % slower and 5 % faster."""
+    mode = FirstMode((0.0, -2.0, math.log(1810.0 / 8.45), 1.0, 0.0, 0.0), 6.1e6, 1000.0, (3.0, 8.0), 0.0,
+                     (4.0, 12.0))
+    c = _compound("paper_like", 2.0)
+    space = catalogue_space([c], mode, (4.0, 5.0))
+    X = np.array(grid_points(space, (5, 5, 4, 4)))
+    frame = pd.DataFrame({"alpha_per_s": X[:, 0], "length_m": X[:, 1], "youngs_modulus_Pa": X[:, 2],
+                          "semi_thickness_m": X[:, 3], "sensor_peak_force_N": 10.0 + X[:, 1] + 1e3 * X[:, 3],
+                          "recovery_deviation_m": np.zeros(len(X))})
+    design = design_compounds(Surrogate.fit(space, frame), [c], setup=DrumSetup(), first_mode=mode,
+                              requirements=RECOVERY, verify=False).designs[0]
+    assert design.semi_thickness_m == pytest.approx(0.004)
+    check = fastest_drum_speed(design, DrumSetup(), speed_bounds_rpm=(10.0, 120.0), n=12)
+    assert check.fastest_rpm is not None and check.binding == "recovery <= 1 mm", check
+    assert check.alpha_per_s == pytest.approx(2.0 * mode(4.0, E_Pa=6.1e6, rho_kg_m3=1000.0, semi_thickness_m=0.004))
+    slower, faster = _bracketed(check, semi_thickness_m=0.004)
+    assert slower < 0.001 < faster
