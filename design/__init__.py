@@ -30,7 +30,8 @@ What a design script needs (``examples/design_script.py``)::
   :class:`CalibratedSpread`, :func:`robust_design`, :func:`violation_probabilities`), and the
   catalogue ranked by robust designs (:func:`robust_catalogue`).
 * :mod:`ccedi.design.drum_speed`: the fastest drum a chosen finger allows
-  (:func:`fastest_drum_speed`).
+  (:func:`fastest_drum_speed`), and every feasible compound's in a ranking
+  (:func:`with_drum_speeds`).
 
 User-defined outputs plug into :func:`run_rom` (``extra_outputs``) and get limits as
 :class:`Limit` objects in ``Requirements(extra=...)``.
@@ -53,7 +54,7 @@ _EXPORTS = {
     "design_compounds": "catalogue_design", "Spread": "robust", "RobustDesign": "robust",
     "robust_design": "robust", "violation_probabilities": "robust", "CalibratedSpread": "robust",
     "robust_catalogue": "robust", "RobustCatalogue": "robust", "spread_check": "robust",
-    "fastest_drum_speed": "drum_speed", "DrumSpeedCheck": "drum_speed",
+    "fastest_drum_speed": "drum_speed", "DrumSpeedCheck": "drum_speed", "with_drum_speeds": "drum_speed",
     "Compound": "compounds", "alpha_from_loss_factor": "compounds", "finger_damping": "compounds",
     "load_compounds": "compounds", "loss_factor_from_alpha": "compounds", "FeaCorrection": "model_error",
 }

@@ -1,8 +1,8 @@
 """The drum speed a chosen finger allows: the throughput a designer is paid for.
 
 A compound's design (:func:`ccedi.design.catalogue_design.design_compounds`) fixes the
-finger: its compound (E, rho), its length L and its damping alpha = tan delta x
-omega_1(L). The drum speed is then a question about that finger alone: the faster the drum,
+finger: its compound (E, rho), its length L (and, when designed, its section's
+semi-thickness b) and its damping alpha = tan delta x omega_1(L). The drum speed is then a question about that finger alone: the faster the drum,
 the shorter the time until the next object arrives (the cycle time, one revolution over
 the objects per revolution) and the less the finger has recovered by then. The contact
 ROM of the finger at its own material and length runs at ``n`` drum speeds over
@@ -12,6 +12,15 @@ margin at each speed carries the design's model-error tightening
 highest speed below which every requirement holds at every run speed, refined by linear
 interpolation of the worst margin to its zero between that speed and the next; the
 requirement that fails there binds.
+
+Inside the compound ranking (:func:`with_drum_speeds`) every compound whose design meets the
+requirements carries its fastest drum (``n`` ROM runs and one model build each), and the
+ranking may order those compounds by it, fastest first (``rank_by="fastest_drum"``): the
+throughput of the finger each compound's own design (its length at the least objective)
+gives. That is not a throughput optimum over the length as well, which would need the drum
+speed as a variable of the catalogue surrogate (one more axis of ROM runs); so
+``--objective throughput`` stays refused for the compound design and ``--rank-by
+fastest_drum`` asks for this ranking instead.
 
 The answer is the ROM's; the full FEA re-check of the finger at that speed is the design's
 usual check (:func:`ccedi.design.recheck.fea_check` with the drum speed as the variable).
@@ -23,12 +32,15 @@ import numpy as np
 from ccedi.errors import InputError
 from ccedi.units import RPM, m_to_inch
 
-from .catalogue_design import CompoundDesign, compound_setup
+from .catalogue_design import CatalogueDesign, CompoundDesign, compound_setup
 from .outputs import setup_for_length
 from .surrogate import DRUM_SPEED_BOUNDS_RPM, run_rom, speed_space
 
 N_SPEEDS = 9
 """Drum speeds the ROM runs at."""
+
+RANK_BY = ("objective", "fastest_drum")
+"""What orders the compounds that meet the requirements (:func:`with_drum_speeds`)."""
 
 
 @dataclass(frozen=True)
@@ -121,7 +133,7 @@ def fastest_drum_speed(design: CompoundDesign, setup, *, length_m=None, speed_bo
     c = design.compound
     L = float(design.design.x if length_m is None else length_m)
     alpha = float(design.tie(m_to_inch(L)))
-    own = setup_for_length(compound_setup(setup, c), L)
+    own = setup_for_length(compound_setup(setup, c, design.semi_thickness_m), L)
     speeds = np.linspace(lo, hi, int(n))
     runs = run_rom(own, [(alpha, w * RPM) for w in speeds], damping=damping, progress=progress,
                    variables=speed_space((alpha * 0.5, alpha * 2.0), (lo, hi)))
@@ -145,3 +157,53 @@ def fastest_drum_speed(design: CompoundDesign, setup, *, length_m=None, speed_bo
         binding = limiting[k]
     cycle = replace(own, omega_rad_s=fastest * RPM).cycle_s
     return DrumSpeedCheck(c.name, L, alpha, speeds.tolist(), worst.tolist(), limiting, fastest, cycle, binding)
+
+
+def with_drum_speeds(ranking: CatalogueDesign, setup, *, speed_bounds_rpm=DRUM_SPEED_BOUNDS_RPM, n=N_SPEEDS,
+                     damping="relative", rank_by="objective", progress=None):
+    """The ranking with every feasible compound's fastest drum (:func:`fastest_drum_speed` at
+    its design's length), ordered by the objective as before or, with ``rank_by`` =
+    "fastest_drum", the feasible compounds by their fastest drum, fastest first (ties, such
+    as two fingers that hold up to the fastest speed run, and those that miss even the
+    slowest, by the objective), the others after them as before (module docstring).
+
+    Parameters
+    ----------
+    ranking : CatalogueDesign
+        The compounds ranked (:func:`ccedi.design.catalogue_design.design_compounds`).
+    setup : ccedi.fea.contact.drum.DrumSetup
+        The drum test the ranking was made on.
+    speed_bounds_rpm : tuple of float, optional
+        (lo, hi) drum speeds [rpm] (:func:`fastest_drum_speed`).
+    n : int, optional
+        Speeds run per compound, >= 3.
+    damping : {"relative", "global"}, optional
+        Damping kind of the runs.
+    rank_by : {"objective", "fastest_drum"}, optional
+        What orders the feasible compounds (:data:`RANK_BY`).
+    progress : callable, optional
+        ``progress(done, total)`` after every compound.
+
+    Returns
+    -------
+    CatalogueDesign
+        A new ranking; its designs carry their check (``drum``).
+
+    Raises
+    ------
+    InputError
+        An unknown ``rank_by``, or bad speed settings (:func:`fastest_drum_speed`).
+    """
+    if rank_by not in RANK_BY:
+        raise InputError(f"rank_by = {rank_by!r}: must be one of {', '.join(RANK_BY)}")
+    feasible = [d for d in ranking.designs if d.feasible]
+    checked = []
+    for k, d in enumerate(feasible, start=1):
+        checked.append(replace(d, drum=fastest_drum_speed(d, setup, speed_bounds_rpm=speed_bounds_rpm, n=n,
+                                                          damping=damping)))
+        if progress:
+            progress(k, len(feasible))
+    if rank_by == "fastest_drum":
+        checked.sort(key=lambda d: (-(d.drum.fastest_rpm if d.drum.fastest_rpm is not None else -np.inf),
+                                    d.objective_value))
+    return replace(ranking, designs=checked + [d for d in ranking.designs if not d.feasible], rank_by=rank_by)

@@ -32,6 +32,14 @@ by their robust objective, those with no robust length after them by their large
 violation probability; each keeps the check of its nominal optimum beside, so that the
 nominal and the robust design are shown side by side.
 
+When the compound design varies the section's semi-thickness b too
+(:func:`ccedi.design.catalogue_design.catalogue_surrogate` with ``semi_thickness_bounds_mm``),
+the robust design holds b at the compound's nominal optimum and searches the length alone
+(its samples' first mode and the surrogate taken at that b): a robust search over (L, b)
+would cost the scan over b of the nominal design times the samples, and the spread of E
+and tan delta moves the finger's stiffness and damping, which a change of length answers
+as well as one of thickness.
+
 The surrogate's probabilities are estimates; a full-FEA Monte Carlo at the robust and the
 nominal optimum is the check (benchmarks/robust_design_monte_carlo.py).
 """
@@ -353,7 +361,8 @@ def requirement_margins(design: CompoundDesign, surrogate, *, length_m, samples)
     design : CompoundDesign
         The compound's nominal design (its problem, tie and compound).
     surrogate : ccedi.design.surrogate.Surrogate
-        The catalogue surrogate over (alpha, L, E') it was solved on.
+        The catalogue surrogate over (alpha, L, E'), or (alpha, L, E', b), it was solved on
+        (the design's semi-thickness held).
     length_m : float
         Finger length [m].
     samples : tuple of numpy.ndarray
@@ -370,8 +379,8 @@ def requirement_margins(design: CompoundDesign, surrogate, *, length_m, samples)
         Samples outside the surrogate's alpha or E range.
     """
     E, tan_delta = (np.asarray(s, dtype=float) for s in samples)
-    c, first_mode = design.compound, design.tie.first_mode
-    omega = first_mode(m_to_inch(length_m), E_Pa=E, rho_kg_m3=c.rho_kg_m3)
+    c, first_mode, b = design.compound, design.tie.first_mode, design.semi_thickness_m
+    omega = first_mode(m_to_inch(length_m), E_Pa=E, rho_kg_m3=c.rho_kg_m3, semi_thickness_m=b)
     alpha = alpha_from_loss_factor(tan_delta, omega)
     ratio = c.rho_kg_m3 / first_mode.rho_kg_m3
     E_equivalent = E / ratio
@@ -380,7 +389,8 @@ def requirement_margins(design: CompoundDesign, surrogate, *, length_m, samples)
             raise InputError(f"{c.name}: the spread's {var.name} {values.min():.4g}-{values.max():.4g} leaves the "
                              f"surrogate's range {var.lo:.4g}-{var.hi:.4g}: build the catalogue surrogate with "
                              f"catalogue_space(..., spread=) at least as wide")
-    X = np.column_stack([alpha, np.full(len(alpha), length_m), E_equivalent])
+    X = np.column_stack([alpha, np.full(len(alpha), length_m), E_equivalent] + ([] if b is None else
+                                                                                [np.full(len(alpha), b)]))
     outputs = density_scaled(surrogate.evaluate(X), ratio)
     margins = design.problem.constraint_margins(outputs, alpha, length_m)
     return {k: np.asarray(m, dtype=float).ravel() for k, m in margins.items()}

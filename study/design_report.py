@@ -345,24 +345,38 @@ def catalogue_report_markdown(result):
     output = ranking["objective_output"]
     unit = UNITS.get(output, "")
     shown = {"m": "mm", "Pa": "MPa"}.get(unit, unit)
+    drum = any("fastest_drum_rpm" in r for r in ranking["table"])
+    section = p.get("semi_thickness_bounds_mm")
+    over = "" if section is None else (
+        f" and the section's semi-thickness b {section[0]:.4g}-{section[1]:.4g} mm (along the bending direction; the "
+        f"semi-width a = {p['semi_width_mm']:.4g} mm kept; no model-error margin is carried, the ROM's error was "
+        "measured on the paper's section)")
     lines = ["# Compound design", "",
              f"Catalogue `{result['catalogue']}` ({len(ranking['table'])} compounds). Each compound is designed over "
-             f"the finger length {p['length_bounds_in'][0]:.4g}-{p['length_bounds_in'][1]:.4g} in at its nominal E "
-             "(the middle of its range), its density and its damping alpha = tan delta x omega_1(L) at its nominal "
-             f"loss factor; the objective: minimise {_label(output)}. Damping: **{p['damping']}**. Requirements: "
-             + "; ".join(p["requirements"]) + ".", "",
+             f"the finger length {p['length_bounds_in'][0]:.4g}-{p['length_bounds_in'][1]:.4g} in{over} at its "
+             "nominal E (the middle of its range), its density and its damping alpha = tan delta x omega_1"
+             f"({'L' if section is None else 'L, b'}) at its nominal loss factor; the objective: minimise "
+             f"{_label(output)}. Damping: **{p['damping']}**. Requirements: " + "; ".join(p["requirements"]) + ".", "",
              "## Ranking", "",
-             "Compounds that meet every requirement rank by the objective, the others after them by their largest "
-             "shortfall (normalised). Robust margin: the smallest requirement margin over the compound's loss-factor "
-             "range at the chosen length.", "",
-             f"| rank | compound | meets | E [MPa] | rho [kg/m^3] | tan delta | alpha [1/s] | L [in] | objective "
-             f"[{shown}] | binds (or missed) | shortfall | robust margin |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "Compounds that meet every requirement rank by "
+             + ("their fastest drum, fastest first (ties by the objective)" if ranking.get("rank_by") == "fastest_drum"
+                else "the objective")
+             + ", the others after them by their largest shortfall (normalised). Robust margin: the smallest "
+             "requirement margin over the compound's loss-factor range at the chosen length."
+             + (" Fastest drum: the fastest drum speed at which the ROM of the compound's finger (its material, "
+                "length and alpha) meets every requirement, and the requirement that fails on a faster drum "
+                "(`ccedi.design.drum_speed.with_drum_speeds`)." if drum else ""), "",
+             "| rank | compound | meets | E [MPa] | rho [kg/m^3] | tan delta | alpha [1/s] | L [in] | "
+             + ("" if section is None else "b [mm] | ") + f"objective [{shown}] | binds (or missed) | shortfall | "
+             "robust margin |" + (" fastest drum [rpm] | stops a faster drum |" if drum else ""),
+             "|---" * (12 + 2 * drum + (section is not None)) + "|"]
     for r in ranking["table"]:
         lines.append(f"| {r['rank']} | {r['compound']} | {'yes' if r['feasible'] else '**no**'} | "
                      f"{r['E_Pa'] / 1e6:.4g} | {r['rho_kg_m3']:.4g} | {r['tan_delta']:.3g} | {r['alpha_per_s']:.4g} | "
-                     f"{r['length_in']:.4g} | {_fmt(r['objective'], unit).split(' ')[0]} | {r['binding'] or '-'} | "
-                     f"{r['largest_shortfall']:.3g} | {r['robust_margin']:+.3f} |")
+                     f"{r['length_in']:.4g} | " + ("" if section is None else f"{r['semi_thickness_mm']:.4g} | ")
+                     + f"{_fmt(r['objective'], unit).split(' ')[0]} | {r['binding'] or '-'} | "
+                     f"{r['largest_shortfall']:.3g} | {r['robust_margin']:+.3f} |"
+                     + (f" {_drum_cell(r)} |" if drum else ""))
     win = ranking["winner"]
     if win is None:
         lines += ["", "## No compound meets the requirements", "",
@@ -372,7 +386,8 @@ def catalogue_report_markdown(result):
     d = ranking["designs"][win]
     o = d["design"]
     lines += ["", "## Chosen compound", "",
-              f"**{win}**: alpha = {o['alpha_per_s']:.4g} 1/s ({d['tie']}), L = {o['length_in']:.4g} in. "
+              f"**{win}**: alpha = {o['alpha_per_s']:.4g} 1/s ({d['tie']}), L = {o['length_in']:.4g} in"
+              + ("" if d.get("semi_thickness_mm") is None else f", b = {d['semi_thickness_mm']:.4g} mm") + ". "
               f"Robust margin {ranking['table'][0]['robust_margin']:+.3f} ({d['robust_limit']}).", ""]
     for flag in d["flags"]:
         lines.append(f"- Flag: {flag}.")
@@ -395,8 +410,18 @@ def catalogue_report_markdown(result):
         lines += _robust_lines(result, ranking, unit)
     if result.get("drum_speed"):
         lines += _drum_speed_lines(result["drum_speed"])
-    lines += ["", "Figure: `finger_drawing.png` (the chosen finger's length on the drum and its section, in mm)."]
+    lines += ["", "Figure: `finger_drawing.png` (the chosen finger's length on the drum and its section"
+              + ("" if section is None else ", its chosen semi-thickness b") + ", in mm)."]
     return "\n".join(lines) + "\n"
+
+
+def _drum_cell(row):
+    """The ranking table's fastest drum [rpm] and the requirement that stops a faster one."""
+    if not row["feasible"]:
+        return "- | -"
+    if row["fastest_drum_rpm"] is None or np.isnan(row["fastest_drum_rpm"]):
+        return f"none | {row['drum_binding']} (even at the slowest speed run)"
+    return f"{row['fastest_drum_rpm']:.3g} | {row['drum_binding'] or 'none up to the fastest speed run'}"
 
 
 def _drum_speed_lines(check):
@@ -429,7 +454,10 @@ def _robust_lines(result, ranking, unit):
     lines = ["", "## Robust design", "",
              f"The inputs not known exactly: {rb['spread']}. Each compound's robust design is the length of least "
              f"objective (at its nominal inputs) where every requirement is met in at least {p:.0%} of {n} samples "
-             "of its E and loss factor on the surrogate (the same samples at every length); compounds with no such "
+             "of its E and loss factor on the surrogate (the same samples at every length"
+             + ("; the section's semi-thickness b held at the compound's nominal optimum" if
+                result["problem"].get("semi_thickness_bounds_mm") else "")
+             + "); compounds with no such "
              "length rank after, by their largest violation probability. Margins are normalised (>= 0: met); "
              f"*kept* is the margin met in {p:.0%} of the samples.", "",
              "| rank | compound | robust L [in] | objective | largest violation | nominal L [in] | objective | "

@@ -75,13 +75,15 @@ def add_parsers(sub):
                    metavar=("LO", "HI"), help="drum speed bounds [rpm] (--vary drum_speed)")
     d.add_argument("--section-bounds-mm", type=float, nargs=2, default=None, metavar=("LO", "HI"),
                    help="bounds of the varied section semi-axis [mm] (--vary semi_thickness: b, along the bending "
-                        "direction, default 4 14; --vary semi_width: a, across, default 6 18) at the set-up's length")
+                        "direction, default 4 14, with --compounds 4 12, at most the semi-width a; --vary semi_width: "
+                        "a, across, default 6 18) at the set-up's length (with --compounds: the length varied too)")
     d.add_argument("--taper-bounds", type=float, nargs=2, default=DesignOptions.taper_bounds, metavar=("LO", "HI"),
                    help="bounds of the taper ratio, the tip's semi-axes over the root's [-] (--vary taper; default "
                         "0.6 1: down to a tip 0.6 times the root section, up to the prism; below 0.6 the full FE "
                         "tip is crushed by the contact) at the set-up's length")
-    d.add_argument("--grid", type=int, nargs=2, default=(15, 11), metavar=("N_ALPHA", "N_SECOND"),
-                   help="ROM runs of the surrogate grid along alpha and the second variable (cached in OUT)")
+    d.add_argument("--grid", type=int, nargs=2, default=None, metavar=("N_ALPHA", "N_SECOND"),
+                   help="ROM runs of the surrogate grid along alpha and the second variable (cached in OUT; default "
+                        "15 11, with --compounds --vary semi_thickness 9 7: along L, with 4 along E and 4 along b)")
     d.add_argument("--validation-runs", type=int, default=20, help="off-grid ROM runs measuring the surrogate error")
     d.add_argument("--pareto-points", type=int, default=24, help="epsilon-constraint points of the front")
     d.add_argument("--pareto-output", default="ringing_amplitude_m",
@@ -97,6 +99,12 @@ def add_parsers(sub):
                    help="design every compound of a catalogue CSV (no PATH: the bundled data/compounds.csv) with its "
                         "own E, density and alpha = tan delta x omega_1(L), the length optimised, and rank them "
                         "(report table, drawing of the winner)")
+    d.add_argument("--no-drum-speed", action="store_true",
+                   help="with --compounds: do not search each feasible compound's fastest drum (9 ROM runs each, over "
+                        "--drum-speed-bounds-rpm)")
+    d.add_argument("--rank-by", choices=("objective", "fastest_drum"), default="objective",
+                   help="with --compounds: order the compounds that meet the requirements by the objective (default) "
+                        "or by their fastest drum, fastest first")
     d.add_argument("--robust", nargs="?", type=float, const=0.95, default=None, metavar="PROBABILITY",
                    help="with --compounds: design each compound to meet every requirement with this probability "
                         "(default 0.95) over its spread of E and tan delta, rank the robust designs and show them "
@@ -207,6 +215,11 @@ class DesignOptions:
         compounds' spread (None: nominal designs only).
     spread : ccedi.design.robust.Spread, ccedi.design.robust.CalibratedSpread or None
         The spread of the robust design (None: the default Spread).
+    drum_speed : bool
+        With the compound design: search every feasible compound's fastest drum
+        (:func:`ccedi.design.drum_speed.with_drum_speeds`).
+    rank_by : {"objective", "fastest_drum"}
+        With the compound design: what orders the compounds that meet the requirements.
     """
 
     requirements: object = None
@@ -231,6 +244,8 @@ class DesignOptions:
     fea_correction: tuple | None = None
     robust_probability: float | None = None
     spread: object = None
+    drum_speed: bool = True
+    rank_by: str = "objective"
 
 
 def options_from(cfg, **overrides):
@@ -276,17 +291,32 @@ def cmd_design(args):
         alpha_bounds=tuple(args.alpha_bounds), length_bounds_in=tuple(args.length_bounds_in), vary=args.vary,
         section_bounds_mm=None if args.section_bounds_mm is None else tuple(args.section_bounds_mm),
         taper_bounds=tuple(args.taper_bounds),
-        drum_speed_bounds_rpm=tuple(args.drum_speed_bounds_rpm), grid=tuple(args.grid),
+        drum_speed_bounds_rpm=tuple(args.drum_speed_bounds_rpm), grid=_grid(args),
         validation_runs=args.validation_runs, pareto_points=args.pareto_points, pareto_output=args.pareto_output,
         starts=args.starts, model_error=not args.no_model_error, fea_check=not args.no_fea_check,
         fea_check_designs=args.fea_check_designs,
-        fea_correction=None if args.fea_correction is None else tuple(args.fea_correction), **robust_options(args))
+        fea_correction=None if args.fea_correction is None else tuple(args.fea_correction),
+        drum_speed=not args.no_drum_speed, rank_by=args.rank_by, **robust_options(args))
+    if args.compounds is None and (args.no_drum_speed or args.rank_by != "objective"):
+        raise InputError(f"{'--no-drum-speed' if args.no_drum_speed else '--rank-by ' + args.rank_by}: the fastest "
+                         "drum per compound belongs to the compound design: give --compounds too")
     if args.compounds is not None:
         write_catalogue_design(contact_setup(cfg), options, catalogue=args.compounds or None, json_path=args.json,
                                out=args.out, scheduler=args.scheduler)
         return
     write_design(contact_setup(cfg), options, json_path=args.json, out=args.out, scheduler=args.scheduler,
                  measured_alpha=cfg["material"]["alpha_per_s"], mesh_path=cfg["finger"]["mesh"] or None)
+
+
+def _grid(args):
+    """``--grid``, or its default: along alpha and L of the catalogue grid over the section
+    for ``--compounds --vary semi_thickness``, else :attr:`DesignOptions.grid`."""
+    from ccedi.design.catalogue_design import CATALOGUE_SECTION_GRID
+
+    if args.grid is not None:
+        return tuple(args.grid)
+    section = args.compounds is not None and args.vary == "semi_thickness"
+    return tuple(CATALOGUE_SECTION_GRID[:2]) if section else DesignOptions.grid
 
 
 def robust_options(args):
@@ -652,16 +682,22 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
 
 
 def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, scheduler="local"):
-    """Design every compound of ``catalogue`` over the finger length
+    """Design every compound of ``catalogue`` over the finger length (with ``options.vary`` =
+    "semi_thickness", over the length and the section's semi-thickness b, within
+    ``options.section_bounds_mm``, default
+    :data:`ccedi.design.catalogue_design.COMPOUND_THICKNESS_MM`, no model-error margin: it
+    was measured on the paper's section)
     (:func:`ccedi.design.catalogue_design.design_compounds`: its nominal E, its density, alpha
-    = tan delta x omega_1(L)), rank them, re-check the winner with the full FEA at its own
+    = tan delta x omega_1(L[, b])), rank them, re-check the winner with the full FEA at its own
     material, and write the result JSON, ``design_report.md``, ``finger_drawing.png``,
     ``compounds.csv`` (the ranked table) and the ROM cache. With ``options.robust_probability``,
     every compound's robust design over ``options.spread`` as well
     (:func:`ccedi.design.robust.robust_catalogue`), ranked, shown beside the nominal ones,
     the robust winner re-checked by the full FEA at its nominal inputs and drawn. The chosen
     finger's fastest drum (:func:`ccedi.design.drum_speed.fastest_drum_speed`, over
-    ``options.drum_speed_bounds_rpm``) is found by its ROM.
+    ``options.drum_speed_bounds_rpm``) is found by its ROM; unless ``options.drum_speed`` is
+    False, every feasible compound's is, in the ranking, which ``options.rank_by`` may order
+    by it (:func:`ccedi.design.drum_speed.with_drum_speeds`).
 
     Parameters
     ----------
@@ -689,15 +725,23 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     ------
     ccedi.errors.InputError
         A catalogue that does not read, an option the compound design does not take (the
-        drum speed varied, alpha tied to the paper's rubber, a weighted or throughput
-        objective), a finger mesh, or an option out of range.
+        drum speed or the semi-width varied, a semi-thickness above the semi-width, alpha tied to the paper's rubber, a weighted or throughput
+        objective: the fastest-drum ranking is ``rank_by``), a finger mesh, ranking by the
+        fastest drum without searching it, or an option out of range.
     ccedi.errors.RequirementsUnmet
         No compound meets the requirements (or, robust, none with the probability asked);
         raised after the result and the report are written.
     """
-    from ccedi.design.catalogue_design import CATALOGUE_GRID, catalogue_surrogate, compound_setup, design_compounds
+    from ccedi.design.catalogue_design import (
+        CATALOGUE_GRID,
+        CATALOGUE_SECTION_GRID,
+        COMPOUND_THICKNESS_MM,
+        catalogue_surrogate,
+        compound_setup,
+        design_compounds,
+    )
     from ccedi.design.compounds import CATALOGUE, load_compounds
-    from ccedi.design.drum_speed import fastest_drum_speed
+    from ccedi.design.drum_speed import fastest_drum_speed, with_drum_speeds
     from ccedi.design.recheck import fea_check
     from ccedi.design.requirements import Requirements
     from ccedi.design.robust import Spread, robust_catalogue
@@ -708,17 +752,28 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     if o.fea_correction is not None:
         raise InputError("--fea-correction corrects the two-variable design's surrogate; the compound design carries "
                          "the model-error margins instead")
-    for bad, said in ((o.vary == "drum_speed", "--vary drum_speed"),
+    for bad, said in ((o.vary in ("drum_speed", "semi_width"), f"--vary {o.vary}"),
                       (o.alpha_of_length != "free", f"--alpha-of-length {o.alpha_of_length}"),
                       (o.objective in ("weighted", "throughput"), f"--objective {o.objective}")):
         if bad:
-            raise InputError(f"--compounds with {said}: the compound design varies the length on each compound's "
-                             "own alpha and ranks an objective in a unit (object_force, object_stress, root_stress, "
-                             "recovery, ringing)")
+            raise InputError(f"--compounds with {said}: the compound design varies the length (and with --vary "
+                             "semi_thickness the section's semi-thickness) on each compound's own alpha and ranks an "
+                             "objective in a unit (object_force, object_stress, root_stress, recovery, ringing); "
+                             "--rank-by fastest_drum ranks by the fastest drum")
+    if o.rank_by == "fastest_drum" and not o.drum_speed:
+        raise InputError("--rank-by fastest_drum with --no-drum-speed: ranking by the fastest drum needs it searched")
     if setup.finger is not None:
         raise InputError("--compounds: the finger is a given mesh of fixed length; the compound design varies the "
                          "length of the generated finger")
     _check_options(setup, o)
+    section = None
+    if o.vary == "semi_thickness":
+        section = tuple(o.section_bounds_mm or COMPOUND_THICKNESS_MM)
+        a_mm = 1e3 * setup.finger_semi_axes_m[0]
+        if section[1] > a_mm * (1 + 1e-9):
+            raise InputError(f"--section-bounds-mm {section[0]:g} {section[1]:g}: with --compounds the semi-thickness "
+                             f"b must stay within the semi-width a = {a_mm:.4g} mm ([finger] section_semi_axes_m; "
+                             "a thicker finger's first mode bends across, along a)")
     compounds = load_compounds(catalogue)
     req = o.requirements if o.requirements is not None else Requirements()
     out = Path(out)
@@ -728,24 +783,35 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
             print(f"ROM runs {k}/{n} (catalogue grid, {o.damping} damping)", flush=True)
 
     t0 = time.perf_counter()
-    shape = (o.grid[0], o.grid[1], CATALOGUE_GRID[2])
+    shape = (o.grid[0], o.grid[1], *(CATALOGUE_GRID[2:] if section is None else CATALOGUE_SECTION_GRID[2:]))
     spread = None if o.robust_probability is None else (o.spread or Spread())
     surrogate, first_mode, _, cached = catalogue_surrogate(
         setup, compounds.values(), length_bounds_in=tuple(o.length_bounds_in), shape=shape, damping=o.damping,
-        path=out / "rom_catalogue_grid.csv", progress=tick, spread=spread)
+        path=out / "rom_catalogue_grid.csv", progress=tick, spread=spread, semi_thickness_bounds_mm=section)
     build_s = time.perf_counter() - t0
     va = surrogate.variables[0]
-    errors, error_source = _model_error(replace(o, alpha_bounds=(va.lo, va.hi)), "length")
+    # the ROM's measured error is of the paper's section: not carried when the section is designed
+    errors, error_source = _model_error(replace(o, alpha_bounds=(va.lo, va.hi)), "length" if section is None
+                                        else "semi_thickness")
     ranking = design_compounds(surrogate, compounds.values(), setup=setup, first_mode=first_mode, requirements=req,
                                objective=o.objective, model_error=errors, damping=o.damping, n_starts=o.starts)
+    if o.drum_speed:
+        def drum_tick(k, n):
+            print(f"fastest drum {k}/{n} (the feasible compounds' ROM over drum speeds)", flush=True)
+
+        ranking = with_drum_speeds(ranking, setup, speed_bounds_rpm=tuple(o.drum_speed_bounds_rpm), damping=o.damping,
+                                   rank_by=o.rank_by, progress=drum_tick)
     limits = ranking.designs[0].problem.limits
     result = {
         "feasible": ranking.winner is not None,
         "catalogue": str(catalogue or CATALOGUE.relative_to(CATALOGUE.parents[1])),
         "problem": {"damping": o.damping, "objective": o.objective, "length_bounds_in": list(o.length_bounds_in),
+                    "semi_thickness_bounds_mm": None if section is None else list(section),
+                    "semi_width_mm": 1e3 * setup.finger_semi_axes_m[0],
                     "requirements": [lim.describe() for lim in req.limits()]},
         "requirement_outputs": {lim.describe(): lim.output for lim in req.limits()},
-        "surrogate": {"kind": "cubic B-spline through ROM runs over (alpha, L, E at the set-up's density)",
+        "surrogate": {"kind": "cubic B-spline through ROM runs over (alpha, L, E at the set-up's density"
+                              + (", b)" if section else ")"),
                       "variables": [{"name": v.name, "lo": float(v.shown(v.lo)), "hi": float(v.shown(v.hi)),
                                      "unit": v.unit} for v in surrogate.variables],
                       "grid": list(shape), "grid_from_cache": cached, "build_wall_time_s": build_s,
@@ -759,7 +825,7 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     by_name = {d.compound.name: d for d in ranking.designs}
 
     def checked(compound_design, design):
-        own = compound_setup(setup, compound_design.compound)
+        own = compound_setup(setup, compound_design.compound, compound_design.semi_thickness_m)
         return fea_check(own, [design], damping=o.damping, limits=limits, scheduler=scheduler,
                          variables=compound_design.problem.surrogate.variables)[0]
 
@@ -776,7 +842,9 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
         chosen = None if robust.winner is None else (by_name[robust.winner.compound], robust.winner.length_m)
     else:
         chosen = None if win is None else (win, win.design.x)
-    if chosen is not None:
+    if chosen is not None and chosen[0].drum is not None and chosen[1] == chosen[0].design.x:
+        result["drum_speed"] = chosen[0].drum.as_dict()
+    elif chosen is not None:
         result["drum_speed"] = fastest_drum_speed(chosen[0], setup, length_m=chosen[1], damping=o.damping,
                                                   speed_bounds_rpm=tuple(o.drum_speed_bounds_rpm)).as_dict()
     if robust is not None:
@@ -787,9 +855,12 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
         shown = win or ranking.designs[0]
         name, length_m, alpha, met = shown.compound.name, shown.design.x, shown.design.alpha_per_s, win is not None
         note = "" if met else " (closest; misses the requirements)"
+    b = by_name[name].semi_thickness_m
+    semi_axes = setup.finger_semi_axes_m if b is None else (setup.finger_semi_axes_m[0], b)
     write_figure(out / "finger_drawing.png", finger_drawing(
-        length_m, setup.finger_semi_axes_m, drum_radius_m=setup.drum_radius_m, taper_ratio=setup.finger_taper_ratio,
-        title=f"{name}: L = {m_to_inch(length_m):.4g} in, alpha = {alpha:.4g} 1/s{note}"))
+        length_m, semi_axes, drum_radius_m=setup.drum_radius_m, taper_ratio=setup.finger_taper_ratio,
+        title=f"{name}: L = {m_to_inch(length_m):.4g} in" + ("" if b is None else f", b = {1e3 * b:.4g} mm")
+        + f", alpha = {alpha:.4g} 1/s{note}"))
     write_csv(out / "compounds.csv", ranking.table)
     write_text(out / "design_report.md", catalogue_report_markdown(result))
     write_json(json_path, result)

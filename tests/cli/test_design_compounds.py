@@ -1,20 +1,27 @@
 """``ccedi design --compounds [CATALOGUE]``: every compound of a catalogue designed over the
-length on its own E, density and alpha, ranked, the table and the drawing in the report;
+length on its own E, density and alpha, ranked, each feasible one with its fastest drum, the
+table and the drawing in the report;
+the section's semi-thickness designed too, its b in the table, the JSON and the drawing;
 what the compound design cannot take, and a section design's bad bounds, are refused in one
 line before any ROM run."""
 import json
+import math
 from dataclasses import replace
 from functools import partial
 
+import numpy as np
+import pandas as pd
 import pytest
 from conftest import ROOT
 
-from ccedi.design import recheck
+from ccedi.design import catalogue_design, recheck
+from ccedi.design.catalogue_design import FirstMode, catalogue_space
 from ccedi.design.compounds import CATALOGUE, catalogue_text, load_compounds
-from ccedi.design.surrogate import rom_factory
+from ccedi.design.surrogate import Surrogate, grid_points, rom_factory
 from ccedi.fea.material import NeoHookean
 from ccedi.rom.finger_identification import finger_omega1
 from ccedi.study.cli import main
+from ccedi.units import m_to_inch
 
 
 def _refused(capsys, argv, named):
@@ -39,6 +46,14 @@ def _refused(capsys, argv, named):
     (["--compounds", "--spread", "0.1", "0.1"], "give --robust too"),
     (["--compounds", "--robust", "--spread-from", "no_such_result.json"], "no_such_result.json"),
     (["--compounds", "--robust", "--spread", "0.1", "0.1", "--spread-from", "x.json"], "give one spread"),
+    (["--compounds", "--objective", "throughput"], "--rank-by fastest_drum ranks by the fastest drum"),
+    (["--rank-by", "fastest_drum"], "--rank-by fastest_drum: the fastest drum per compound belongs to the compound"),
+    (["--no-drum-speed"], "--no-drum-speed: the fastest drum per compound belongs to the compound design"),
+    (["--compounds", "--rank-by", "fastest_drum", "--no-drum-speed"], "--rank-by fastest_drum with --no-drum-speed"),
+    (["--compounds", "--vary", "semi_width"], "--compounds with --vary semi_width"),
+    (["--compounds", "--vary", "semi_thickness", "--section-bounds-mm", "4", "13"],
+     "--section-bounds-mm 4 13: with --compounds the semi-thickness b must stay within the semi-width a = 12 mm"),
+    (["--compounds", "--vary", "semi_thickness", "--section-bounds-mm", "0.01", "9"], "--section-bounds-mm"),
     (["--compounds", "--fea-correction", "2", "2"], "--fea-correction corrects the two-variable design"),
     (["--vary", "semi_thickness", "--fea-correction", "2", "9"], "--fea-correction 2 9"),
 ])
@@ -77,6 +92,9 @@ def test_a_catalogue_is_ranked_the_damped_compound_first_on_its_own_alpha(tmp_pa
     assert drum["compound"] == "paper_finger_rubber" and drum["length_m"] / 0.0254 == pytest.approx(win["length_in"])
     assert drum["speeds_rpm"][0] == 10.0 and drum["speeds_rpm"][-1] == 40.0
     assert (drum["fastest_rpm"] is None) == (drum["worst_margin"][0] < 0) and "## Drum speed" in report
+    assert win["fastest_drum_rpm"] == drum["fastest_rpm"] and win["drum_binding"] == drum["binding"]
+    assert table[1]["fastest_drum_rpm"] is None and "| fastest drum [rpm] | stops a faster drum |" in report
+    assert result["compounds"]["designs"]["paper_finger_rubber"]["drum_speed"] == drum
 
 
 def test_robust_designs_are_ranked_beside_the_nominal_ones_within_the_asked_probability(tmp_path, capsys):
@@ -159,3 +177,52 @@ def _toml(tmp_path):
     path = tmp_path / "five_inch.toml"
     path.write_text("[finger]\ncontact_length_in = 5.0\n")
     return path
+
+
+def test_the_compounds_section_is_designed_with_its_length_and_shown(tmp_path, capsys, monkeypatch):
+    """``--compounds --vary semi_thickness --robust``, on a stand-in for the catalogue
+    surrogate (a slender finger, omega_1 ~ b / L^2, its force ~ b^2 / L^1.5 and its creep
+    ~ alpha / omega_1^2; the ROM's 4-D grid takes minutes) with the ROM verification off:
+    the surrogate is asked over b 4-12 mm on the 9 x 7 x 4 x 4 grid; the least force meeting
+    the 5 mm recovery is the thinnest section, flagged on its bound, at the longest finger
+    that recovers (L^2 / b bound); b is in the table, the JSON, the report and the
+    drawing's title, the robust design holds it."""
+    asked = {}
+    mode = FirstMode((0.0, -2.0, math.log(1810.0 / 8.45), 1.0, 0.0, 0.0), 6.1e6, 1000.0, (3.0, 8.0), 0.0, (4.0, 12.0))
+
+    def stand_in(setup, compounds, *, shape, spread, semi_thickness_bounds_mm, length_bounds_in, **_):
+        asked.update(shape=shape, bounds=semi_thickness_bounds_mm)
+        space = catalogue_space(compounds, mode, length_bounds_in, spread=spread)
+        alpha, L, E, b = np.array(grid_points(space, (6, 6, 4, 6))).T
+        w = mode(m_to_inch(L), E_Pa=E, rho_kg_m3=1000.0, semi_thickness_m=b)
+        outputs = {"sensor_peak_force_N": 3e-6 * E * (b / 0.00845) ** 2 * (0.1 / L) ** 1.5,
+                   "recovery_deviation_m": 0.1 * alpha / w**2, "max_finger_stress_Pa": 1e6 + 0 * L,
+                   "ringing_amplitude_m": 0 * L, "first_contact_front_m": 0.005 + 0 * L,
+                   "contact_patch_from_root_m": 0.05 + 0 * L, "contact_impulse_N_s": 3.0 + 0 * L}
+        frame = pd.DataFrame({"alpha_per_s": alpha, "length_m": L, "youngs_modulus_Pa": E, "semi_thickness_m": b,
+                              **outputs})
+        return Surrogate.fit(space, frame), mode, frame, False
+
+    monkeypatch.setattr(catalogue_design, "catalogue_surrogate", stand_in)
+    monkeypatch.setattr(catalogue_design, "design_compounds", partial(catalogue_design.design_compounds, verify=False))
+    rows = load_compounds(CATALOGUE)
+    cat = tmp_path / "one.csv"
+    cat.write_text(catalogue_text([rows["paper_finger_rubber"]]))
+    out = tmp_path / "out"
+    rc = main(["design", "--compounds", str(cat), "--vary", "semi_thickness", "--robust", "0.9", "--spread", "0.05",
+               "0.1", "--no-fea-check", "--no-drum-speed", "--starts", "2", "--json", str(out / "d.json"),
+               "--out", str(out)])
+    assert rc == 0, capsys.readouterr().err
+    assert asked == {"shape": (9, 7, 4, 4), "bounds": (4.0, 12.0)}
+    result = json.loads((out / "d.json").read_text())
+    row = result["compounds"]["table"][0]
+    assert row["feasible"] and row["semi_thickness_mm"] == pytest.approx(4.0, abs=0.01)
+    paper = rows["paper_finger_rubber"]
+    w = mode(row["length_in"], E_Pa=paper.E_nominal_Pa, rho_kg_m3=paper.rho_kg_m3, semi_thickness_m=0.004)
+    assert 0.1 * row["alpha_per_s"] / w**2 == pytest.approx(0.005, rel=0.01)          # the recovery binds
+    design = result["compounds"]["designs"]["paper_finger_rubber"]
+    assert design["semi_thickness_mm"] == row["semi_thickness_mm"] and "b at its lower bound 4 mm" in design["flags"]
+    assert result["problem"]["semi_thickness_bounds_mm"] == [4.0, 12.0] and not result["model_error_source"]
+    report = (out / "design_report.md").read_text()
+    assert "| L [in] | b [mm] |" in report and "semi-thickness b 4-12 mm" in report and "b held at" in report
+    assert (out / "finger_drawing.png").stat().st_size > 10_000 and result["robust"]["winner"] == "paper_finger_rubber"
