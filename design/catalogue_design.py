@@ -51,9 +51,10 @@ import numpy as np
 import pandas as pd
 
 from ccedi.errors import InputError, RequirementsUnmet
+from ccedi.fea.contact.drum import finger_mesh
 from ccedi.fea.material import NeoHookean
 from ccedi.rom.finger_identification import finger_omega1
-from ccedi.units import m_to_inch
+from ccedi.units import inch_to_m, m_to_inch
 
 from .compounds import Compound, alpha_from_loss_factor
 from .optimise import OBJECTIVES, ON_BOUND, DesignProblem, binding, closest_design, on_bounds, solve
@@ -133,7 +134,8 @@ class FirstMode:
     @classmethod
     def of(cls, setup, length_bounds_in, n=FIRST_MODE_LENGTHS, *, semi_thickness_bounds_mm=None,
            n_thickness=FIRST_MODE_THICKNESSES):
-        """The first mode of ``setup``'s generated finger (its material and section) over
+        """The first mode of ``setup``'s generated finger (its material, section and taper,
+        :func:`ccedi.fea.contact.drum.finger_mesh`) over
         ``length_bounds_in`` [in], from ``n`` FE eigen solves; over the semi-thickness too
         when ``semi_thickness_bounds_mm`` is given, from an ``n`` x ``n_thickness`` grid.
 
@@ -179,7 +181,9 @@ class FirstMode:
                 raise InputError(f"semi-thickness bounds {lo!r}-{hi!r} mm: must be 0 < lo < hi <= the semi-width "
                                  f"a = {1e3 * a:.4g} mm (a thicker finger's first mode bends across, along a)")
             points = [(x, y) for x in lengths for y in np.linspace(lo, hi, n_thickness)]
-        omega = np.array([finger_omega1(x, material=m, semi_axes_m=(a, 1e-3 * y)) for x, y in points])
+        omega = np.array([finger_omega1(mesh=finger_mesh(replace(setup, finger_length_m=inch_to_m(x),
+                                                                 finger_semi_axes_m=(a, 1e-3 * y))), material=m)
+                          for x, y in points])
         x, y = np.log(np.array(points)).T
         terms = _terms(x, y)[: 3 if semi_thickness_bounds_mm is None else 6]
         c = np.linalg.lstsq(np.column_stack(terms), np.log(omega), rcond=None)[0]

@@ -752,7 +752,7 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     if o.fea_correction is not None:
         raise InputError("--fea-correction corrects the two-variable design's surrogate; the compound design carries "
                          "the model-error margins instead")
-    for bad, said in ((o.vary in ("drum_speed", "semi_width"), f"--vary {o.vary}"),
+    for bad, said in ((o.vary in ("drum_speed", "semi_width", "taper"), f"--vary {o.vary}"),
                       (o.alpha_of_length != "free", f"--alpha-of-length {o.alpha_of_length}"),
                       (o.objective in ("weighted", "throughput"), f"--objective {o.objective}")):
         if bad:

@@ -34,6 +34,7 @@ def _refused(capsys, argv, named):
 
 @pytest.mark.parametrize("extra, named", [
     (["--compounds", "--vary", "drum_speed"], "--vary drum_speed"),
+    (["--compounds", "--vary", "taper"], "--vary taper"),
     (["--compounds", "--alpha-of-length", "paper"], "--alpha-of-length paper"),
     (["--compounds", "--objective", "weighted", "--weights", "sensor_peak_force_N=1"], "--objective weighted"),
     (["--compounds", "no_such_catalogue.csv"], "no_such_catalogue.csv"),

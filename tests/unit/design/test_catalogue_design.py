@@ -32,7 +32,7 @@ from ccedi.design.robust import (
 )
 from ccedi.design.surrogate import Surrogate, grid_points, material_space, run_rom
 from ccedi.errors import InputError
-from ccedi.fea.contact.drum import DrumSetup
+from ccedi.fea.contact.drum import DrumSetup, finger_mesh
 from ccedi.fea.material import NeoHookean
 from ccedi.rom.finger_identification import finger_omega1
 from ccedi.statistics import wilson_interval
@@ -94,6 +94,16 @@ def test_the_first_mode_follows_length_and_material_as_the_fe_eigen_solve():
     other = NeoHookean(E=2.2e6, nu=0.49, rho=1300.0)
     fe = finger_omega1(5.7, material=other)
     assert mode(5.7, E_Pa=other.E, rho_kg_m3=other.rho) == pytest.approx(fe, rel=0.005)
+
+
+def test_the_first_mode_of_a_tapered_finger_is_its_own():
+    """A tapered set-up's first mode is the tapered finger's (1.2-1.4 times the prism's at
+    taper 0.6, the tapered beam's stiffer-for-its-mass tip), not the prism's."""
+    setup = DrumSetup(finger_taper_ratio=0.6)
+    mode = FirstMode.of(setup, (3.0, 8.0))
+    fe = finger_omega1(mesh=finger_mesh(replace(setup, finger_length_m=5.7 * INCH)), material=setup.finger_material)
+    assert mode(5.7, E_Pa=setup.finger_material.E, rho_kg_m3=setup.finger_material.rho) == pytest.approx(fe, rel=0.005)
+    assert fe > 1.15 * finger_omega1(5.7)
 
 
 def test_a_compound_sees_the_surrogate_at_its_modulus_over_density_with_its_forces_scaled(synthetic):
