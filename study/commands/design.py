@@ -693,7 +693,13 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     ``compounds.csv`` (the ranked table) and the ROM cache. With ``options.robust_probability``,
     every compound's robust design over ``options.spread`` as well
     (:func:`ccedi.design.robust.robust_catalogue`), ranked, shown beside the nominal ones,
-    the robust winner re-checked by the full FEA at its nominal inputs and drawn. The chosen
+    the robust winner re-checked by the full FEA at its nominal inputs and drawn. With
+    ``options.fea_correction``, the catalogue surrogate is corrected by the full FEA
+    (:func:`ccedi.design.recheck.fea_correction` over alpha and the length, on the set-up's
+    own finger; the ratio FEA / ROM held across E' (the compounds' forces scale with their
+    E and rho as the ROM's do), cached in ``out``): no model-error margin is carried and
+    the ROM does not verify the compounds' optima (it would undo the correction); the FEA
+    re-check of the winner does. The chosen
     finger's fastest drum (:func:`ccedi.design.drum_speed.fastest_drum_speed`, over
     ``options.drum_speed_bounds_rpm``) is found by its ROM; unless ``options.drum_speed`` is
     False, every feasible compound's is, in the ranking, which ``options.rank_by`` may order
@@ -742,16 +748,18 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     )
     from ccedi.design.compounds import CATALOGUE, load_compounds
     from ccedi.design.drum_speed import fastest_drum_speed, with_drum_speeds
-    from ccedi.design.recheck import fea_check
+    from ccedi.design.recheck import fea_check, fea_correction
     from ccedi.design.requirements import Requirements
     from ccedi.design.robust import Spread, robust_catalogue
+    from ccedi.design.surrogate import Surrogate
     from ccedi.outputs import write_csv, write_figure, write_json, write_text
     from ccedi.study.design_report import catalogue_report_markdown, finger_drawing
 
     o = options
-    if o.fea_correction is not None:
-        raise InputError("--fea-correction corrects the two-variable design's surrogate; the compound design carries "
-                         "the model-error margins instead")
+    if o.fea_correction is not None and o.vary == "semi_thickness":
+        raise InputError("--fea-correction with --compounds --vary semi_thickness: the compound design's correction is "
+                         "trained over (alpha, L) at the set-up's section; with the section varied, correct the "
+                         "section design (--vary semi_thickness without --compounds) instead")
     for bad, said in ((o.vary in ("drum_speed", "semi_width", "taper"), f"--vary {o.vary}"),
                       (o.alpha_of_length != "free", f"--alpha-of-length {o.alpha_of_length}"),
                       (o.objective in ("weighted", "throughput"), f"--objective {o.objective}")):
@@ -785,7 +793,7 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     t0 = time.perf_counter()
     shape = (o.grid[0], o.grid[1], *(CATALOGUE_GRID[2:] if section is None else CATALOGUE_SECTION_GRID[2:]))
     spread = None if o.robust_probability is None else (o.spread or Spread())
-    surrogate, first_mode, _, cached = catalogue_surrogate(
+    surrogate, first_mode, runs, cached = catalogue_surrogate(
         setup, compounds.values(), length_bounds_in=tuple(o.length_bounds_in), shape=shape, damping=o.damping,
         path=out / "rom_catalogue_grid.csv", progress=tick, spread=spread, semi_thickness_bounds_mm=section)
     build_s = time.perf_counter() - t0
@@ -793,8 +801,19 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     # the ROM's measured error is of the paper's section: not carried when the section is designed
     errors, error_source = _model_error(replace(o, alpha_bounds=(va.lo, va.hi)), "length" if section is None
                                         else "semi_thickness")
+    correction = None
+    if o.fea_correction is not None:
+        def fe_tick(k, n):
+            print(f"full FE training runs {k}/{n} (the catalogue surrogate's correction)", flush=True)
+
+        correction, _, correction_cached = fea_correction(setup, surrogate.variables[:2], levels=o.fea_correction,
+                                                          damping=o.damping, directory=out, progress=fe_tick)
+        surrogate = Surrogate.fit(surrogate.variables, correction.apply(runs))
+        errors, error_source = {}, "none: the surrogate is corrected by the full FEA (--fea-correction)"
+    # the ROM's verification would undo a correction: the corrected ranking is checked by the FEA re-check
     ranking = design_compounds(surrogate, compounds.values(), setup=setup, first_mode=first_mode, requirements=req,
-                               objective=o.objective, model_error=errors, damping=o.damping, n_starts=o.starts)
+                               objective=o.objective, model_error=errors, damping=o.damping, n_starts=o.starts,
+                               verify=correction is None)
     if o.drum_speed:
         def drum_tick(k, n):
             print(f"fastest drum {k}/{n} (the feasible compounds' ROM over drum speeds)", flush=True)
@@ -815,7 +834,9 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
                       "variables": [{"name": v.name, "lo": float(v.shown(v.lo)), "hi": float(v.shown(v.hi)),
                                      "unit": v.unit} for v in surrogate.variables],
                       "grid": list(shape), "grid_from_cache": cached, "build_wall_time_s": build_s,
-                      "first_mode_fit_error": first_mode.fit_error},
+                      "first_mode_fit_error": first_mode.fit_error,
+                      "fea_correction": None if correction is None else
+                      correction.as_dict() | {"training_from_cache": correction_cached}},
         "model_error_source": error_source,
         "compounds": ranking.as_dict(),
         "fea_check": None,

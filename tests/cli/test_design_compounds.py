@@ -15,13 +15,15 @@ import pytest
 from conftest import ROOT
 
 from ccedi.design import catalogue_design, recheck
-from ccedi.design.catalogue_design import FirstMode, catalogue_space
+from ccedi.design.catalogue_design import CompoundSurrogate, FirstMode, catalogue_space
 from ccedi.design.compounds import CATALOGUE, catalogue_text, load_compounds
+from ccedi.design.model_error import FeaCorrection
 from ccedi.design.surrogate import Surrogate, grid_points, rom_factory
+from ccedi.fea.contact.drum import DrumSetup
 from ccedi.fea.material import NeoHookean
 from ccedi.rom.finger_identification import finger_omega1
 from ccedi.study.cli import main
-from ccedi.units import m_to_inch
+from ccedi.units import INCH, m_to_inch
 
 
 def _refused(capsys, argv, named):
@@ -55,7 +57,8 @@ def _refused(capsys, argv, named):
     (["--compounds", "--vary", "semi_thickness", "--section-bounds-mm", "4", "13"],
      "--section-bounds-mm 4 13: with --compounds the semi-thickness b must stay within the semi-width a = 12 mm"),
     (["--compounds", "--vary", "semi_thickness", "--section-bounds-mm", "0.01", "9"], "--section-bounds-mm"),
-    (["--compounds", "--fea-correction", "2", "2"], "--fea-correction corrects the two-variable design"),
+    (["--compounds", "--vary", "semi_thickness", "--fea-correction", "2", "2"],
+     "--fea-correction with --compounds --vary semi_thickness"),
     (["--vary", "semi_thickness", "--fea-correction", "2", "9"], "--fea-correction 2 9"),
 ])
 def test_what_the_compound_design_cannot_take_is_refused_before_any_run(extra, named, tmp_path, capsys):
@@ -168,6 +171,42 @@ def test_the_section_design_runs_on_a_surrogate_corrected_by_the_reference_model
     assert correction["semi_thickness_mm"] == pytest.approx([5.0, 12.0]) and not result["model_error"]
     assert (out / "fea_training.csv").exists() and "## Surrogate corrected by the full FEA" in (
         out / "design_report.md").read_text()
+
+
+def test_the_catalogue_surrogate_is_corrected_by_the_reference_model(tmp_path, capsys, monkeypatch):
+    """``--compounds --fea-correction 2 2``: the reference model (a stand-in for the full
+    FEA, the ROM of a finger 20 % stiffer) runs at the four corners of (alpha, L) on the
+    set-up's own finger; its force ratio, above 1 at every corner, multiplies the catalogue
+    surrogate: the winner's force over the uncorrected surrogate's at the same design (its
+    compound's E' and density) is the ratio interpolated there. No model-error margin is
+    carried, the ROM does not verify, and the report says so."""
+    monkeypatch.setattr(recheck, "full_fea_factory", partial(_stiffer_rom, rom_factory))
+    rows = load_compounds(CATALOGUE)
+    compounds = [rows["natural_rubber"], rows["paper_finger_rubber"]]
+    cat = tmp_path / "two.csv"
+    cat.write_text(catalogue_text(compounds))
+    out = tmp_path / "out"
+    rc = main(["design", "--compounds", str(cat), "--grid", "4", "4", "--no-fea-check", "--no-drum-speed",
+               "--starts", "2", "--max-ringing-amplitude-mm", "0", "--fea-correction", "2", "2",
+               "--json", str(out / "d.json"), "--out", str(out)])
+    assert rc == 0, capsys.readouterr().err
+    result = json.loads((out / "d.json").read_text())
+    trained = result["surrogate"]["fea_correction"]
+    force = np.asarray(trained["ratio_fea_over_model"]["sensor_peak_force_N"])
+    assert force.shape == (2, 2) and np.all((force > 1.02) & (force < 1.5))
+    assert result["model_error_source"].startswith("none") and (out / "fea_training.csv").exists()
+    win = result["compounds"]["winner"]
+    design = result["compounds"]["designs"][win]
+    assert not design["verification"]
+    space = catalogue_space(compounds, FirstMode.of(DrumSetup(), (3.0, 8.0)), (3.0, 8.0))
+    plain = CompoundSurrogate(Surrogate.fit(space, pd.read_csv(out / "rom_catalogue_grid.csv")),
+                              E_Pa=rows[win].E_nominal_Pa, rho_kg_m3=rows[win].rho_kg_m3, reference_rho_kg_m3=1000.0)
+    x = (design["design"]["alpha_per_s"], design["design"]["length_in"] * INCH)
+    ratio = FeaCorrection(space[:2], [trained["alpha_per_s"], np.asarray(trained["length_in"]) * INCH],
+                          {"sensor_peak_force_N": force}).ratio("sensor_peak_force_N", [x])[0]
+    uncorrected = plain.evaluate([x])["sensor_peak_force_N"][0]
+    assert design["design"]["sensor_peak_force_N"] / uncorrected == pytest.approx(ratio, rel=0.01)
+    assert "## Surrogate corrected by the full FEA" in (out / "design_report.md").read_text()
 
 
 def _stiffer_rom(factory, setup):
