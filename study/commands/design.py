@@ -92,7 +92,7 @@ def add_parsers(sub):
     d.add_argument("--fea-correction", type=int, nargs=2, default=None, metavar=("N_ALPHA", "N_SECOND"),
                    help="correct the ROM surrogate by full FEA runs at an N_ALPHA x N_SECOND grid of the design "
                         "variables, bounds included (2-5 each; minutes per run; cached in OUT); replaces the "
-                        "model-error margins")
+                        "model-error margins (with --compounds: over alpha and L on the set-up's own finger)")
     d.add_argument("--no-model-error", action="store_true",
                    help="do not tighten the requirements by the ROM's measured error against the FEA")
     d.add_argument("--compounds", nargs="?", const="", default=None, metavar="CATALOGUE",
