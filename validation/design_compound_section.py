@@ -16,7 +16,9 @@ What it measures:
   >= 3 N s, which a stiffer finger gives: the chosen b of the compounds the impulse binds
   should thicken (``b_change_mm``: b under the firm push minus b under ``parts``). (The
   object force is minimised, so a tighter force limit does not bind where the force is
-  already least: the thinnest section the other requirements allow.)
+  already least: the thinnest section the other requirements allow.) Each set's winner
+  is re-checked by the full FEA at its own E, rho, alpha, L and b (``winner_fea_check``:
+  the surrogate's error on every output, the requirements on the FEA's outputs).
 
 Run: ``OPENBLAS_NUM_THREADS=1 .venv/bin/python validation/design_compound_section.py``; writes
 validation/design_compound_section.json (the ROM grid cached in
@@ -31,10 +33,12 @@ from ccedi.design.catalogue_design import (
     CATALOGUE_SECTION_GRID,
     COMPOUND_THICKNESS_MM,
     catalogue_surrogate,
+    compound_setup,
     design_compounds,
 )
 from ccedi.design.compounds import load_compounds
 from ccedi.design.drum_speed import with_drum_speeds
+from ccedi.design.recheck import fea_check
 from ccedi.design.requirements import Requirements
 from ccedi.design.surrogate import run_rom, validation_errors, validation_points
 from ccedi.fea.material import NeoHookean
@@ -70,6 +74,18 @@ def ranking_figures(ranking):
     """Per compound: feasible, alpha, L, b, objective, binding, fastest drum."""
     return [{k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in row.items()
              if not k.startswith("margin: ")} for row in ranking.table.to_dict(orient="records")]
+
+
+def winner_fea_check(ranking, setup, requirements):
+    """The winner re-checked by the full FEA at its compound's E, rho and alpha, its L and
+    b, as ``ccedi design --compounds`` does (None without a winner)."""
+    w = ranking.winner
+    if w is None:
+        return None
+    row = fea_check(compound_setup(setup, w.compound, w.semi_thickness_m), [w.design], limits=requirements.limits(),
+                    variables=w.problem.surrogate.variables)[0]
+    return {k: row[k] for k in ("surrogate", "fea", "relative_error", "requirements", "meets_requirements", "failed",
+                                "wall_time_s")}
 
 
 def main():
@@ -111,7 +127,8 @@ def main():
         figures["sets"][name] = {"requirements": [lim.describe() for lim in Requirements(**spec).limits()],
                                  "ranking_wall_time_s": ranked_s, "with_drum_wall_time_s": time.perf_counter() - t0,
                                  "winner": None if ranking.winner is None else ranking.winner.compound.name,
-                                 "table": ranking_figures(ranking)}
+                                 "table": ranking_figures(ranking),
+                                 "winner_fea_check": winner_fea_check(ranking, setup, Requirements(**spec))}
         print(name, figures["sets"][name]["winner"], ranked_s, flush=True)
     b = {name: {r["compound"]: r["semi_thickness_mm"] for r in st["table"] if r["feasible"]}
          for name, st in figures["sets"].items()}
