@@ -244,7 +244,8 @@ def test_the_compounds_section_is_designed_with_its_length_and_shown(tmp_path, c
         return Surrogate.fit(space, frame), mode, frame, False
 
     monkeypatch.setattr(catalogue_design, "catalogue_surrogate", stand_in)
-    monkeypatch.setattr(catalogue_design, "design_compounds", partial(catalogue_design.design_compounds, verify=False))
+    unverified = catalogue_design.design_compounds
+    monkeypatch.setattr(catalogue_design, "design_compounds", lambda *a, **k: unverified(*a, **{**k, "verify": False}))
     rows = load_compounds(CATALOGUE)
     cat = tmp_path / "one.csv"
     cat.write_text(catalogue_text([rows["paper_finger_rubber"]]))
