@@ -384,9 +384,8 @@ def catalogue_report_markdown(result):
                      f"{r['largest_shortfall']:.3g} | {r['robust_margin']:+.3f} |"
                      + (f" {_drum_cell(r)} |" if drum else ""))
     lines += _correction_lines(result["surrogate"].get("fea_correction"),
-                               held="; over (alpha, L) on the set-up's own finger, held across E' and "
-                                    "the compounds; the compounds' optima are not verified by the ROM, which would "
-                                    "undo it")
+                               held="; on the set-up's own rubber, held across E' and the compounds; the "
+                                    "compounds' optima are not verified by the ROM, which would undo it")
     win = ranking["winner"]
     if win is None:
         lines += ["", "## No compound meets the requirements", "",

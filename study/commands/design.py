@@ -92,7 +92,8 @@ def add_parsers(sub):
     d.add_argument("--fea-correction", type=int, nargs=2, default=None, metavar=("N_ALPHA", "N_SECOND"),
                    help="correct the ROM surrogate by full FEA runs at an N_ALPHA x N_SECOND grid of the design "
                         "variables, bounds included (2-5 each; minutes per run; cached in OUT); replaces the "
-                        "model-error margins (with --compounds: over alpha and L on the set-up's own finger)")
+                        "model-error margins (with --compounds: over alpha and L, and b at its bounds with --vary "
+                        "semi_thickness, on the set-up's own rubber)")
     d.add_argument("--no-model-error", action="store_true",
                    help="do not tighten the requirements by the ROM's measured error against the FEA")
     d.add_argument("--compounds", nargs="?", const="", default=None, metavar="CATALOGUE",
@@ -695,9 +696,10 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     (:func:`ccedi.design.robust.robust_catalogue`), ranked, shown beside the nominal ones,
     the robust winner re-checked by the full FEA at its nominal inputs and drawn. With
     ``options.fea_correction``, the catalogue surrogate is corrected by the full FEA
-    (:func:`ccedi.design.recheck.fea_correction` over alpha and the length, on the set-up's
-    own finger; the ratio FEA / ROM held across E' (the compounds' forces scale with their
-    E and rho as the ROM's do), cached in ``out``): no model-error margin is carried and
+    (:func:`ccedi.design.recheck.fea_correction` over alpha and the length, and with the
+    section varied over its semi-thickness at its two bounds, on the set-up's own rubber;
+    the ratio FEA / ROM held across E' (the compounds' forces scale with their E and rho
+    as the ROM's do), cached in ``out``): no model-error margin is carried and
     the ROM does not verify the compounds' optima (it would undo the correction); the FEA
     re-check of the winner does. The chosen
     finger's fastest drum (:func:`ccedi.design.drum_speed.fastest_drum_speed`, over
@@ -756,10 +758,6 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
     from ccedi.study.design_report import catalogue_report_markdown, finger_drawing
 
     o = options
-    if o.fea_correction is not None and o.vary == "semi_thickness":
-        raise InputError("--fea-correction with --compounds --vary semi_thickness: the compound design's correction is "
-                         "trained over (alpha, L) at the set-up's section; with the section varied, correct the "
-                         "section design (--vary semi_thickness without --compounds) instead")
     for bad, said in ((o.vary in ("drum_speed", "semi_width", "taper"), f"--vary {o.vary}"),
                       (o.alpha_of_length != "free", f"--alpha-of-length {o.alpha_of_length}"),
                       (o.objective in ("weighted", "throughput"), f"--objective {o.objective}")):
@@ -806,8 +804,10 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
         def fe_tick(k, n):
             print(f"full FE training runs {k}/{n} (the catalogue surrogate's correction)", flush=True)
 
-        correction, _, correction_cached = fea_correction(setup, surrogate.variables[:2], levels=o.fea_correction,
-                                                          damping=o.damping, directory=out, progress=fe_tick)
+        trained = (*surrogate.variables[:2], *surrogate.variables[3:])      # alpha, L (and b); not E'
+        correction, _, correction_cached = fea_correction(
+            setup, trained, levels=(*o.fea_correction, *(2,) * (len(trained) - 2)), damping=o.damping, directory=out,
+            progress=fe_tick)
         surrogate = Surrogate.fit(surrogate.variables, correction.apply(runs))
         errors, error_source = {}, "none: the surrogate is corrected by the full FEA (--fea-correction)"
     # the ROM's verification would undo a correction: the corrected ranking is checked by the FEA re-check
