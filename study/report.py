@@ -257,7 +257,7 @@ def _fea_check(d, title):
         return "<p>FEA re-check skipped in this run.</p>"
     second = _second(d)
     rows = [{"alpha_per_s": c["alpha_per_s"], second: c[second], "wall_time_s": c["wall_time_s"],
-             "meets the requirements": c["meets_requirements"],
+             "meets the requirements": "FE run failed" if c.get("failed") else c["meets_requirements"],
              **{f"{k} error": c["relative_error"][k] for k in KEY_OUTPUTS}} for c in d["fea_check"]]
     return f"<h3>{html.escape(title)}</h3>" + _table(
         rows, [_col("alpha_per_s"), _col(second), ("FEA meets the requirements", "meets the requirements")]

@@ -639,8 +639,9 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
     pareto_s = time.perf_counter() - t1
     picks = recommended(front, optimum, o.pareto_output)[:o.fea_check_designs]
     checks = [] if not o.fea_check else recheck(setup, picks, damping=o.damping, limits=problem.limits,
-                                                 scheduler=scheduler, variables=space,
-                                                 done=[s["run"] for s in verification] if fea_verifies else ())
+                                                 scheduler=scheduler, variables=space, model_factory=full_fea_factory,
+                                                 done=[s["run"] for s in verification if "run" in s] if fea_verifies
+                                                 else ())
     write_figure(out / "feasible_region.png", feasible_region_figure(problem, optimum, front=front, checked=picks))
     limit = next((lim.bound for lim in problem.limits if lim.output == o.pareto_output and lim.upper), None)
     write_figure(out / "pareto.png", pareto_figure(problem, front, o.pareto_output, optimum=optimum, limit=limit))

@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 import ccedi.design.surrogate as surrogate_module
-from ccedi.errors import ValidityWarning
+from ccedi.design import recheck
+from ccedi.errors import SolverError, ValidityWarning
 from ccedi.fea.contact.drum import DrumSetup, finger_mesh
 from ccedi.fea.mesh.gmsh_fingers import write_tapered_finger
 from ccedi.study.cli import main
@@ -26,8 +27,9 @@ def _toml(tmp_path, text="[finger]\ncontact_length_in = 5.0\n"):
 
 def _design(tmp_path, capsys, *extra):
     out = tmp_path / "out"
+    check = [] if "--fea-check-designs" in extra else ["--no-fea-check"]
     rc = main(["design", "--vary", "taper", "--config", str(_toml(tmp_path)), "--grid", "5", "5",
-               "--validation-runs", "2", "--pareto-points", "4", "--starts", "2", "--no-fea-check",
+               "--validation-runs", "2", "--pareto-points", "4", "--starts", "2", *check,
                "--json", str(out / "d.json"), "--out", str(out), *extra])
     assert rc == 0, capsys.readouterr().err
     return json.loads((out / "d.json").read_text()), out
@@ -47,6 +49,31 @@ def test_a_minimum_impulse_sets_the_taper_of_the_least_force(tmp_path, capsys):
     assert steps and all(0.6 <= s["taper_ratio"] <= 1.0 for s in steps)
     assert steps[-1]["model"]["contact_impulse_N_s"] == pytest.approx(6.0, rel=0.03)
     assert "taper ratio = " in (out / "design_report.md").read_text()
+
+
+class _CrushedTip:
+    """A full model whose solver stops every run, as on a tip too thin for its elements."""
+
+    def __init__(self, setup):
+        self.setup = setup
+
+    def run(self, alpha, **kwargs):
+        raise SolverError("element 794 inverted (J <= 0) at t = 0.93 s: the mesh is too coarse for the deformation "
+                          "there; refine it")
+
+
+def test_a_design_whose_fea_the_solver_stops_is_written_and_says_so(tmp_path, capsys, monkeypatch):
+    """The FEA verification and re-check stopped by the solver (an element inverted): the
+    design is still written, exit 0, its JSON rows carry the solver's message and the
+    report says the run failed and the design is not verified."""
+    monkeypatch.setattr(recheck, "full_fea_factory", _CrushedTip)
+    result, out = _design(tmp_path, capsys, "--fea-check-designs", "1", "--scheduler", "serial")
+    step = result["rom_verification"][-1]
+    assert result["problem"]["verified_by"] == "full FEA" and "inverted" in step["failed"] and step["model"] is None
+    (row,) = result["fea_check"]
+    assert "inverted" in row["failed"] and not row["meets_requirements"]
+    report = (out / "design_report.md").read_text()
+    assert "**the run failed** (element 794 inverted" in report and "**run failed**" in report
 
 
 @pytest.mark.parametrize("extra, named", [
