@@ -57,7 +57,7 @@ from ccedi.rom.finger_identification import finger_omega1
 from ccedi.units import inch_to_m, m_to_inch
 
 from .compounds import Compound, alpha_from_loss_factor
-from .optimise import OBJECTIVES, ON_BOUND, DesignProblem, binding, closest_design, on_bounds, solve
+from .optimise import OBJECTIVES, DesignProblem, binding, bound_flag, closest_design, on_bounds, solve
 from .outputs import UNITS, density_scaled, setup_for_section
 from .recheck import verified_optimum
 from .requirements import Requirements
@@ -660,16 +660,9 @@ def _one(surrogate, compound, *, setup, first_mode, requirements, objective, mod
 
 def _thickness_on_bounds(surrogate, semi_thickness_m):
     """["b at its lower bound 4 mm"] when the chosen semi-thickness sits on a bound of the
-    surrogate's (within :data:`ccedi.design.optimise.ON_BOUND` of its range), else []."""
-    if semi_thickness_m is None:
-        return []
-    var_b = surrogate.variables[3]
-    u = float(var_b.to_unit(semi_thickness_m))
-    for side, at, bound in (("lower", u <= -1.0 + 2.0 * ON_BOUND, var_b.lo), ("upper", u >= 1.0 - 2.0 * ON_BOUND,
-                                                                              var_b.hi)):
-        if at:
-            return [f"{var_b.label} at its {side} bound {var_b.shown(bound):.4g} {var_b.unit}"]
-    return []
+    surrogate's (:func:`ccedi.design.optimise.bound_flag`), else []."""
+    flag = None if semi_thickness_m is None else bound_flag(surrogate.variables[3], semi_thickness_m)
+    return [flag] if flag else []
 
 
 @dataclass

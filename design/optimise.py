@@ -638,14 +638,29 @@ def on_bounds(problem: DesignProblem, design: Design):
     -------
     list of str
     """
-    flags = []
-    for var, x in zip(problem.surrogate.variables, (design.alpha_per_s, design.x)):
-        u = float(var.to_unit(x))
-        if u <= -1.0 + 2.0 * ON_BOUND:
-            flags.append(f"{var.label} at its lower bound {var.shown(var.lo):.4g} {var.unit}")
-        elif u >= 1.0 - 2.0 * ON_BOUND:
-            flags.append(f"{var.label} at its upper bound {var.shown(var.hi):.4g} {var.unit}")
-    return flags
+    flags = (bound_flag(var, x) for var, x in zip(problem.surrogate.variables, (design.alpha_per_s, design.x)))
+    return [f for f in flags if f]
+
+
+def bound_flag(var, x):
+    """``"alpha at its upper bound 600 1/s"`` when the value ``x`` [SI] of the variable
+    ``var`` sits on a bound (within :data:`ON_BOUND` of its range), else None.
+
+    Parameters
+    ----------
+    var : ccedi.design.surrogate.Variable
+    x : float
+
+    Returns
+    -------
+    str or None
+    """
+    u = float(var.to_unit(x))
+    if u <= -1.0 + 2.0 * ON_BOUND:
+        return f"{var.label} at its lower bound {var.shown(var.lo):.4g} {var.unit}"
+    if u >= 1.0 - 2.0 * ON_BOUND:
+        return f"{var.label} at its upper bound {var.shown(var.hi):.4g} {var.unit}"
+    return None
 
 
 def binding(problem: DesignProblem, design: Design):

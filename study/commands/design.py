@@ -28,6 +28,9 @@ VARIED = ("length", "drum_speed", "semi_thickness", "semi_width", "taper")
 b, along the bending direction, and a, across; the taper ratio, the tip's semi-axes over
 the root's)."""
 
+CORRECTED_INSTEAD = "none: the surrogate is corrected by the full FEA (--fea-correction)"
+"""The result's ``model_error_source`` when ``--fea-correction`` replaces the model-error margins."""
+
 REQUIREMENT_FLAGS = (("--max-object-force-N", "max_object_force_N", 1.0),
                      ("--max-object-stress-Pa", "max_object_stress_Pa", 1.0),
                      ("--allowable-root-stress-Pa", "allowable_root_stress_Pa", 1.0),
@@ -561,7 +564,7 @@ def write_design(setup, options, *, json_path, out, scheduler="local", measured_
             "peak force is 24-28 % below the FEA's at 3 1/s (the model-error margin carries it)"), stacklevel=2)
     errors, error_source = _model_error(o, vary)
     if o.fea_correction is not None:
-        errors, error_source = {}, "none: the surrogate is corrected by the full FEA (--fea-correction)"
+        errors, error_source = {}, CORRECTED_INSTEAD
     fea_verifies = o.fea_check and not errors
 
     def tick(k, n):
@@ -810,7 +813,7 @@ def write_catalogue_design(setup, options, *, catalogue=None, json_path, out, sc
             setup, trained, levels=(*o.fea_correction, *(2,) * (len(trained) - 2)), damping=o.damping, directory=out,
             progress=fe_tick)
         surrogate = Surrogate.fit(surrogate.variables, correction.apply(runs))
-        errors, error_source = {}, "none: the surrogate is corrected by the full FEA (--fea-correction)"
+        errors, error_source = {}, CORRECTED_INSTEAD
     # the ROM's verification would undo a correction: the corrected ranking is checked by the FEA re-check
     ranking = design_compounds(surrogate, compounds.values(), setup=setup, first_mode=first_mode, requirements=req,
                                objective=o.objective, model_error=errors, damping=o.damping, n_starts=o.starts,
